@@ -1,0 +1,1 @@
+"""rpo.generated: C sources and manifest written by ``python build.py`` (package marker, not generated)."""

@@ -1,0 +1,367 @@
+"""Load the generated model: compile ``generated/`` into a cached shared library and call it.
+
+Never loads stale code:
+
+* ``generated/manifest.json`` records the sha256 of every generated source; a mismatch (a hand
+  edit, a partial checkout) is an error that says to run ``python build.py``;
+* the library is named by a key over the generated sources, the loop driver source, the
+  compiler's identity, the flags and the runtime ABI version, so a rebuilt library never reuses a
+  path that a process may already have loaded;
+* it is compiled to a temporary file in the cache folder and renamed into place (atomic), under
+  a file lock, so concurrent builds are safe;
+* after loading, every function's input/output count and shapes are checked against the manifest.
+
+Only numpy and ctypes are needed here: no SymPy, no CasADi (except for the explicit, warned
+``backend="casadi"`` fallback used when no C compiler is available).
+"""
+
+from __future__ import annotations
+
+import ctypes
+import gzip
+import hashlib
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import warnings
+from contextlib import contextmanager
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+
+from .errors import ModelError
+
+#: Bump when the loop driver's calling convention changes.
+RUNTIME_ABI = 1
+#: -O2 without -ffast-math: IEEE semantics are kept so that divergence (NaN/inf) is detected
+#: and results match the symbolic model to round-off.
+CFLAGS = ("-O2", "-fPIC", "-shared")
+LOOP_SOURCE = "sim_loop.c"
+
+_DOUBLE_P = ctypes.POINTER(ctypes.c_double)
+_INT_P = ctypes.POINTER(ctypes.c_longlong)
+_CASADI_SIG = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.POINTER(_DOUBLE_P), ctypes.POINTER(_DOUBLE_P),
+                               _INT_P, _DOUBLE_P, ctypes.c_int)
+
+
+def generated_dir() -> Path:
+    """The folder holding the generated sources and manifest (``rpo.generated``)."""
+    return Path(str(resources.files("rpo.generated")))
+
+
+def loop_source() -> Path:
+    return Path(str(resources.files("rpo.runtime"))) / "csrc" / LOOP_SOURCE
+
+
+def read_manifest(gen_dir: Path | None = None, verify: bool = True) -> dict:
+    """Read ``manifest.json`` and check the generated files against the hashes it records."""
+    gen_dir = generated_dir() if gen_dir is None else Path(gen_dir)
+    path = gen_dir / "manifest.json"
+    if not path.exists():
+        raise ModelError(f"{path} is missing: run `python build.py` in the rpo checkout")
+    manifest = json.loads(path.read_text())
+    if verify:
+        for name, digest in manifest["files"].items():
+            f = gen_dir / name
+            if not f.exists():
+                raise ModelError(f"{f} is missing: run `python build.py`")
+            if hashlib.sha256(f.read_bytes()).hexdigest() != digest:
+                raise ModelError(f"{f} does not match manifest.json (edited by hand or half-written):"
+                                 " run `python build.py`")
+    return manifest
+
+
+# --------------------------------------------------------------------------- compiler
+
+
+def find_compiler() -> str | None:
+    """Path of the C compiler: $CC, else cc, gcc or clang on PATH."""
+    cands = [os.environ["CC"]] if os.environ.get("CC") else ["cc", "gcc", "clang"]
+    for c in cands:
+        path = shutil.which(c)
+        if path:
+            return path
+    return None
+
+
+def compiler_identity(cc: str) -> str:
+    """First line of ``cc --version`` (part of the cache key)."""
+    try:
+        out = subprocess.run([cc, "--version"], capture_output=True, text=True, timeout=30, check=False)
+    except OSError as exc:
+        raise ModelError(f"cannot run the C compiler {cc}: {exc}") from exc
+    return (out.stdout or out.stderr).splitlines()[0].strip() if (out.stdout or out.stderr) else cc
+
+
+NO_COMPILER = (
+    "no C compiler found (looked for $CC, cc, gcc, clang). Install one "
+    "(Debian/Ubuntu: `apt-get install gcc`; Fedora: `dnf install gcc`; macOS: `xcode-select --install`), "
+    "or run with backend 'casadi' (`--backend casadi`), which evaluates the model in CasADi's "
+    "virtual machine, about 100x slower."
+)
+
+
+def cache_dir() -> Path:
+    """Per-user build cache: $RPO_CACHE_DIR, else $XDG_CACHE_HOME/rpo, else ~/.cache/rpo."""
+    if os.environ.get("RPO_CACHE_DIR"):
+        return Path(os.environ["RPO_CACHE_DIR"])
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "rpo"
+
+
+def library_key(gen_dir: Path, manifest: dict, cc_id: str) -> str:
+    h = hashlib.sha256()
+    for name in sorted(manifest["files"]):
+        if name.endswith(".c") or name.endswith(".h"):
+            h.update(name.encode() + b"\0" + (gen_dir / name).read_bytes() + b"\0")
+    h.update(loop_source().read_bytes())
+    h.update(json.dumps({"cc": cc_id, "flags": CFLAGS, "abi": RUNTIME_ABI, "tools": manifest["tools"],
+                         "platform": sys.platform}, sort_keys=True).encode())
+    return h.hexdigest()
+
+
+@contextmanager
+def _file_lock(path: Path):
+    try:
+        import fcntl
+    except ImportError:  # pragma: no cover - non-POSIX: rely on the atomic rename alone
+        yield
+        return
+    with open(path, "a+") as fh:
+        fcntl.flock(fh, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(fh, fcntl.LOCK_UN)
+
+
+def build_library(gen_dir: Path | None = None, cache: Path | None = None, log=None) -> tuple[Path, bool]:
+    """Compile the generated model into the cache if needed; return (library path, compiled?)."""
+    gen_dir = generated_dir() if gen_dir is None else Path(gen_dir)
+    manifest = read_manifest(gen_dir)
+    cc = find_compiler()
+    if cc is None:
+        raise ModelError(NO_COMPILER)
+    key = library_key(gen_dir, manifest, compiler_identity(cc))
+    cache = cache_dir() if cache is None else Path(cache)
+    cache.mkdir(parents=True, exist_ok=True)
+    lib = cache / f"rpo_{manifest['module']}_{key[:24]}.so"
+    if lib.exists():
+        return lib, False
+    with _file_lock(cache / f".{lib.name}.lock"):
+        if lib.exists():  # another process finished it while we waited
+            return lib, False
+        fd, tmp = tempfile.mkstemp(prefix=f".{lib.stem}.", suffix=".tmp.so", dir=cache)
+        os.close(fd)
+        cmd = [cc, *CFLAGS, "-o", tmp, str(gen_dir / f"{manifest['module']}.c"), str(loop_source()), "-lm"]
+        if log:
+            log(f"compiling {lib.name} ({' '.join(Path(c).name if c.startswith('/') else c for c in cmd)})")
+        try:
+            res = subprocess.run(cmd, capture_output=True, text=True, check=False)
+            if res.returncode != 0:
+                tail = "\n".join(res.stderr.strip().splitlines()[-15:])
+                raise ModelError(f"compiling the generated model failed ({cc}):\n{tail}")
+            os.replace(tmp, lib)
+        finally:
+            if os.path.exists(tmp):
+                os.unlink(tmp)
+    return lib, True
+
+
+# --------------------------------------------------------------------------- calling
+
+
+class CompiledFunction:
+    """A generated function called through ctypes with preallocated buffers.
+
+    ``f(*inputs)`` copies the inputs into the function's own buffers and returns fresh arrays
+    shaped as in the manifest.  Not thread-safe: use one instance per thread (``clone()``).
+    """
+
+    def __init__(self, lib: ctypes.CDLL, name: str, desc: dict):
+        self.name = name
+        self.desc = desc
+        self._lib = lib
+        self.c_function = getattr(lib, name)
+        self.c_function.restype = ctypes.c_int
+        self.c_function.argtypes = [ctypes.POINTER(_DOUBLE_P), ctypes.POINTER(_DOUBLE_P), _INT_P, _DOUBLE_P,
+                                    ctypes.c_int]
+        self._check_signature()
+        sz = [ctypes.c_longlong() for _ in range(4)]
+        getattr(lib, f"{name}_work")(*[ctypes.byref(s) for s in sz])
+        self.sz_arg, self.sz_res, self.sz_iw, self.sz_w = (s.value for s in sz)
+        self.in_shapes = [tuple(i["shape"]) for i in desc["inputs"]]
+        self.out_shapes = [tuple(o["shape"]) for o in desc["outputs"]]
+        self.inputs = [np.zeros(int(np.prod(s))) for s in self.in_shapes]
+        self.outputs = [np.zeros(int(np.prod(s))) for s in self.out_shapes]
+        self.iw = np.zeros(max(self.sz_iw, 1), dtype=np.int64)
+        self.work = np.zeros(max(self.sz_w, 1))
+        self._arg = (_DOUBLE_P * max(self.sz_arg, 1))(*[b.ctypes.data_as(_DOUBLE_P) for b in self.inputs])
+        self._res = (_DOUBLE_P * max(self.sz_res, 1))(*[b.ctypes.data_as(_DOUBLE_P) for b in self.outputs])
+        self._iw_p = self.iw.ctypes.data_as(_INT_P)
+        self._w_p = self.work.ctypes.data_as(_DOUBLE_P)
+
+    def _check_signature(self):
+        lib, name, desc = self._lib, self.name, self.desc
+        for fn in ("n_in", "n_out"):
+            getattr(lib, f"{name}_{fn}").restype = ctypes.c_longlong
+        for fn in ("sparsity_in", "sparsity_out"):
+            getattr(lib, f"{name}_{fn}").restype = _INT_P
+            getattr(lib, f"{name}_{fn}").argtypes = [ctypes.c_longlong]
+        if lib[f"{name}_n_in"]() != len(desc["inputs"]) or lib[f"{name}_n_out"]() != len(desc["outputs"]):
+            raise ModelError(f"{name}: the compiled library does not match manifest.json (input/output count)")
+        for kind, items in (("in", desc["inputs"]), ("out", desc["outputs"])):
+            for i, item in enumerate(items):
+                sp = getattr(lib, f"{name}_sparsity_{kind}")(i)
+                nrow, ncol, dense = sp[0], sp[1], sp[2]
+                if [nrow, ncol] != list(item["shape"]) or dense != 1:
+                    raise ModelError(f"{name}: {kind}put {item['name']} is {nrow}x{ncol} (dense={dense}) in the "
+                                     f"library but {item['shape']} in manifest.json: run `python build.py`")
+
+    def __call__(self, *args):
+        if len(args) != len(self.inputs):
+            raise TypeError(f"{self.name} takes {len(self.inputs)} inputs, got {len(args)}")
+        for buf, a, shape, d in zip(self.inputs, args, self.in_shapes, self.desc["inputs"]):
+            a = np.asarray(a, dtype=float)
+            if a.size != buf.size:
+                raise ValueError(f"{self.name}: input {d['name']} needs {buf.size} values, got {a.size}")
+            buf[:] = a.reshape(-1, order="F")
+        if self.c_function(self._arg, self._res, self._iw_p, self._w_p, 0) != 0:
+            raise FloatingPointError(f"{self.name} reported an evaluation error")
+        return tuple(o.reshape(s, order="F").copy() if s[1] > 1 else o.copy() for o, s in zip(self.outputs, self.out_shapes))
+
+    def clone(self) -> CompiledFunction:
+        return CompiledFunction(self._lib, self.name, self.desc)
+
+
+class CasadiFunction:
+    """Fallback with the same call interface, evaluated by CasADi's virtual machine."""
+
+    def __init__(self, fn, desc: dict):
+        self.name = fn.name()
+        self.desc = desc
+        self.fn = fn
+        self.out_shapes = [tuple(o["shape"]) for o in desc["outputs"]]
+
+    def __call__(self, *args):
+        res = self.fn(*[np.asarray(a, float).reshape(-1, 1, order="F") for a in args])
+        res = res if isinstance(res, (list, tuple)) else [res]
+        return tuple(np.asarray(r.full()).reshape(s, order="F") if s[1] > 1 else np.asarray(r.full()).ravel()
+                     for r, s in zip(res, self.out_shapes))
+
+    def clone(self) -> CasadiFunction:
+        return self
+
+
+class Model:
+    """The generated model: manifest, layouts and callable functions (compiled or CasADi)."""
+
+    def __init__(self, manifest: dict, functions: dict, backend: str, library: Path | None = None,
+                 lib: ctypes.CDLL | None = None):
+        self.manifest = manifest
+        self.functions = functions
+        self.backend = backend
+        self.library = library
+        self._lib = lib
+
+    def __getattr__(self, name):
+        try:
+            return self.__dict__["functions"][name]
+        except KeyError:
+            raise AttributeError(name) from None
+
+    @property
+    def layouts(self) -> dict:
+        return self.manifest["layouts"]
+
+    def layout_size(self, name: str) -> int:
+        return sum(f["size"] for f in self.layouts[name])
+
+    def offsets(self, name: str) -> dict[str, slice]:
+        out, i = {}, 0
+        for f in self.layouts[name]:
+            out[f["name"]] = slice(i, i + f["size"])
+            i += f["size"]
+        return out
+
+    def labels(self, name: str) -> list[str]:
+        return [lbl for f in self.layouts[name] for lbl in f["labels"]]
+
+    def units(self, name: str) -> list[str]:
+        return [f["unit"] for f in self.layouts[name] for _ in range(f["size"])]
+
+    def defaults(self, name: str) -> dict[str, np.ndarray]:
+        return {f["name"]: np.array(f["default"], float) for f in self.layouts[name] if "default" in f}
+
+    def vector(self, name: str, values: dict | None = None) -> np.ndarray:
+        """Pack a layout from defaults overridden by ``values`` (by field name)."""
+        values = dict(values or {})
+        out = []
+        for f in self.layouts[name]:
+            if f["name"] in values:
+                v = np.atleast_1d(np.asarray(values.pop(f["name"]), float)).ravel()
+            elif "default" in f:
+                v = np.array(f["default"], float)
+            else:
+                raise ModelError(f"{name}.{f['name']} has no default and was not given")
+            if v.size != f["size"]:
+                raise ModelError(f"{name}.{f['name']} needs {f['size']} values, got {v.size}")
+            out.append(v)
+        if values:
+            raise ModelError(f"unknown {name} fields: {', '.join(sorted(values))}")
+        return np.concatenate(out) if out else np.zeros(0)
+
+    @property
+    def run_function(self):
+        """The C loop driver ``rpo_run`` (compiled backend only)."""
+        if self._lib is None:
+            return None
+        f = self._lib.rpo_run
+        f.restype = ctypes.c_int
+        return f
+
+
+def _load_compiled(gen_dir: Path, manifest: dict, log=None) -> Model:
+    lib_path, _ = build_library(gen_dir, log=log)
+    lib = ctypes.CDLL(str(lib_path))
+    int_size = getattr(lib, f"{manifest['module']}_casadi_int_size")
+    int_size.restype = ctypes.c_int
+    if int_size() != 8:
+        raise ModelError("generated code uses a casadi_int that is not 64-bit: run `python build.py`")
+    funcs = {name: CompiledFunction(lib, name, desc) for name, desc in manifest["functions"].items()}
+    return Model(manifest, funcs, "compiled", lib_path, lib)
+
+
+def _load_casadi(gen_dir: Path, manifest: dict) -> Model:
+    try:
+        import casadi as ca
+    except ImportError as exc:  # pragma: no cover
+        raise ModelError("backend 'casadi' needs the casadi package (pip install casadi)") from exc
+    path = gen_dir / f"{manifest['module']}.casadi.gz"
+    with gzip.open(path, "rt") as fh:
+        blobs = json.load(fh)
+    funcs = {}
+    for name, desc in manifest["functions"].items():
+        funcs[name] = CasadiFunction(ca.Function.deserialize(blobs[name]), desc)
+    return Model(manifest, funcs, "casadi")
+
+
+def load_model(backend: str = "auto", gen_dir: Path | None = None, log=None) -> Model:
+    """Load the model: ``"compiled"`` (C), ``"casadi"`` (VM fallback, warned) or ``"auto"``.
+
+    ``auto`` means compiled; without a C compiler it raises a :class:`ModelError` that says
+    what to install or how to choose the CasADi fallback explicitly (never a silent slowdown).
+    """
+    gen_dir = generated_dir() if gen_dir is None else Path(gen_dir)
+    manifest = read_manifest(gen_dir)
+    if backend in ("auto", "compiled"):
+        return _load_compiled(gen_dir, manifest, log)
+    if backend == "casadi":
+        warnings.warn("backend 'casadi': evaluating the model in CasADi's virtual machine, about 100x slower "
+                      "than the compiled backend", RuntimeWarning, stacklevel=2)
+        return _load_casadi(gen_dir, manifest)
+    raise ModelError(f"backend must be one of auto, compiled, casadi; got {backend!r}")

@@ -1,0 +1,49 @@
+/* rpo simulation loop: runs a generated closed-loop step function for n steps.
+ *
+ * Hand-written (not generated).  Compiled together with generated/rpo_model.c into one
+ * shared library by rpo.runtime.compiled.  The step function has CasADi's calling convention:
+ *   step(arg = {z_k, t_k, p, k, w_k}, res = {z_{k+1}, y_k}, iw, w, mem)
+ * Divergence (a non-finite entry, or |z_j| above bound[j]) stops the loop after writing the
+ * offending state, so the caller keeps everything computed so far.
+ */
+#include <math.h>
+#include <stddef.h>
+
+typedef long long casadi_int;
+typedef int (*rpo_step_fn)(const double** arg, double** res, casadi_int* iw, double* w, int mem);
+
+/* Returns the number of completed, healthy steps (0..n).  If it is less than n, *bad_index is
+ * the index of the first offending entry of Z[ret + 1] (or -1 when the step function itself
+ * reported an error).  t_k = t0 + (k0 + k) dt, formed from the integer step count so that
+ * time does not drift over millions of steps. */
+int rpo_run(rpo_step_fn step, casadi_int* iw, double* work, double t0, double dt, long long k0,
+            int n, const double* p, const double* gains, const double* W, int nw, double* Z,
+            int nz, double* Y, int ny, const double* bound, int* bad_index)
+{
+    const double* arg[5];
+    double* res[2];
+    double t;
+    *bad_index = -2;
+    for (int i = 0; i < n; ++i) {
+        t = t0 + (double)(k0 + i) * dt;
+        arg[0] = Z + (size_t)i * nz;
+        arg[1] = &t;
+        arg[2] = p;
+        arg[3] = gains;
+        arg[4] = W + (size_t)i * nw;
+        res[0] = Z + (size_t)(i + 1) * nz;
+        res[1] = Y + (size_t)i * ny;
+        if (step(arg, res, iw, work, 0) != 0) {
+            *bad_index = -1;
+            return i;
+        }
+        const double* zn = res[0];
+        for (int j = 0; j < nz; ++j) {
+            if (!isfinite(zn[j]) || fabs(zn[j]) > bound[j]) {
+                *bad_index = j;
+                return i;
+            }
+        }
+    }
+    return n;
+}

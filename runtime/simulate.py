@@ -1,0 +1,238 @@
+"""Fixed-step closed-loop simulation on the generated step function.
+
+One step (plant + controller + actuators, RK4 over dt) is one compiled call; steps run in a C
+loop (``runtime/csrc/sim_loop.c``) in chunks, so Python is entered once per chunk (for the
+progress bar and the random torques), not once per step.
+
+Random torques (000 eq. 5) are standard-normal samples from ``numpy.random.default_rng(seed)``,
+drawn in step order and held over each step: the same seed gives the same run whatever the
+chunk size.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import time
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .compiled import CompiledFunction, Model
+from .errors import ModelError
+
+_DP = ctypes.POINTER(ctypes.c_double)
+
+#: Divergence limits per state field (|value| above the limit stops the run).  Quaternions are
+#: renormalised every step, so |q_i| > 1 + 1e-6 cannot happen in a healthy run.
+DEFAULT_BOUNDS = {
+    "q_c": 1 + 1e-6, "q_t": 1 + 1e-6,
+    "w_c": 20.0, "w_t": 20.0,           # rad/s: far beyond any spacecraft rate
+    "h_w": 1e3,                         # N m s
+    "r": 1e8, "v": 1e5,                 # m, m/s
+}
+
+
+@dataclass
+class Divergence:
+    """Where a run stopped: the step, its end time, the offending entry and both states."""
+
+    step: int
+    time: float
+    label: str
+    value: float
+    bound: float
+    state: np.ndarray
+    last_good_state: np.ndarray
+
+    def message(self) -> str:
+        what = "non-finite" if not np.isfinite(self.value) else f"|{self.value:.6g}| > {self.bound:.6g}"
+        return (f"simulation diverged at step {self.step} (t = {self.time:.6g} s): {self.label} is {what}; "
+                f"results up to t = {self.time - 0:.6g} s minus one step were kept")
+
+
+@dataclass
+class RunResult:
+    """Time histories of one run.  ``z[i]`` is the state at ``t[i]``; ``y[i]`` the outputs over the
+    step starting at ``t[i]`` (the last row of ``z`` has no output row, ``y`` has NaN there)."""
+
+    t: np.ndarray
+    z: np.ndarray
+    y: np.ndarray
+    z_labels: list[str]
+    z_units: list[str]
+    y_labels: list[str]
+    y_units: list[str]
+    steps_done: int
+    steps_requested: int
+    dt: float
+    wall_time: float
+    divergence: Divergence | None = None
+    meta: dict = field(default_factory=dict)
+
+    @property
+    def ok(self) -> bool:
+        return self.divergence is None
+
+    def column(self, label: str) -> np.ndarray:
+        """One column by label, from the state z or the outputs y."""
+        if label in self.z_labels:
+            return self.z[:, self.z_labels.index(label)]
+        if label in self.y_labels:
+            return self.y[:, self.y_labels.index(label)]
+        raise KeyError(label)
+
+    def block(self, name: str, layout: list[dict], source: str = "z") -> np.ndarray:
+        """All columns of a layout field, e.g. ``block('r', model.layouts['z_baseline'])``."""
+        labels = next(f["labels"] for f in layout if f["name"] == name)
+        return np.column_stack([self.column(lbl) for lbl in labels])
+
+
+class Simulation:
+    """A closed loop (model + controller + parameters) ready to run from initial states.
+
+    Parameters are given by field name (see ``rpo info`` or the manifest) and default to the
+    values recorded in the manifest.
+    """
+
+    def __init__(self, model: Model, controller: str = "baseline", params: dict | None = None,
+                 gains: dict | None = None, bounds: dict | None = None):
+        ctrls = model.manifest["controllers"]
+        if controller not in ctrls:
+            raise ModelError(f"unknown controller {controller!r}; available: {', '.join(sorted(ctrls))}")
+        self.model = model
+        self.controller = controller
+        entry = ctrls[controller]
+        self.p = model.vector("p", params)
+        self.k = model.vector(entry["gains"], gains)
+        self.z_layout = f"z_{controller}"
+        self.y_layout = f"y_{controller}"
+        self.step_fn = model.functions[entry["step"]].clone()
+        self.nz = model.layout_size(self.z_layout)
+        self.ny = model.layout_size(self.y_layout)
+        self.nw = model.layout_size("w")
+        self.dt = float(self.p[model.offsets("p")["dt"]][0])
+        if not self.dt > 0:
+            raise ModelError(f"dt must be > 0, got {self.dt}")
+        self.bound = np.full(self.nz, np.inf)
+        offs = model.offsets(self.z_layout)
+        for name, b in {**DEFAULT_BOUNDS, **(bounds or {})}.items():
+            if name not in offs:
+                raise ModelError(f"bounds: unknown state field {name!r}")
+            self.bound[offs[name]] = b
+
+    def initial_state(self, plant: dict, controller: dict | None = None) -> np.ndarray:
+        """Packed z0 from plant fields (q_c, w_c, h_w, q_t, w_t, r, v) and controller states.
+
+        Actuator states start at rest (empty delay line, PWPF filters at 0, thrusters off);
+        ``m_prop`` starts at 0.
+        """
+        values = {"m_prop": 0.0, **plant, **{f"xc_{k}": v for k, v in (controller or {}).items()}}
+        z = np.zeros(self.nz)
+        offs = self.model.offsets(self.z_layout)
+        for name, v in values.items():
+            if name not in offs:
+                raise ModelError(f"initial state: unknown field {name!r}")
+            v = np.atleast_1d(np.asarray(v, float)).ravel()
+            if v.size != offs[name].stop - offs[name].start:
+                raise ModelError(f"initial state: {name} needs {offs[name].stop - offs[name].start} values")
+            z[offs[name]] = v
+        for q in ("q_c", "q_t"):
+            n = np.linalg.norm(z[offs[q]])
+            if abs(n - 1) > 1e-6:
+                raise ModelError(f"initial state: {q} must be a unit quaternion (|q| = {n:.9g})")
+        return z
+
+    def run(self, z0: np.ndarray, duration: float, seed: int = 0, t0: float = 0.0, record_every: int = 1,
+            chunk: int = 4096, progress: Callable[[int, int], None] | None = None) -> RunResult:
+        """Run ``round(duration / dt)`` steps from ``z0`` at ``t0``; record every ``record_every``-th state."""
+        n_total = int(round(duration / self.dt))
+        if n_total < 1:
+            raise ModelError(f"duration {duration} s is shorter than one step ({self.dt} s)")
+        record_every = max(1, int(record_every))
+        chunk = max(1, int(chunk))
+        rng = np.random.default_rng(seed)
+        nz, ny, nw = self.nz, self.ny, self.nw
+        Zc = np.empty((chunk + 1, nz))
+        Yc = np.empty((chunk, ny))
+        n_rec = n_total // record_every + 1
+        Z = np.full((n_rec, nz), np.nan)
+        Y = np.full((n_rec, ny), np.nan)
+        T = t0 + np.arange(n_rec) * record_every * self.dt
+        Z[0] = z0
+        z = np.array(z0, float)
+        done = 0
+        divergence = None
+        wall0 = time.perf_counter()
+        runner = self._c_runner()
+        while done < n_total:
+            n = min(chunk, n_total - done)
+            W = np.ascontiguousarray(rng.standard_normal((n, nw)))
+            Zc[0] = z
+            ok, bad = runner(Zc, Yc, W, n, done, t0) if runner else self._py_run(Zc, Yc, W, n, done, t0)
+            # copy recorded rows: global step index g = done + i has state Zc[i] and output Yc[i]
+            for i in range(ok + 1):
+                g = done + i
+                if g % record_every == 0:
+                    r = g // record_every
+                    Z[r] = Zc[i]
+                    if i < ok:
+                        Y[r] = Yc[i]
+            if ok < n:
+                last = done + ok
+                z_bad = Zc[ok + 1].copy()
+                j = int(bad)
+                label = self.model.labels(self.z_layout)[j] if j >= 0 else "step function"
+                divergence = Divergence(step=last, time=t0 + (last + 1) * self.dt, label=label,
+                                        value=float(z_bad[j]) if j >= 0 else float("nan"),
+                                        bound=float(self.bound[j]) if j >= 0 else float("nan"),
+                                        state=z_bad, last_good_state=Zc[ok].copy())
+                done = last
+                break
+            z = Zc[n].copy()
+            done += n
+            if progress:
+                progress(done, n_total)
+        keep = done // record_every + 1
+        return RunResult(
+            t=T[:keep], z=Z[:keep], y=Y[:keep],
+            z_labels=self.model.labels(self.z_layout), z_units=self.model.units(self.z_layout),
+            y_labels=self.model.labels(self.y_layout), y_units=self.model.units(self.y_layout),
+            steps_done=done, steps_requested=n_total, dt=self.dt,
+            wall_time=time.perf_counter() - wall0, divergence=divergence,
+            meta={"controller": self.controller, "seed": seed, "record_every": record_every,
+                  "backend": self.model.backend},
+        )
+
+    # -- backends --------------------------------------------------------------------------
+
+    def _c_runner(self):
+        run = self.model.run_function
+        f = self.step_fn
+        if run is None or not isinstance(f, CompiledFunction):
+            return None
+        fn_ptr = ctypes.cast(f.c_function, ctypes.c_void_p)
+        bad = ctypes.c_int(0)
+        p, k, bound = self.p, self.k, self.bound
+        args_fixed = (f._iw_p, f._w_p)
+
+        def runner(Zc, Yc, W, n, k0, t0):
+            ok = run(fn_ptr, *args_fixed, ctypes.c_double(t0), ctypes.c_double(self.dt), ctypes.c_longlong(k0),
+                     ctypes.c_int(n), p.ctypes.data_as(_DP), k.ctypes.data_as(_DP), W.ctypes.data_as(_DP),
+                     ctypes.c_int(self.nw), Zc.ctypes.data_as(_DP), ctypes.c_int(self.nz),
+                     Yc.ctypes.data_as(_DP), ctypes.c_int(self.ny), bound.ctypes.data_as(_DP), ctypes.byref(bad))
+            return ok, bad.value
+
+        return runner
+
+    def _py_run(self, Zc, Yc, W, n, k0, t0):
+        """Per-step Python loop (CasADi fallback backend)."""
+        for i in range(n):
+            t = t0 + (k0 + i) * self.dt
+            zn, y = self.step_fn(Zc[i], t, self.p, self.k, W[i])
+            Zc[i + 1] = zn
+            Yc[i] = y
+            bad = ~np.isfinite(zn) | (np.abs(zn) > self.bound)
+            if bad.any():
+                return i, int(np.argmax(bad))
+        return n, -2

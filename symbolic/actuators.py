@@ -1,0 +1,142 @@
+"""Actuators: reaction-wheel pyramid (000 eqs. 46-47, Fig. 6) and 16 PWPF thrusters (Fig. 7).
+
+Values (000 Table 3, via SPEC.md) are parameters with defaults in :mod:`rpo.symbolic.plant`.
+The thruster geometry is not published; rpo's choice is defined here and documented in
+``docs/actuators.md``.
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from .rotations import cross
+
+# --------------------------------------------------------------------------- reaction wheels
+
+
+def pyramid_matrix(beta):
+    """A*: wheel axes in body axes as columns, tilt beta (000 eq. 47)."""
+    c, s = sp.cos(beta), sp.sin(beta)
+    return sp.Matrix([[c, 0, -c, 0], [0, c, 0, -c], [s, s, s, s]])
+
+
+def pyramid_pseudo_inverse(beta):
+    """Minimum-norm allocation A*^T (A* A*^T)^{-1} = A*^T diag(1/(2c^2), 1/(2c^2), 1/(4s^2))."""
+    c, s = sp.cos(beta), sp.sin(beta)
+    return pyramid_matrix(beta).T * sp.diag(1 / (2 * c**2), 1 / (2 * c**2), 1 / (4 * s**2))
+
+
+def _max_abs(values):
+    return sp.Max(*[sp.Abs(v) for v in values])
+
+
+def allocate_wheel_torques(beta, T_cmd, T_max):
+    """Per-wheel torques [N m] realising the body torque command T_cmd (inverse of eq. 46).
+
+    Minimum-norm solution, then scaled down uniformly when a wheel would exceed T_max, so the
+    realised body torque keeps the commanded direction (A* T_w = s T_cmd, 0 < s <= 1).
+    """
+    T_w = pyramid_pseudo_inverse(beta) * T_cmd
+    scale = sp.Max(1, _max_abs(T_w) / T_max)
+    return T_w / scale
+
+
+def wheel_speeds(h_w, I_w, A, omega):
+    """Wheel spin rates relative to the body, Omega_i = h_i / I_w - a_i . omega [rad/s]."""
+    return h_w / I_w - A.T * omega
+
+
+def speed_limited_torques(T_w, Omega, Omega_max):
+    """Fig. 6's momentum saturation: a wheel at |Omega| >= Omega_max cannot be driven further.
+
+    dh_i/dt = -T_i, so a negative T_i spins wheel i up in the positive sense.
+    """
+    out = []
+    for T, W in zip(T_w, Omega):
+        blocked = sp.Or(sp.And(W >= Omega_max, T < 0), sp.And(W <= -Omega_max, T > 0))
+        out.append(sp.Piecewise((0, blocked), (T, True)))
+    return sp.Matrix(out)
+
+
+# --------------------------------------------------------------------------- thrusters
+# rpo's 16-thruster layout (000 gives only "4 on each of the right, left, up and down faces").
+# Body: 1 m cube centred on the CoM.  Right = +Y, left = -Y, down = +Z, up = -Z faces.  Each
+# thruster is canted 36.87 deg (tan = 3/4) towards +X or -X so the set produces force along all
+# three axes.  Thrusters come in pairs on opposite faces sharing one line of action with opposite
+# forces, so the 16 unit wrenches sum to zero: the all-ones vector is a strictly positive null
+# vector of B, which makes the closed-form non-negative allocation below always feasible.
+# Exact rationals keep the allocation matrix identical on every machine.
+_R = sp.Rational
+
+
+def thruster_layout():
+    """(positions [m], unit force directions on the body) of the 16 thrusters, body axes."""
+    pos, dirs = [], []
+    for sigma in (1, -1):
+        for off in (_R(3, 10), _R(-3, 10)):
+            # right (+Y) and left (-Y) faces, pair on the same line of action
+            pos += [sp.Matrix([-_R(3, 8) * sigma, _R(1, 2), off]), sp.Matrix([_R(3, 8) * sigma, -_R(1, 2), off])]
+            dirs += [sp.Matrix([_R(3, 5) * sigma, -_R(4, 5), 0]), sp.Matrix([-_R(3, 5) * sigma, _R(4, 5), 0])]
+    for sigma in (1, -1):
+        for off in (_R(3, 10), _R(-3, 10)):
+            # down (+Z) and up (-Z) faces
+            pos += [sp.Matrix([-_R(3, 8) * sigma, off, _R(1, 2)]), sp.Matrix([_R(3, 8) * sigma, off, -_R(1, 2)])]
+            dirs += [sp.Matrix([_R(3, 5) * sigma, 0, -_R(4, 5)]), sp.Matrix([-_R(3, 5) * sigma, 0, _R(4, 5)])]
+    return pos, dirs
+
+
+def thruster_wrench_matrix():
+    """B (6 x 16): column j = [force; torque] of thruster j at unit thrust, body axes."""
+    pos, dirs = thruster_layout()
+    cols = [sp.Matrix.vstack(d, cross(p, d)) for p, d in zip(pos, dirs)]
+    return sp.Matrix.hstack(*cols)
+
+
+def thruster_allocation_matrices():
+    """(B^+, n): exact pseudo-inverse of B and its positive null vector (all ones)."""
+    B = thruster_wrench_matrix()
+    B_pinv = B.T * (B * B.T).inv()
+    n = sp.ones(B.shape[1], 1)
+    assert B * n == sp.zeros(6, 1), "thruster layout must be balanced"
+    return B_pinv, n
+
+
+def allocate_thrusters(F_cmd, tau_cmd, F_max):
+    """Duty demands d in [0, 1]^16 for a body force [N] and torque [N m] command.
+
+    d = (B^+ w + lambda 1) / F_max with the smallest lambda >= 0 making d >= 0 (feasible because
+    B 1 = 0, so the realised wrench is still w), then scaled uniformly to max(d) <= 1 (keeping
+    the wrench direction).  Closed form, continuous in the command, not fuel-optimal.
+    """
+    B_pinv, n = thruster_allocation_matrices()
+    d = B_pinv * sp.Matrix.vstack(F_cmd, tau_cmd) / F_max
+    lam = sp.Max(0, *[-d[i] for i in range(d.shape[0])])
+    d = d + lam * n
+    scale = sp.Max(1, *list(d))
+    return d / scale
+
+
+def thruster_wrench(on, F_max):
+    """Body force [N] and torque [N m] of thrusters firing at levels ``on`` (0 or 1 each)."""
+    w = thruster_wrench_matrix() * on * F_max
+    return sp.Matrix(w[0:3]), sp.Matrix(w[3:6])
+
+
+def propellant_flow(on, F_max, isp, g0):
+    """Propellant mass flow sum_j F_j / (Isp g0) [kg/s]."""
+    return sum(on) * F_max / (isp * g0)
+
+
+# --------------------------------------------------------------------------- PWPF modulator
+# Fig. 7: prefilter K_m / (T_m s + 1) on (demand - output), Schmitt trigger (U_on, U_off).
+# Discretised exactly for a demand and an output held over the step dt.
+
+
+def schmitt_trigger(f, on_prev, u_on, u_off):
+    """Trigger output (0 or 1): on when f >= U_on, off when f <= U_off, else hold."""
+    return sp.Piecewise((1, f >= u_on), (0, f <= u_off), (on_prev, True))
+
+
+def pwpf_filter_step(f, demand, on, k_m, t_m, dt):
+    """Prefilter state after dt: f + (1 - exp(-dt/T_m)) (K_m (demand - on) - f)."""
+    return f + (1 - sp.exp(-dt / t_m)) * (k_m * (demand - on) - f)

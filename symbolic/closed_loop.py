@@ -1,0 +1,214 @@
+"""One closed-loop step: measurement, controller, actuators, and fixed-step RK4 of the plant.
+
+The *pieces* (plant right-hand side, measurement, control law, allocations, PWPF) are SymPy
+expressions defined once in :func:`model_pieces`.  :func:`step` composes them over an array
+backend (``ops``): with CasADi for the generated C, with NumPy for the reference baseline of
+``benchmarks/``.  The composition is written once here, so both run the same algorithm.
+
+Timing within a step of length dt starting at t_k (zero-order hold):
+
+1. the controller reads the measurement of x(t_k) and outputs a command held over the step;
+2. the wheel command enters a transport-delay line: the wheels apply the command from
+   ``n + 1`` steps ago during [t_k, t_k + delta) and from ``n`` steps ago during
+   [t_k + delta, t_k + dt), with delay = n dt + delta, 0 <= delta < dt (exact, two RK4 sub-steps);
+3. each thruster's Schmitt trigger switches on the PWPF prefilter state at t_k, the on/off level
+   is held over the step, and the prefilter is advanced exactly over dt;
+4. quaternions are renormalised after the step; controller states are advanced by RK4 with the
+   measurement held.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from . import actuators as act
+from .controllers import command_layout
+from .layout import Layout
+from .plant import THRUSTERS, WHEELS, Plant
+
+#: Wheel-command history length: delays up to NB * dt - epsilon are represented exactly.
+DELAY_SLOTS = 4
+
+
+def actuator_layout() -> Layout:
+    a = Layout("xa")
+    for j in range(DELAY_SLOTS):
+        a.add(f"wheel_cmd_{j + 1}", 4, "N m", f"wheel torque command issued {j + 1} step(s) ago", WHEELS)
+    a.add("pwpf_f", 16, "-", "PWPF prefilter states", THRUSTERS)
+    a.add("pwpf_on", 16, "-", "thruster on-levels of the previous step", THRUSTERS)
+    return a
+
+
+@dataclass
+class Piece:
+    """A named SymPy function: inputs (name, symbols) and outputs (name, expression)."""
+
+    name: str
+    inputs: list[tuple[str, sp.Basic]]
+    outputs: list[tuple[str, sp.Basic]]
+
+
+def model_pieces(plant: Plant, ctrl) -> dict[str, Piece]:
+    """The SymPy pieces a closed-loop step is made of (each defined once, here or below)."""
+    P = plant
+    x, u, t, p, w = P.x.vector(), P.u.vector(), P.t, P.p.vector(), P.w.vector()
+    meas = P.meas.vector()
+    pr = P.p
+    cmd, xc_dot, diag = ctrl.law(P.meas, t, pr)
+    tau_w = sp.Matrix(sp.symbols("tau_x tau_y tau_z", real=True))
+    F_c = sp.Matrix(sp.symbols("F_x F_y F_z", real=True))
+    tau_t = sp.Matrix(sp.symbols("taut_x taut_y taut_z", real=True))
+    f = sp.Matrix(sp.symbols("f_0:16", real=True))
+    on = sp.Matrix(sp.symbols("on_0:16", real=True))
+    duty = sp.Matrix(sp.symbols("d_0:16", real=True))
+    return {
+        "plant_rhs": Piece("plant_rhs", [("x", x), ("u", u), ("t", t), ("p", p), ("w", w)],
+                           [("xdot", P.rhs())]),
+        "measure": Piece("measure", [("x", x), ("t", t), ("p", p)], [("meas", P.measurement())]),
+        "env_outputs": Piece("env_outputs", [("x", x), ("u", u), ("t", t), ("p", p), ("w", w)],
+                             [("env", P.env_outputs())]),
+        f"law_{ctrl.name}": Piece(
+            f"law_{ctrl.name}",
+            [("meas", meas), ("xc", ctrl.xc.vector()), ("t", t), ("p", p), ("k", ctrl.k.vector())],
+            [("cmd", cmd), ("xc_dot", xc_dot), ("diag", diag)]),
+        "wheel_alloc": Piece("wheel_alloc", [("tau", tau_w), ("p", p)],
+                             [("T_w", act.allocate_wheel_torques(pr["wheel_beta"], tau_w,
+                                                                 pr["wheel_torque_max"]))]),
+        "thruster_alloc": Piece("thruster_alloc", [("F", F_c), ("tau", tau_t), ("p", p)],
+                                [("duty", act.allocate_thrusters(F_c, tau_t, pr["thruster_force"]))]),
+        "pwpf": Piece("pwpf", [("f", f), ("on_prev", on), ("duty", duty), ("p", p)], [
+            ("on", sp.Matrix([act.schmitt_trigger(f[i], on[i], pr["pwpf_uon"], pr["pwpf_uoff"])
+                              for i in range(16)])),
+        ]),
+        "pwpf_filter": Piece("pwpf_filter", [("f", f), ("duty", duty), ("on", on), ("p", p)], [
+            ("f_next", sp.Matrix([act.pwpf_filter_step(f[i], duty[i], on[i], pr["pwpf_km"],
+                                                       pr["pwpf_tm"], pr["dt"]) for i in range(16)])),
+        ]),
+    }
+
+
+def output_layout(plant: Plant, ctrl) -> Layout:
+    """Per-step logged outputs y of the closed-loop step (values at t_k)."""
+    y = Layout("y")
+    for lay, prefix in ((plant.meas, "meas"), (command_layout(), "cmd")):
+        for fl in lay.fields:
+            y.add(f"{prefix}_{fl.name}", fl.size, fl.unit, fl.doc, fl.components)
+    y.add("wheel_cmd", 4, "N m", "allocated, saturated wheel torque command", WHEELS)
+    y.add("wheel_applied", 4, "N m", "delayed wheel command applied after t_k + delta", WHEELS)
+    y.add("thr_duty", 16, "-", "thruster duty demand (PWPF input)", THRUSTERS)
+    y.add("thr_on", 16, "-", "thruster on-level over the step", THRUSTERS)
+    for fl in plant.env.fields:
+        y.add(f"env_{fl.name}", fl.size, fl.unit, fl.doc, fl.components)
+    for fl in ctrl.diag.fields:
+        y.add(f"ctrl_{fl.name}", fl.size, fl.unit, fl.doc, fl.components)
+    return y
+
+
+def state_layout(plant: Plant, ctrl) -> Layout:
+    """The packed step state z = [plant x, actuator states, controller states]."""
+    z = Layout("z")
+    for lay, prefix in ((plant.x, ""), (actuator_layout(), ""), (ctrl.xc, "xc_")):
+        for fl in lay.fields:
+            z.add(prefix + fl.name, fl.size, fl.unit, fl.doc, fl.components)
+    return z
+
+
+def rk4(f, x, t, h, t_end=None):
+    """One classical Runge-Kutta step of dx/dt = f(x, t) over h.
+
+    Each stage time is formed once (and ``t_end`` may be passed in) so that stages at equal
+    times share their time-only terms after common-subexpression elimination.
+    """
+    t_half = t + h / 2
+    t_end = t + h if t_end is None else t_end
+    k1 = f(x, t)
+    k2 = f(x + h / 2 * k1, t_half)
+    k3 = f(x + h / 2 * k2, t_half)
+    k4 = f(x + h * k3, t_end)
+    return x + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
+
+
+def step(ops, fn, idx, z, t, p, k, w):
+    """Advance the packed state z by one step dt; return (z_next, y).
+
+    ``ops``: array backend (``vcat``, ``floor``, ``if_else``, ``sqrt``, ``fmax``, ``zeros``);
+    ``fn``: callables for the pieces of :func:`model_pieces`, each returning a tuple of outputs;
+    ``idx``: integer offsets (from the layouts) of the blocks of z and of ``dt``, ``wheel_delay``.
+    """
+    nx, nc = idx["nx"], idx["nc"]
+    x = z[0:nx]
+    o = nx
+    hist = []
+    for _ in range(DELAY_SLOTS):
+        hist.append(z[o:o + 4])
+        o += 4
+    f = z[o:o + 16]
+    on_prev = z[o + 16:o + 32]
+    xc = z[o + 32:o + 32 + nc]
+    dt = p[idx["dt"]]
+    delay = p[idx["wheel_delay"]]
+
+    meas = fn["measure"](x, t, p)[0]
+    cmd, _, diag = fn["law"](meas, xc, t, p, k)
+    T_new = fn["wheel_alloc"](cmd[0:3], p)[0]
+
+    # transport delay: delay = n dt + delta, 0 <= delta < dt
+    n = ops.floor(delay / dt)
+    delta = ops.fmax(delay - n * dt, 0)
+    cands = [T_new] + hist  # cands[j] = command issued j steps ago
+
+    def pick(j_sym):
+        out = ops.zeros(4)
+        for j, c in enumerate(cands):
+            out = out + ops.if_else(j_sym == j, c, ops.zeros(4))
+        return out
+
+    T_late = pick(n)          # applied during [t + delta, t + dt)
+    T_early = pick(n + 1)     # applied during [t, t + delta)
+
+    duty = fn["thruster_alloc"](cmd[3:6], cmd[6:9], p)[0]
+    on = fn["pwpf"](f, on_prev, duty, p)[0]
+    f_next = fn["pwpf_filter"](f, duty, on, p)[0]
+
+    def plant_with(Tw):
+        u = ops.vcat(Tw, on)
+        return lambda xx, tt: fn["plant_rhs"](xx, u, tt, p, w)[0]
+
+    t_delta, t_next = t + delta, t + dt
+    x1 = rk4(plant_with(T_early), x, t, delta, t_delta)
+    x2 = rk4(plant_with(T_late), x1, t_delta, dt - delta, t_next)
+    # renormalise the quaternions (RK4 does not preserve the unit norm exactly)
+    parts = []
+    last = 0
+    for a in idx["quats"]:
+        parts.append(x2[last:a])
+        q = x2[a:a + 4]
+        parts.append(q / ops.sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]))
+        last = a + 4
+    parts.append(x2[last:nx])
+    x_next = ops.vcat(*parts)
+
+    if nc:
+        xc_next = rk4(lambda xx, tt: fn["law"](meas, xx, tt, p, k)[1], xc, t, dt, t_next)
+    else:
+        xc_next = xc
+
+    z_next = ops.vcat(x_next, T_new, *hist[:-1], f_next, on, xc_next)
+    env = fn["env_outputs"](x, ops.vcat(T_late, on), t, p, w)[0]
+    y = ops.vcat(meas, cmd, T_new, T_late, duty, on, env, diag)
+    return z_next, y
+
+
+def step_indices(plant: Plant, ctrl) -> dict:
+    """Integer offsets :func:`step` needs, from the layouts."""
+    xo = plant.x.offsets()
+    po = plant.p.offsets()
+    return {
+        "nx": plant.x.size,
+        "nc": ctrl.xc.size,
+        "dt": po["dt"][0],
+        "wheel_delay": po["wheel_delay"][0],
+        "quats": [xo["q_c"][0], xo["q_t"][0]],
+    }

@@ -1,0 +1,45 @@
+"""Baseline PD pose controller: closes the loop for the toolchain, not a paper design.
+
+Attitude: tau = -k_p sgn(q_e4) q_ev - k_d omega_e on the error to the interface frame (000 eqs.
+17, 22); the sign picks the shorter rotation.  Translation: F_L = -k_pr (r - r_goal) - k_dr v in
+LVLH, rotated into the chaser body for the thrusters.  No controller states.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+from ..layout import XYZ, Layout
+from ..rotations import quat_to_dcm, quat_vec
+from . import command_layout
+
+
+@dataclass
+class Baseline:
+    name: str = "baseline"
+    k: Layout = field(default_factory=lambda: Layout("k"))
+    xc: Layout = field(default_factory=lambda: Layout("xc"))
+    diag: Layout = field(default_factory=lambda: Layout("diag"))
+
+    def __post_init__(self):
+        k = self.k
+        k.add("kp_att", 1, "N m", "attitude proportional gain", default=0.28)
+        k.add("kd_att", 1, "N m s", "attitude rate gain", default=2.0)
+        k.add("kp_pos", 1, "N/m", "position proportional gain", default=0.25)
+        k.add("kd_pos", 1, "N s/m", "velocity gain", default=7.0)
+        k.add("r_goal", 3, "m", "goal relative position, LVLH", XYZ, default=(0, 0, 0))
+        self.diag.add("att_err", 1, "rad", "rotation angle to the interface frame")
+
+    def law(self, meas, t, p):
+        """(cmd, xc_dot, diag) as SymPy expressions of the measurement ``meas`` (a Layout)."""
+        k = self.k
+        q_e, w_e = meas["q_e"], meas["w_e"]
+        sgn = sp.Piecewise((-1, q_e[3] < 0), (1, True))
+        tau = -k["kp_att"] * sgn * quat_vec(q_e) - k["kd_att"] * w_e
+        F_L = -k["kp_pos"] * (meas["r"] - k["r_goal"]) - k["kd_pos"] * meas["v"]
+        F_body = quat_to_dcm(meas["q_cL"]).T * F_L
+        cmd = command_layout().pack({"tau_w": tau, "F": F_body, "tau_thr": sp.zeros(3, 1)})
+        att_err = 2 * sp.acos(sp.Min(1, sp.Abs(q_e[3])))
+        return cmd, sp.zeros(0, 1), sp.Matrix([att_err])
