@@ -114,6 +114,11 @@ class Simulation:
         self.dt = float(self.p[model.offsets("p")["dt"]][0])
         if not self.dt > 0:
             raise ModelError(f"dt must be > 0, got {self.dt}")
+        delay = float(self.p[model.offsets("p")["wheel_delay"]][0])
+        slots = int(model.manifest["delay_slots"])
+        if not 0 <= delay < slots * self.dt:
+            # the delay line holds `slots` past commands; a longer delay cannot be represented
+            raise ModelError(f"wheel_delay = {delay} s must be in [0, {slots} dt) = [0, {slots * self.dt:g}) s")
         self.bound = np.full(self.nz, np.inf)
         offs = model.offsets(self.z_layout)
         for name, b in {**DEFAULT_BOUNDS, **(bounds or {})}.items():

@@ -62,10 +62,10 @@ def speed_limited_torques(T_w, Omega, Omega_max):
 # rpo's 16-thruster layout (000 gives only "4 on each of the right, left, up and down faces").
 # Body: 1 m cube centred on the CoM.  Right = +Y, left = -Y, down = +Z, up = -Z faces.  Each
 # thruster is canted 36.87 deg (tan = 3/4) towards +X or -X so the set produces force along all
-# three axes.  Thrusters come in pairs on opposite faces sharing one line of action with opposite
-# forces, so the 16 unit wrenches sum to zero: the all-ones vector is a strictly positive null
-# vector of B, which makes the closed-form non-negative allocation below always feasible.
-# Exact rationals keep the allocation matrix identical on every machine.
+# three axes.  Thrusters come in coaxial pairs (2j, 2j+1) on opposite faces, sharing one line of
+# action with opposite forces, so any wrench in the span of the 8 pair columns (rank 6) can be
+# produced with non-negative thrusts.  Exact rationals keep the allocation matrix identical on
+# every machine.
 _R = sp.Rational
 
 
@@ -92,28 +92,34 @@ def thruster_wrench_matrix():
     return sp.Matrix.hstack(*cols)
 
 
-def thruster_allocation_matrices():
-    """(B^+, n): exact pseudo-inverse of B and its positive null vector (all ones)."""
+def thruster_pair_matrix():
+    """B8 (6 x 8): the wrench columns of the first thruster of each coaxial pair.
+
+    Thrusters 2j and 2j+1 share a line of action with opposite forces, so B = [b_0, -b_0, b_1,
+    -b_1, ...] and a signed pair level x_j fires thruster 2j (x_j > 0) or 2j+1 (x_j < 0).
+    """
     B = thruster_wrench_matrix()
-    B_pinv = B.T * (B * B.T).inv()
-    n = sp.ones(B.shape[1], 1)
-    assert B * n == sp.zeros(6, 1), "thruster layout must be balanced"
-    return B_pinv, n
+    for j in range(8):
+        assert B[:, 2 * j] == -B[:, 2 * j + 1], "thrusters 2j, 2j+1 must be a coaxial opposed pair"
+    return sp.Matrix.hstack(*[B[:, 2 * j] for j in range(8)])
 
 
 def allocate_thrusters(F_cmd, tau_cmd, F_max):
     """Duty demands d in [0, 1]^16 for a body force [N] and torque [N m] command.
 
-    d = (B^+ w + lambda 1) / F_max with the smallest lambda >= 0 making d >= 0 (feasible because
-    B 1 = 0, so the realised wrench is still w), then scaled uniformly to max(d) <= 1 (keeping
-    the wrench direction).  Closed form, continuous in the command, not fuel-optimal.
+    Signed pair levels x = B8^+ w / F_max (exact rational pseudo-inverse, rank 6), then
+    d_2j = max(x_j, 0), d_2j+1 = max(-x_j, 0): only one thruster of each opposed pair fires, and
+    B d F_max = w exactly.  If any d exceeds 1 all are scaled by the same factor, keeping the
+    wrench direction.  Closed form and continuous in the command; not L1 fuel-optimal (an LP
+    would be), but no opposed pair ever fires together.
     """
-    B_pinv, n = thruster_allocation_matrices()
-    d = B_pinv * sp.Matrix.vstack(F_cmd, tau_cmd) / F_max
-    lam = sp.Max(0, *[-d[i] for i in range(d.shape[0])])
-    d = d + lam * n
-    scale = sp.Max(1, *list(d))
-    return d / scale
+    B8 = thruster_pair_matrix()
+    x = B8.T * (B8 * B8.T).inv() * sp.Matrix.vstack(F_cmd, tau_cmd) / F_max
+    d = []
+    for j in range(8):
+        d += [sp.Max(x[j], 0), sp.Max(-x[j], 0)]
+    scale = sp.Max(1, *[sp.Abs(x[j]) for j in range(8)])
+    return sp.Matrix(d) / scale
 
 
 def thruster_wrench(on, F_max):

@@ -21,6 +21,7 @@ import sympy as sp
 from . import closed_loop as cl
 from .controllers.baseline import Baseline
 from .plant import make_plant
+from .orbit import eccentric_anomaly
 from .relative_attitude import attitude_error_rate, rate_error_dynamics
 from .to_casadi import sympy_function
 
@@ -60,9 +61,60 @@ def controllers():
     return [Baseline()]
 
 
+def sources(P=None, ctrls=None) -> tuple[dict[str, cl.Piece], dict]:
+    """The SymPy source of every generated function except the composed steps, by name.
+
+    Tests evaluate these same expressions with NumPy (``sympy.lambdify``) and compare them with
+    the compiled functions; :func:`build_functions` translates them to CasADi.
+    """
+    P = make_plant() if P is None else P
+    ctrls = controllers() if ctrls is None else ctrls
+    pieces: dict[str, cl.Piece] = {}
+    for ctrl in ctrls:
+        for name, pc in cl.model_pieces(P, ctrl).items():
+            pieces.setdefault(name, pc)
+    o = P.orbit()
+    pieces["target_orbit"] = cl.Piece("target_orbit", [("t", P.t), ("p", P.p.vector())], [
+        ("nu", o["nu"]), ("r", o["r"]), ("r_dot", o["r_dot"]), ("n", o["n"]), ("n_dot", o["n_dot"]),
+        ("r_eci", o["r_eci"]), ("v_eci", o["v_eci"]), ("q_IL", P.lvlh_attitude(o)),
+    ])
+    M, e = sp.symbols("M e", real=True)
+    pieces["kepler"] = cl.Piece("kepler", [("M", M), ("e", e)], [("E", eccentric_anomaly(M, e))])
+    tq = P.torques()
+    rel = sp.Matrix(sp.symbols("qe_x qe_y qe_z qe_w we_x we_y we_z", real=True))
+    q_e, w_e = sp.Matrix(rel[0:4]), sp.Matrix(rel[4:7])
+    rel_dot = sp.Matrix.vstack(
+        attitude_error_rate(q_e, w_e),
+        rate_error_dynamics(q_e, w_e, P.x["w_c"], tq["h_rw"], tq["I_c"], tq["I_t"], tq["T_c"], tq["M_c"],
+                            tq["M_t"]),
+    )
+    pieces["relative_attitude_rhs"] = cl.Piece(
+        "relative_attitude_rhs",
+        [("x", P.x.vector()), ("u", P.u.vector()), ("t", P.t), ("p", P.p.vector()), ("w", P.w.vector()),
+         ("rel", rel)], [("rel_dot", rel_dot)])
+    return pieces, {"plant": P, "controllers": ctrls}
+
+
+#: Manifest layout names of each source function's inputs and outputs, and its description.
+_SIGNATURES = {
+    "plant_rhs": (["x", "u", None, "p", "w"], ["x"], "plant right-hand side dx/dt (000 eqs. 6, 10, 24, 30, 45-47)"),
+    "measure": (["x", None, "p"], ["meas"], "truth -> relative pose measurement"),
+    "env_outputs": (["x", "u", None, "p", "w"], ["env"], "environment/actuator diagnostics"),
+    "wheel_alloc": ([None, "p"], [None], "pyramid wheel allocation with saturation (inverse of 000 eq. 46)"),
+    "thruster_alloc": ([None, None, "p"], [None], "thruster duty allocation"),
+    "pwpf": ([None, None, None, "p"], [None], "PWPF Schmitt trigger"),
+    "pwpf_filter": ([None, None, None, "p"], [None], "PWPF prefilter update over dt"),
+    "target_orbit": ([None, "p"], [None] * 8, "target orbit at t (000 eqs. 31-36, corrected LVLH rate)"),
+    "kepler": ([None, None], [None], "eccentric anomaly from Kepler's equation (000 eq. 32)"),
+    "relative_attitude_rhs": (["x", "u", None, "p", "w", None], [None],
+                              "relative attitude model (000 eqs. 24-29) driven by the plant state, for checks"),
+}
+
+
 def build_functions():
     """All CasADi functions to generate, plus their manifest descriptions."""
-    P = make_plant()
+    pieces, ctx = sources()
+    P = ctx["plant"]
     layouts = {"p": P.p, "x": P.x, "u": P.u, "w": P.w, "meas": P.meas, "env": P.env}
     funcs: list[ca.Function] = []
     desc: dict[str, dict] = {}
@@ -77,28 +129,22 @@ def build_functions():
                         for i in range(fn.n_out())],
         }
 
+    cas = {name: sympy_function(pc.name, pc.inputs, pc.outputs) for name, pc in pieces.items()}
+    for name in ("plant_rhs",):
+        add(cas[name], *_SIGNATURES[name])
+    rhs = cas["plant_rhs"]
+    xs, us = ca.SX.sym("x", P.x.size), ca.SX.sym("u", P.u.size)
+    ts, ps, ws = ca.SX.sym("t"), ca.SX.sym("p", P.p.size), ca.SX.sym("w", P.w.size)
+    xdot = rhs(xs, us, ts, ps, ws)
+    jac = ca.Function("plant_jac", [xs, us, ts, ps, ws],
+                      [ca.densify(ca.jacobian(xdot, xs)), ca.densify(ca.jacobian(xdot, us))],
+                      ["x", "u", "t", "p", "w"], ["dfdx", "dfdu"])
+    add(jac, ["x", "u", None, "p", "w"], [None, None], "Jacobians of plant_rhs w.r.t. x and u (CasADi AD)")
+    for name in ("measure", "env_outputs", "wheel_alloc", "thruster_alloc", "pwpf", "pwpf_filter"):
+        add(cas[name], *_SIGNATURES[name])
+
     ctrl_entries = {}
-    shared = None
-    for ctrl in controllers():
-        pieces = cl.model_pieces(P, ctrl)
-        cas = {name: sympy_function(pc.name, pc.inputs, pc.outputs) for name, pc in pieces.items()}
-        if shared is None:
-            shared = cas
-            rhs = cas["plant_rhs"]
-            add(rhs, ["x", "u", None, "p", "w"], ["x"], "plant right-hand side dx/dt (000 eqs. 6, 10, 24, 30, 45-47)")
-            xs, us = ca.SX.sym("x", P.x.size), ca.SX.sym("u", P.u.size)
-            ts, ps, ws = ca.SX.sym("t"), ca.SX.sym("p", P.p.size), ca.SX.sym("w", P.w.size)
-            xdot = rhs(xs, us, ts, ps, ws)
-            jac = ca.Function("plant_jac", [xs, us, ts, ps, ws],
-                              [ca.densify(ca.jacobian(xdot, xs)), ca.densify(ca.jacobian(xdot, us))],
-                              ["x", "u", "t", "p", "w"], ["dfdx", "dfdu"])
-            add(jac, ["x", "u", None, "p", "w"], [None, None], "Jacobians of plant_rhs w.r.t. x and u")
-            add(cas["measure"], ["x", None, "p"], ["meas"], "truth -> relative pose measurement")
-            add(cas["env_outputs"], ["x", "u", None, "p", "w"], ["env"], "environment/actuator diagnostics")
-            add(cas["wheel_alloc"], [None, "p"], [None], "pyramid wheel allocation with saturation")
-            add(cas["thruster_alloc"], [None, None, "p"], [None], "thruster duty allocation")
-            add(cas["pwpf"], [None, None, None, "p"], [None], "PWPF Schmitt trigger")
-            add(cas["pwpf_filter"], [None, None, None, "p"], [None], "PWPF prefilter update over dt")
+    for ctrl in ctx["controllers"]:
         law = cas[f"law_{ctrl.name}"]
         klay = f"k_{ctrl.name}"
         layouts[klay] = ctrl.k
@@ -108,55 +154,13 @@ def build_functions():
             f"control law of {ctrl.name}")
         zl, yl = cl.state_layout(P, ctrl), cl.output_layout(P, ctrl)
         layouts[f"z_{ctrl.name}"], layouts[f"y_{ctrl.name}"] = zl, yl
-        z = ca.MX.sym("z", zl.size)
-        t = ca.MX.sym("t")
-        p = ca.MX.sym("p", P.p.size)
-        k = ca.MX.sym("k", ctrl.k.size)
-        w = ca.MX.sym("w", P.w.size)
-        fn = {
-            "plant_rhs": shared["plant_rhs"], "measure": shared["measure"],
-            "env_outputs": shared["env_outputs"], "wheel_alloc": shared["wheel_alloc"],
-            "thruster_alloc": shared["thruster_alloc"], "pwpf": shared["pwpf"],
-            "pwpf_filter": shared["pwpf_filter"], "law": law,
-        }
-        fn = {name: (lambda f: (lambda *a: f.call(list(a))))(f) for name, f in fn.items()}
-        z_next, y = cl.step(CASADI_OPS, fn, cl.step_indices(P, ctrl), z, t, p, k, w)
-        stepf = ca.Function(f"step_{ctrl.name}", [z, t, p, k, w], [z_next, y],
-                            ["z", "t", "p", "k", "w"], ["z_next", "y"]).expand()
-        # common-subexpression elimination across RK4 stages: stages at equal times share the
-        # orbit (Kepler) and every other time-only term
-        zs, ts_, ps_, ks, ws_ = (ca.SX.sym(n, stepf.size1_in(i)) for i, n in enumerate("ztpkw"))
-        outs = stepf(zs, ts_, ps_, ks, ws_)
-        stepf = ca.Function(stepf.name(), [zs, ts_, ps_, ks, ws_], [ca.cse(o) for o in outs],
-                            ["z", "t", "p", "k", "w"], ["z_next", "y"])
+        stepf = casadi_step(cas, P, ctrl)
         add(stepf, [f"z_{ctrl.name}", None, "p", klay, "w"], [f"z_{ctrl.name}", f"y_{ctrl.name}"],
             f"one closed-loop step (plant + {ctrl.name} + actuators), RK4 over dt")
         ctrl_entries[ctrl.name] = {"step": stepf.name(), "law": law.name(), "gains": klay}
 
-    # auxiliary functions for edges and independent checks
-    o = P.orbit()
-    orbit_fn = sympy_function("target_orbit", [("t", P.t), ("p", P.p.vector())], [
-        ("nu", o["nu"]), ("r", o["r"]), ("r_dot", o["r_dot"]), ("n", o["n"]), ("n_dot", o["n_dot"]),
-        ("r_eci", o["r_eci"]), ("v_eci", o["v_eci"]), ("q_IL", P.lvlh_attitude(o)),
-    ])
-    add(orbit_fn, [None, "p"], [None] * 8, "target orbit at t (000 eqs. 31-36, corrected rate)")
-    M, e = sp.symbols("M e", real=True)
-    from .orbit import eccentric_anomaly
-
-    add(sympy_function("kepler", [("M", M), ("e", e)], [("E", eccentric_anomaly(M, e))]),
-        [None, None], [None], "eccentric anomaly from Kepler's equation (000 eq. 32)")
-    tq = P.torques()
-    rel = sp.Matrix(sp.symbols("qe_x qe_y qe_z qe_w we_x we_y we_z", real=True))
-    q_e, w_e = sp.Matrix(rel[0:4]), sp.Matrix(rel[4:7])
-    rel_dot = sp.Matrix.vstack(
-        attitude_error_rate(q_e, w_e),
-        rate_error_dynamics(q_e, w_e, P.x["w_c"], tq["h_rw"], tq["I_c"], tq["I_t"], tq["T_c"], tq["M_c"], tq["M_t"]),
-    )
-    add(sympy_function("relative_attitude_rhs",
-                       [("x", P.x.vector()), ("u", P.u.vector()), ("t", P.t), ("p", P.p.vector()),
-                        ("w", P.w.vector()), ("rel", rel)], [("rel_dot", rel_dot)]),
-        ["x", "u", None, "p", "w", None], [None],
-        "relative attitude model (000 eqs. 24-29) driven by the plant state, for checks")
+    for name in ("target_orbit", "kepler", "relative_attitude_rhs"):
+        add(cas[name], *_SIGNATURES[name])
 
     manifest_layouts = {name: lay.describe() for name, lay in layouts.items()}
     extra = {
@@ -165,6 +169,28 @@ def build_functions():
         "quaternion_convention": "scalar-last [x, y, z, w], Hamilton product, q_B_A: v_A = q v_B q*",
     }
     return funcs, desc, manifest_layouts, extra
+
+
+def casadi_step(cas: dict[str, ca.Function], P, ctrl) -> ca.Function:
+    """The closed-loop step composed (:func:`closed_loop.step`) from the CasADi pieces, expanded to SX."""
+    zl = cl.state_layout(P, ctrl)
+    z = ca.MX.sym("z", zl.size)
+    t = ca.MX.sym("t")
+    p = ca.MX.sym("p", P.p.size)
+    k = ca.MX.sym("k", ctrl.k.size)
+    w = ca.MX.sym("w", P.w.size)
+    names = ("plant_rhs", "measure", "env_outputs", "wheel_alloc", "thruster_alloc", "pwpf", "pwpf_filter")
+    fn = {name: cas[name] for name in names}
+    fn["law"] = cas[f"law_{ctrl.name}"]
+    fn = {name: (lambda f: (lambda *a: f.call(list(a))))(f) for name, f in fn.items()}
+    z_next, y = cl.step(CASADI_OPS, fn, cl.step_indices(P, ctrl), z, t, p, k, w)
+    stepf = ca.Function(f"step_{ctrl.name}", [z, t, p, k, w], [z_next, y],
+                        ["z", "t", "p", "k", "w"], ["z_next", "y"]).expand()
+    # common-subexpression elimination across RK4 stages: stages at equal times share the orbit
+    # (Kepler) and every other time-only term
+    syms = [ca.SX.sym(n, stepf.size1_in(i)) for i, n in enumerate("ztpkw")]
+    outs = stepf(*syms)
+    return ca.Function(stepf.name(), syms, [ca.cse(o) for o in outs], ["z", "t", "p", "k", "w"], ["z_next", "y"])
 
 
 def _header(src_hash: str) -> str:

@@ -117,6 +117,18 @@ def j2_acceleration_printed(mu, j2, r_e, r_eci):
     return k * vec(x * (5 * x**2 / r2 - 1), y * (5 * y**2 / r2 - 1), z * (5 * z**2 / r2 - 3))
 
 
+def altitude(r_eci, r_equator, flattening):
+    """Height above the reference ellipsoid [m], to first order in the flattening f.
+
+    h = |r| - R_eq (1 - f sin^2(phi)), phi the geocentric latitude (sin phi = z / |r|).  Eq. 39
+    uses the ellipsoidal height; |r| - R_eq alone is 14 km low at 55 deg latitude (where 000
+    scenario III's perigee lies), which overstates the density there by about 28 %.  The
+    first-order form is within ~30 m of the exact geodetic height below 1000 km.
+    """
+    r = norm(r_eci)
+    return r - r_equator * (1 - flattening * (r_eci[2] / r) ** 2)
+
+
 def atmosphere_density(altitude):
     """Exponential atmosphere rho = rho0 exp(-(h - h0) / H) [kg/m^3] (000 eq. 39), h in metres.
 

@@ -44,6 +44,7 @@ def _params() -> Layout:
     p.add("mu", 1, "m^3/s^2", "Earth gravitational parameter", default=3.986004418e14)
     p.add("j2", 1, "-", "Earth J2", default=1.08262668e-3)
     p.add("r_earth", 1, "m", "Earth equatorial radius", default=6378137.0)
+    p.add("earth_flattening", 1, "-", "WGS-84 flattening, for the altitude of eq. 39", default=1 / 298.257223563)
     p.add("omega_earth", 1, "rad/s", "Earth rotation rate (atmosphere co-rotation)", default=7.292115e-5)
     p.add("mu_mag", 1, "T m^3", "Earth dipole strength (000 eq. 13)", default=8.1e15)
     p.add("g0", 1, "m/s^2", "standard gravity for Isp", default=9.80665)
@@ -216,7 +217,7 @@ class Plant:
 
         def perturbation(r_eci, v_eci, mass, cd, area):
             a_j2 = env.j2_acceleration(p["mu"], p["j2"], p["r_earth"], r_eci)
-            rho = env.atmosphere_density(norm(r_eci) - p["r_earth"])
+            rho = env.atmosphere_density(env.altitude(r_eci, p["r_earth"], p["earth_flattening"]))
             a_drag = env.drag_acceleration(rho, cd, area, mass, r_eci, v_eci, p["omega_earth"])
             return p["j2_on"] * a_j2 + p["drag_on"] * a_drag
 

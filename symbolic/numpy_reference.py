@@ -1,0 +1,59 @@
+"""NumPy evaluation of the same SymPy model: the independent reference for tests and benchmarks.
+
+The pieces are the SymPy expressions of :func:`rpo.symbolic.codegen.sources` evaluated through
+``sympy.lambdify`` (NumPy), and the step is the same :func:`rpo.symbolic.closed_loop.step`
+composition the C code is generated from.  Nothing here is retyped.
+"""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+
+from . import closed_loop as cl
+from .to_casadi import numpy_function
+
+
+def _vcat(*parts):
+    return np.concatenate([np.atleast_1d(np.asarray(a, float)).ravel() for a in parts])
+
+
+NUMPY_OPS = SimpleNamespace(
+    vcat=_vcat,
+    floor=np.floor,
+    fmax=np.maximum,
+    sqrt=np.sqrt,
+    if_else=lambda c, a, b: a if c else b,
+    zeros=lambda n: np.zeros(n),
+)
+
+
+def lambdified(piece: cl.Piece):
+    """A NumPy callable taking flat arrays per input and returning a tuple of flat arrays."""
+    syms = []
+    for _name, a in piece.inputs:
+        syms.append(list(a) if hasattr(a, "shape") else a)
+    fn = numpy_function(syms, [e for _n, e in piece.outputs])
+
+    def call(*args):
+        flat = [list(np.ravel(np.asarray(a, float))) if hasattr(s, "__len__") else float(np.ravel(a)[0])
+                for a, s in zip(args, syms)]
+        return tuple(np.ravel(np.asarray(o, float)) if np.ndim(o) else np.array([float(o)])
+                     for o in fn(*flat))
+
+    return call
+
+
+def numpy_step(pieces: dict[str, cl.Piece], plant, ctrl):
+    """``step(z, t, p, k, w) -> (z_next, y)`` evaluated with NumPy."""
+    names = ("plant_rhs", "measure", "env_outputs", "wheel_alloc", "thruster_alloc", "pwpf", "pwpf_filter")
+    fn = {name: lambdified(pieces[name]) for name in names}
+    fn["law"] = lambdified(pieces[f"law_{ctrl.name}"])
+    idx = cl.step_indices(plant, ctrl)
+
+    def step(z, t, p, k, w):
+        return cl.step(NUMPY_OPS, fn, idx, np.asarray(z, float), float(t), np.asarray(p, float),
+                       np.asarray(k, float), np.asarray(w, float))
+
+    return step

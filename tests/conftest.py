@@ -1,0 +1,60 @@
+"""Shared fixtures: the compiled model and the SymPy sources it was generated from."""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+import pytest
+
+from rpo.runtime import load_model
+
+DEG = np.pi / 180
+Q_C0_III = np.array([-0.3257, 0.5957, 0.6722, 0.2954])
+Q_T0_III = np.array([0.38831, 0.22356, -0.34408, 0.82512])
+
+
+@pytest.fixture(scope="session")
+def model():
+    return load_model()
+
+
+@functools.cache
+def _sources():
+    from rpo.symbolic import codegen
+
+    return codegen.sources()
+
+
+@pytest.fixture(scope="session")
+def sources():
+    """(pieces, ctx): SymPy pieces by generated-function name; ctx has the plant and controllers."""
+    return _sources()
+
+
+@functools.cache
+def _lambdified(name):
+    from rpo.symbolic.numpy_reference import lambdified
+
+    return lambdified(_sources()[0][name])
+
+
+@pytest.fixture(scope="session")
+def numpy_piece():
+    """numpy_piece(name) -> NumPy callable of the SymPy source of generated function ``name``."""
+    return _lambdified
+
+
+def unit(q):
+    q = np.asarray(q, float)
+    return q / np.linalg.norm(q)
+
+
+def quiet_params(**over):
+    """Plant parameters with every disturbance off (for the independent-reference checks)."""
+    base = dict(gg_on=0, mag_on=0, j2_on=0, drag_on=0, mass_profile_on=0, chaser_rand_std=0, target_rand_std=0)
+    base.update(over)
+    return base
+
+
+ZERO_GAINS = dict(kp_att=0, kd_att=0, kp_pos=0, kd_pos=0)
