@@ -1,0 +1,265 @@
+"""rpo.runtime.scenario: the shipped scenarios load and map to a valid z0; bad input gives one-line errors."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from rpo.runtime import frames as fr
+from rpo.runtime.errors import ScenarioError
+from rpo.runtime.scenario import load_scenario, loads_scenario
+from rpo.runtime.simulate import Simulation
+
+ROOT = Path(__file__).resolve().parents[1]
+SCENARIOS = sorted((ROOT / "scenarios").glob("000_scenario_*.toml"))
+III = ROOT / "scenarios" / "000_scenario_III.toml"
+
+MINIMAL = """
+[simulation]
+duration = 1.0
+[chaser]
+attitude_frame = "eci"
+quaternion = [0, 0, 0, 1]
+[target]
+attitude_frame = "eci"
+quaternion = [0, 0, 0, 1]
+[relative]
+position = [10.0, 0.0, 0.0]
+velocity = [0.0, 0.0, 0.0]
+"""
+
+
+@pytest.fixture(scope="module")
+def model():
+    from rpo.runtime.compiled import load_model
+    return load_model()
+
+
+def scalar(params, name):
+    return float(np.ravel(params[name])[0])
+
+
+# --------------------------------------------------------------------------- the shipped scenarios
+
+
+def test_three_scenarios_exist():
+    assert [p.name for p in SCENARIOS] == ["000_scenario_I.toml", "000_scenario_II.toml", "000_scenario_III.toml"]
+
+
+@pytest.mark.parametrize("path", SCENARIOS, ids=lambda p: p.stem)
+def test_scenario_maps_to_valid_z0(model, path):
+    sc = load_scenario(path)
+    run = sc.to_run(model)
+    sim = Simulation(model, run.controller, params=run.params, gains=run.gains)
+    z0 = sim.initial_state(run.plant)
+    assert np.all(np.isfinite(z0))
+    assert run.duration == 300.0 and run.dt == pytest.approx(0.01) and run.controller == "baseline"
+    offs = model.offsets(f"z_{run.controller}")
+    for q in ("q_c", "q_t"):
+        assert np.linalg.norm(z0[offs[q]]) == pytest.approx(1.0, abs=1e-12)
+    np.testing.assert_array_equal(z0[offs["r"]], sc.relative.position)
+    np.testing.assert_array_equal(z0[offs["v"]], sc.relative.velocity)
+    # the paper's relative attitude q_t^-1 q_c is kept whatever the attitude frame
+    rel = fr.quat_multiply(fr.quat_conjugate(run.plant["q_t"]), run.plant["q_c"])
+    rel_typed = fr.quat_multiply(fr.quat_conjugate(sc.target.quaternion), sc.chaser.quaternion)
+    np.testing.assert_allclose(rel, rel_typed, atol=1e-12)
+    # wheels at rest relative to the body: the generated env_outputs agrees
+    p = model.vector("p", run.params)
+    x = model.vector("x", {**run.plant, "m_prop": 0.0})
+    env = model.functions["env_outputs"](x, np.zeros(model.layout_size("u")), 0.0, p,
+                                         np.zeros(model.layout_size("w")))[0]
+    np.testing.assert_allclose(np.ravel(env)[model.offsets("env")["wheel_speed"]], 0.0, atol=1e-12)
+
+
+def test_scenario_III_values(model):
+    sc = load_scenario(III)
+    run = sc.to_run(model)
+    r_e = scalar(run.params, "r_earth")
+    assert scalar(run.params, "orbit_a") * (1 - 0.138) == pytest.approx(r_e + 400e3, rel=1e-14)
+    assert scalar(run.params, "orbit_inc") == pytest.approx(math.radians(55))
+    assert scalar(run.params, "orbit_argp") == pytest.approx(math.radians(270))
+    L = 1 - 3184 / 3336
+    np.testing.assert_allclose(run.plant["w_t"], [(1 - L) * 0.1 / math.cos(0.5), 0.2 * L, 1.2 * L], atol=1e-9)
+    np.testing.assert_array_equal(run.plant["w_c"], 0.0)
+    np.testing.assert_array_equal(run.gains["r_goal"], [5, 0, 0])
+    # attitudes were given relative to the orbit frame R
+    q_IL = run.frame_info["q_IL0"]
+    np.testing.assert_allclose(fr.attitude_from_eci(run.plant["q_t"], "orbit", q_IL),
+                               fr.quat_normalize([0.38831, 0.22356, -0.34408, 0.82512]), atol=1e-12)
+
+
+def test_scenario_I_target_is_nadir_pointing_in_geo(model):
+    run = load_scenario(ROOT / "scenarios" / "000_scenario_I.toml").to_run(model)
+    mu, a = scalar(run.params, "mu"), scalar(run.params, "orbit_a")
+    assert a == 42164e3 and scalar(run.params, "orbit_e") == 0.0
+    n = math.sqrt(mu / a**3)
+    assert run.frame_info["n0"] == pytest.approx(n, rel=1e-12)
+    assert n == pytest.approx(7.2922e-5, rel=1e-4)
+    np.testing.assert_allclose(run.plant["w_t"], [0, -n, 0], atol=1e-15)  # zero rate relative to R
+    o = model.functions["target_orbit"](0.0, model.vector("p", run.params))
+    r_eci = np.ravel(o[5])
+    C_IT = fr.dcm_from_quat(run.plant["q_t"])
+    np.testing.assert_allclose(C_IT[:, 2], -r_eci / np.linalg.norm(r_eci), atol=1e-12)  # body Z to nadir
+    np.testing.assert_allclose(run.plant["w_c"], np.radians([3, 1, 5]))
+
+
+def test_scenario_II_goal_and_rates(model):
+    run = load_scenario(ROOT / "scenarios" / "000_scenario_II.toml").to_run(model)
+    np.testing.assert_array_equal(run.gains["r_goal"], [5, 0, 0])
+    np.testing.assert_allclose(run.plant["w_t"], np.radians([3, 5, -4]))
+
+
+# --------------------------------------------------------------------------- defaults and mapping
+
+
+def test_omitted_values_fall_back_to_the_manifest(model):
+    sc = loads_scenario(MINIMAL, "minimal.toml")
+    assert sc.param_overrides() == {}
+    run = sc.to_run(model)
+    defaults = model.defaults("p")
+    assert run.params.keys() == defaults.keys()
+    for k, v in defaults.items():
+        np.testing.assert_array_equal(run.params[k], v, err_msg=k)
+    for k, v in model.defaults("k_baseline").items():
+        np.testing.assert_array_equal(run.gains[k], v, err_msg=k)
+    assert sc.name == "minimal" and run.seed == 0 and run.record_every == 1
+
+
+def test_keys_map_to_parameters_in_SI(model):
+    text = MINIMAL.replace("[simulation]", "[simulation]\nrate = 50.0") + """
+[orbit]
+perigee_altitude = 500e3
+eccentricity = 0.1
+inclination_deg = 90.0
+[environment]
+drag = false
+[environment.constants]
+r_earth = 6371000.0
+[wheels]
+tilt_deg = 45.0
+max_speed_rpm = 6000.0
+[thrusters]
+pwpf = { u_on = 0.5, u_off = 0.2 }
+"""
+    text = text.replace('[chaser]\n', '[chaser]\nmass_profile = "constant"\nmass = 120\n'
+                        'inertia = [[10, 1, 0], [1, 12, 0.5], [0, 0.5, 14]]\n')
+    p = loads_scenario(text, "t.toml").to_run(model).params
+    assert scalar(p, "dt") == 0.02
+    assert scalar(p, "orbit_a") == pytest.approx((6371000.0 + 500e3) / 0.9)
+    assert scalar(p, "orbit_inc") == pytest.approx(math.pi / 2)
+    assert scalar(p, "drag_on") == 0.0 and scalar(p, "j2_on") == 1.0
+    assert scalar(p, "wheel_beta") == pytest.approx(math.pi / 4)
+    assert scalar(p, "wheel_speed_max") == pytest.approx(6000 * 2 * math.pi / 60)
+    assert scalar(p, "pwpf_uon") == 0.5 and scalar(p, "pwpf_uoff") == 0.2
+    assert scalar(p, "mass_profile_on") == 0.0 and scalar(p, "chaser_mass") == 120.0
+    labels = [lbl.rsplit("_", 1)[1] for lbl in model.labels("p") if lbl.startswith("chaser_inertia_")]
+    I = {"xx": 10, "yy": 12, "zz": 14, "xy": 1, "xz": 0, "yz": 0.5}
+    np.testing.assert_array_equal(p["chaser_inertia"], [I[c] for c in labels])
+
+
+def test_wheel_speed_and_rate_relative_to_frame(model):
+    text = MINIMAL.replace('[chaser]\nattitude_frame = "eci"', '[chaser]\nattitude_frame = "lvlh"') + ""
+    text = text.replace("[target]", 'angular_velocity_deg_s = [1.0, 2.0, 3.0]\n'
+                        'wheel_speed_rpm = [100.0, -200.0, 0.0, 50.0]\n[target]')
+    text = text.replace('[target]\nattitude_frame = "eci"',
+                        '[target]\nattitude_frame = "lvlh"\nangular_velocity_relative_to = "attitude_frame"')
+    run = loads_scenario(text, "t.toml").to_run(model)
+    n = run.frame_info["n0"]
+    np.testing.assert_allclose(run.plant["w_t"], [0, 0, n], atol=1e-18)  # fixed in LVLH
+    np.testing.assert_allclose(run.plant["w_c"], np.radians([1, 2, 3]))
+    p = model.vector("p", run.params)
+    x = model.vector("x", {**run.plant, "m_prop": 0.0})
+    env = model.functions["env_outputs"](x, np.zeros(model.layout_size("u")), 0.0, p,
+                                         np.zeros(model.layout_size("w")))[0]
+    np.testing.assert_allclose(np.ravel(env)[model.offsets("env")["wheel_speed"]] * 60 / (2 * math.pi),
+                               [100, -200, 0, 50], rtol=1e-10)
+
+
+def test_near_unit_quaternion_is_normalised():
+    sc = loads_scenario(MINIMAL.replace("quaternion = [0, 0, 0, 1]", "quaternion = [0, 0, 0, 1.0009]", 1), "t")
+    assert np.linalg.norm(sc.chaser.quaternion) == pytest.approx(1.0, abs=1e-15)
+
+
+def test_overrides_are_revalidated():
+    sc = load_scenario(III)
+    short = sc.with_overrides(duration=2.0, seed=7)
+    assert short.simulation.duration == 2.0 and short.simulation.seed == 7
+    assert sc.simulation.duration == 300.0
+    assert short.text == sc.text
+    with pytest.raises(ScenarioError, match=r"simulation\.duration = 0\.001: must be at least one step"):
+        sc.with_overrides(duration=0.001)
+
+
+# --------------------------------------------------------------------------- bad input
+
+BASE = III.read_text()
+
+
+def replaced(old: str, new: str) -> str:
+    assert old in BASE, old
+    return BASE.replace(old, new, 1)
+
+
+Q_T = "quaternion = [0.38831, 0.22356, -0.34408, 0.82512]"
+BAD = {
+    "non-unit quaternion": (replaced(Q_T, "quaternion = [0.5, 0.5, 0.5, 0.6]"),
+                            "target.quaternion = [0.5, 0.5, 0.5, 0.6]: must be a unit quaternion", "1.05357"),
+    "quaternion length": (replaced(Q_T, "quaternion = [0.5, 0.5, 0.5]"), "target.quaternion", "must have 4 values"),
+    "eccentricity >= 1": (replaced("eccentricity = 0.138", "eccentricity = 1.2"),
+                          "orbit.eccentricity = 1.2: must be in [0, 1)", None),
+    "eccentricity = 1": (replaced("eccentricity = 0.138", "eccentricity = 1.0"), "orbit.eccentricity", "[0, 1)"),
+    "perigee below surface": (replaced("perigee_altitude = 400e3", "semi_major_axis = 7000e3")
+                              .replace("eccentricity = 0.138", "eccentricity = 0.2"),
+                              "orbit.semi_major_axis = 7000000.0: perigee below the surface", "6378137"),
+    "negative perigee altitude": (replaced("perigee_altitude = 400e3", "perigee_altitude = -1e3"),
+                                  "orbit.perigee_altitude = -1000.0", "must be > 0"),
+    "non-PD inertia": (replaced("[chaser]\n", "[chaser]\ninertia = [[11, 0, 0], [0, -14, 0], [0, 0, 13]]\n"),
+                       "chaser.inertia", "positive definite"),
+    "asymmetric inertia": (replaced("[chaser]\n", "[chaser]\ninertia = [[11, 1, 0], [0, 14, 0], [0, 0, 13]]\n"),
+                           "chaser.inertia", "symmetric"),
+    "triangle inequality": (replaced("[target]\n", "[target]\ninertia = [[1, 0, 0], [0, 1, 0], [0, 0, 3]]\n"),
+                            "target.inertia", "triangle inequality"),
+    "negative mass": (replaced("[chaser]\n", "[chaser]\nmass = -100.0\n"), "chaser.mass = -100.0: must be > 0 kg",
+                      None),
+    "unknown key": (replaced("[chaser]\n", "[chaser]\nmasss = 100.0\n"), "chaser.masss = 100.0: unknown key",
+                    "did you mean 'mass'"),
+    "unknown table": (BASE + "\n[foo]\nbar = 1\n", "foo = { bar = 1 }: unknown key", None),
+    "unknown gain": (replaced("r_goal = [5.0", "r_gaol = [5.0"), "controller.baseline.r_gaol", "unknown key"),
+    "wrong type": (replaced("duration = 300.0", 'duration = "300"'), 'simulation.duration = "300": must be a number',
+                   None),
+    "wrong type bool": (replaced("j2 = true", "j2 = 1"), "environment.j2 = 1: must be true or false", None),
+    "wrong type int": (replaced("seed = 0 ", "seed = 1.5 "), "simulation.seed = 1.5: must be an integer", None),
+    "bad frame": (replaced('attitude_frame = "orbit"', 'attitude_frame = "body"'), "chaser.attitude_frame", "'eci'"),
+    "missing table": (BASE.split("[relative]")[0], "relative: required table is missing", None),
+    "not finite": (replaced("duration = 300.0", "duration = nan"), "simulation.duration = nan", "finite"),
+    "wheel delay": (BASE + "\n[wheels]\ndelay = 0.05\n", "wheels.delay = 0.05", "[0, 0.04)"),
+    "pwpf levels": (BASE + "\n[thrusters]\npwpf = { u_on = 0.1, u_off = 0.15 }\n", "thrusters.pwpf.u_off = 0.15",
+                    "u_off < u_on"),
+    "unknown controller": (replaced('controller = "baseline"', 'controller = "nope"'), "simulation.controller",
+                           "available: baseline"),
+    "bad TOML": (replaced("duration = 300.0", "duration = = 300.0"), "invalid TOML", "line 21"),
+}
+
+
+@pytest.mark.parametrize("case", BAD, ids=list(BAD))
+def test_bad_input_gives_one_line_naming_the_field(case):
+    text, must, also = BAD[case]
+    with pytest.raises(ScenarioError) as info:
+        loads_scenario(text, "scenario.toml")
+    msg = str(info.value)
+    assert "\n" not in msg
+    assert msg.startswith("scenario.toml: ")
+    assert must in msg
+    if also:
+        assert also in msg
+
+
+def test_bad_file(tmp_path):
+    with pytest.raises(ScenarioError, match="cannot read the scenario"):
+        load_scenario(tmp_path / "missing.toml")
+    bad = tmp_path / "latin1.toml"
+    bad.write_bytes(b"[meta]\nname = '\xe9'\n")
+    with pytest.raises(ScenarioError, match="latin1.toml: cannot read"):
+        load_scenario(bad)
