@@ -1,0 +1,296 @@
+"""The ``rpo`` command: run, validate and inspect scenarios of the generated model.
+
+Exit codes: 0 success; 2 a user error (bad scenario, bad option, output folder not empty,
+missing compiler...), printed as one ``error: ...`` line on stderr without a traceback;
+3 the simulation diverged (the results up to the divergence are written, the message says
+where); 130 interrupted.  Also runnable as ``python -m rpo.runtime.cli``.
+"""
+
+from __future__ import annotations
+
+import math
+import sys
+import time
+import warnings
+from datetime import UTC, datetime
+from importlib import metadata
+from pathlib import Path
+
+import click
+import numpy as np
+
+from . import frames
+from .errors import RpoError
+
+EXIT_USAGE = 2
+EXIT_DIVERGED = 3
+#: Rough cost of one step, to decide whether a progress bar is worth showing [s].
+STEP_COST = {"compiled": 2e-5, "casadi": 2e-3}
+
+#: click >= 8.2 raises this for a group called without a command (its message is the help).
+_NO_ARGS = getattr(click.exceptions, "NoArgsIsHelpError", ())
+
+BACKENDS = click.Choice(["auto", "compiled", "casadi"])
+
+
+def _err(msg: str) -> None:
+    click.echo(msg, err=True)
+
+
+def _format_warning(message, category, filename, lineno, line=None) -> str:
+    return f"warning: {' '.join(str(message).split())}\n"
+
+
+def _loader(quiet: bool):
+    return None if quiet else (lambda m: _err(m))
+
+
+def _load_model(backend: str, quiet: bool):
+    from .compiled import load_model
+    return load_model(backend, log=_loader(quiet))
+
+
+def _default_out(scenario_path: str) -> Path:
+    stamp = datetime.now(UTC).strftime("%Y%m%dT%H%M%SZ")
+    base = Path("runs") / f"{Path(scenario_path).stem}-{stamp}"
+    out, k = base, 1
+    while out.exists():
+        k += 1
+        out = base.with_name(f"{base.name}-{k}")
+    return out
+
+
+# --------------------------------------------------------------------------- commands
+
+
+@click.group(context_settings={"help_option_names": ["-h", "--help"]})
+@click.version_option(package_name="rpo", prog_name="rpo")
+def cli() -> None:
+    """rpo: spacecraft rendezvous simulations on a generated, compiled model.
+
+    \b
+    Typical use:
+      rpo validate scenarios/000_scenario_III.toml
+      rpo run scenarios/000_scenario_III.toml --out runs/iii
+      rpo info
+    """
+
+
+@cli.command()
+@click.argument("scenario", type=click.Path(dir_okay=False, path_type=str))
+@click.option("--out", "out", type=click.Path(file_okay=False, path_type=str), default=None,
+              help="Output folder (must not exist or be empty). Default: runs/<scenario>-<UTC time>.")
+@click.option("--duration", type=click.FloatRange(min=0, min_open=True), default=None,
+              help="Override simulation.duration [s].")
+@click.option("--seed", type=click.IntRange(min=0), default=None, help="Override simulation.seed.")
+@click.option("--backend", type=BACKENDS, default="auto", show_default=True,
+              help="Model backend: compiled C (auto) or the slow CasADi fallback.")
+@click.option("--no-plots", is_flag=True, help="Do not write the PNG figures.")
+@click.option("--quiet", "-q", is_flag=True, help="Print only errors and the divergence message.")
+def run(scenario: str, out: str | None, duration: float | None, seed: int | None, backend: str,
+        no_plots: bool, quiet: bool) -> int:
+    """Simulate SCENARIO (a TOML file) and write the results into a new folder.
+
+    The folder gets timeseries.npz/.csv, run.json, a copy of the scenario and PNG figures.
+    Exit code 3 if the simulation diverged (the results up to that point are still written).
+    """
+    from .output import check_out_dir, write_run
+    from .scenario import load_scenario
+    from .simulate import Simulation
+
+    sc = load_scenario(scenario).with_overrides(duration=duration, seed=seed)
+    out_dir = check_out_dir(out if out is not None else _default_out(scenario))
+    model = _load_model(backend, quiet)
+    inputs = sc.to_run(model)
+    sim = Simulation(model, inputs.controller, params=inputs.params, gains=inputs.gains)
+    z0 = sim.initial_state(inputs.plant)
+    n_steps = int(round(inputs.duration / sim.dt))
+
+    expected = n_steps * STEP_COST.get(model.backend, 2e-3)
+    show_bar = not quiet and expected > 1.0 and sys.stderr.isatty()
+    if not quiet:
+        _err(f"{sc.name}: {n_steps} steps of {sim.dt:g} s ({inputs.duration:g} s), controller "
+             f"{inputs.controller}, seed {inputs.seed}, backend {model.backend}")
+    if show_bar:
+        with click.progressbar(length=n_steps, label="simulating", file=sys.stderr, show_eta=True) as bar:
+            last = [0]
+
+            def progress(done, total):
+                bar.update(done - last[0])
+                last[0] = done
+
+            result = sim.run(z0, inputs.duration, seed=inputs.seed, record_every=inputs.record_every,
+                             progress=progress)
+    else:
+        result = sim.run(z0, inputs.duration, seed=inputs.seed, record_every=inputs.record_every)
+
+    if not quiet:
+        _err(f"simulated {result.steps_done} steps in {result.wall_time:.3g} s; writing {out_dir} ...")
+    t_write = time.perf_counter()
+    extra = {"scenario": sc.name, "scenario_meta": sc.meta.model_dump(),
+             "overrides": {k: v for k, v in (("duration", duration), ("seed", seed)) if v is not None},
+             "inputs": inputs.to_json(), "z0": z0}
+    write_run(result, out_dir, model, scenario_path=scenario, scenario_text=sc.text, extra_meta=extra,
+              plots=not no_plots, params=inputs.params, gains=inputs.gains, title=sc.name)
+    t_write = time.perf_counter() - t_write
+
+    if result.divergence is not None:
+        _err(f"diverged: {result.divergence.message()}")
+        _err(f"results up to t = {result.t[-1]:.6g} s written to {out_dir}")
+        return EXIT_DIVERGED
+    if not quiet:
+        _summary(result, model, inputs, out_dir, t_write)
+    return 0
+
+
+def _summary(result, model, inputs, out_dir: Path, t_write: float) -> None:
+    z_lay = model.layouts[f"z_{inputs.controller}"]
+    y_lay = model.layouts[f"y_{inputs.controller}"]
+    r = result.block("r", z_lay)[-1]
+    goal = np.ravel(inputs.gains.get("r_goal", np.zeros(3)))
+    q_e = result.block("meas_q_e", y_lay, "y")
+    ok = np.all(np.isfinite(q_e), axis=1)
+    ang = float(np.degrees(frames.rotation_angle(q_e[ok][-1]))) if ok.any() else float("nan")
+    m_prop = float(result.block("m_prop", z_lay)[-1, 0])
+    click.echo(f"done: {result.steps_done} steps in {result.wall_time:.3g} s (+{t_write:.3g} s writing)")
+    click.echo(f"final: distance {np.linalg.norm(r):.4g} m, to goal {np.linalg.norm(r - goal):.4g} m, "
+               f"attitude error {ang:.4g} deg, propellant {m_prop:.4g} kg")
+    click.echo(f"results: {out_dir}")
+
+
+@cli.command()
+@click.argument("scenario", type=click.Path(dir_okay=False, path_type=str))
+@click.option("--backend", type=BACKENDS, default="auto", show_default=True,
+              help="Model backend used to compute the initial state.")
+def validate(scenario: str, backend: str) -> int:
+    """Check SCENARIO without running it and print what it sets.
+
+    Prints the run settings, the orbit, the initial state (attitudes relative to ECI and
+    to LVLH) and every parameter the scenario changes from the manifest defaults.
+    """
+    from .scenario import load_scenario
+
+    sc = load_scenario(scenario)
+    model = _load_model(backend, quiet=True)
+    inputs = sc.to_run(model)
+    from .simulate import Simulation
+    sim = Simulation(model, inputs.controller, params=inputs.params, gains=inputs.gains)
+    sim.initial_state(inputs.plant)  # the same checks as a run
+
+    p = {k: float(v[0]) if v.size == 1 else v for k, v in inputs.params.items()}
+    n_steps = int(round(inputs.duration / inputs.dt))
+    mu, a, e = p["mu"], p["orbit_a"], p["orbit_e"]
+    q_IL = inputs.frame_info["q_IL0"]
+    echo = click.echo
+    echo(f"{scenario}: valid")
+    echo(f"  name        {sc.name}" + (f": {sc.meta.description}" if sc.meta.description else ""))
+    echo(f"  run         {inputs.duration:g} s, dt = {inputs.dt:g} s ({n_steps} steps), controller "
+         f"{inputs.controller}, seed {inputs.seed}, record every {inputs.record_every}")
+    h_p = (a * (1 - e) - p["r_earth"]) / 1e3
+    echo(f"  orbit       a = {a / 1e3:.6g} km, e = {e:g}, perigee altitude {h_p:.6g} km, "
+         f"i = {math.degrees(p['orbit_inc']):g} deg, period {2 * math.pi * math.sqrt(a**3 / mu) / 60:.5g} min, "
+         f"LVLH rate n(0) = {inputs.frame_info['n0']:.6g} rad/s")
+    pl = inputs.plant
+    for body, q, w in (("chaser", pl["q_c"], pl["w_c"]), ("target", pl["q_t"], pl["w_t"])):
+        q_L = frames.attitude_from_eci(q, "lvlh", q_IL)
+        echo(f"  {body:<11s} q_ECI = {_vec(q, '.6f')}, q_LVLH = {_vec(q_L, '.6f')}, "
+             f"w = {_vec(np.degrees(w), '.6g')} deg/s")
+    q_r = frames.quat_multiply(frames.quat_conjugate(pl["q_t"]), pl["q_c"])
+    echo(f"  relative    r = {_vec(pl['r'], 'g')} m (|r| = {np.linalg.norm(pl['r']):.4g} m), "
+         f"v = {_vec(pl['v'], 'g')} m/s, chaser-to-target rotation {np.degrees(frames.rotation_angle(q_r)):.4g} deg")
+    echo(f"  wheels      h_w = {_vec(pl['h_w'], '.6g')} N m s")
+    echo("  gains       " + ", ".join(f"{k} = {_fmt(v)}" for k, v in inputs.gains.items()))
+    defaults = model.defaults("p")
+    changed = [k for k, v in inputs.params.items() if k in defaults and not np.array_equal(v, defaults[k])]
+    units = {f["name"]: f["unit"] for f in model.layouts["p"]}
+    echo(f"  parameters  {len(changed)} differ from the manifest defaults:")
+    for k in changed:
+        echo(f"    {k:<18s} {_fmt(inputs.params[k]):>28s} {units[k]:<8s} (default {_fmt(defaults[k])})")
+    return 0
+
+
+def _vec(v, fmt: str) -> str:
+    return "[" + ", ".join(format(float(x), fmt) for x in np.ravel(v)) + "]"
+
+
+def _fmt(v) -> str:
+    a = np.ravel(np.asarray(v, float))
+    return format(float(a[0]), ".8g") if a.size == 1 else _vec(a, ".6g")
+
+
+@cli.command()
+@click.option("--backend", type=BACKENDS, default="auto", show_default=True,
+              help="Backend to load (compiles the model into the cache if needed).")
+def info(backend: str) -> int:
+    """Show the generated model: source hash, tools, library, functions, layouts, parameters."""
+    model = _load_model(backend, quiet=False)
+    m = model.manifest
+    echo = click.echo
+
+    def version(pkg):
+        try:
+            return metadata.version(pkg)
+        except metadata.PackageNotFoundError:
+            return "not installed"
+
+    echo(f"rpo {version('rpo')}  (python {sys.version.split()[0]})")
+    echo(f"model            {m['module']}, source hash {m['source_hash']}")
+    echo("generated with   " + ", ".join(f"{k} {v}" for k, v in sorted(m["tools"].items())))
+    echo("runtime          " + ", ".join(f"{k} {version(k)}" for k in ("numpy", "scipy", "matplotlib", "pydantic",
+                                                                          "click")))
+    echo(f"backend          {model.backend}" + (f", library {model.library}" if model.library else ""))
+    echo(f"quaternions      {m.get('quaternion_convention', '?')}")
+    echo("controllers      " + ", ".join(f"{k} (gains {v['gains']})" for k, v in sorted(m["controllers"].items())))
+    echo("\nfunctions:")
+    for name, f in sorted(m["functions"].items()):
+        ins = ", ".join(f"{i['name']}[{i['shape'][0]}]" for i in f["inputs"])
+        outs = ", ".join(f"{o['name']}[{'x'.join(map(str, o['shape'])) if o['shape'][1] > 1 else o['shape'][0]}]"
+                         for o in f["outputs"])
+        echo(f"  {name:<24s} ({ins}) -> ({outs})")
+        echo(f"  {'':<24s} {f.get('doc', '')}")
+    echo("\nlayouts:")
+    for name, lay in m["layouts"].items():
+        size = sum(f["size"] for f in lay)
+        echo(f"  {name:<16s} {size:>4d} values: " + ", ".join(f["name"] for f in lay))
+    def table(layout):
+        for f in layout:
+            default = _fmt(f["default"]) if "default" in f else "-"
+            echo(f"  {f['name']:<18s} {f['unit']:<9s} {default:>40s}  {f.get('doc', '')}")
+
+    echo("\nparameters (layout p, SI):")
+    echo(f"  {'name':<18s} {'unit':<9s} {'default':>40s}  description")
+    table(m["layouts"]["p"])
+    for ctrl, entry in sorted(m["controllers"].items()):
+        echo(f"\ngains of {ctrl} (layout {entry['gains']}; [controller.{ctrl}] in a scenario):")
+        table(m["layouts"][entry["gains"]])
+    return 0
+
+
+# --------------------------------------------------------------------------- entry point
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of the ``rpo`` script: user errors become one ``error:`` line and exit code 2."""
+    warnings.formatwarning = _format_warning
+    try:
+        rv = cli.main(args=argv, prog_name="rpo", standalone_mode=False)
+    except click.exceptions.Abort:
+        _err("error: interrupted")
+        return 130
+    except _NO_ARGS as exc:  # `rpo` alone: the help, as click does, on stderr
+        _err(exc.format_message())
+        return EXIT_USAGE
+    except click.ClickException as exc:
+        _err(f"error: {' '.join(exc.format_message().split())}")
+        return EXIT_USAGE
+    except RpoError as exc:
+        _err(f"error: {exc}")
+        return EXIT_USAGE
+    except KeyboardInterrupt:
+        _err("error: interrupted")
+        return 130
+    return rv if isinstance(rv, int) else 0
+
+
+if __name__ == "__main__":  # python -m rpo.runtime.cli
+    sys.exit(main())

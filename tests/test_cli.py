@@ -1,0 +1,212 @@
+"""The ``rpo`` command line, run as a user would (subprocesses): exit codes, one-line errors, outputs."""
+
+from __future__ import annotations
+
+import json
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+III = ROOT / "scenarios" / "000_scenario_III.toml"
+BASE = III.read_text()
+
+
+def rpo(*args, cwd=None, timeout=120) -> subprocess.CompletedProcess:
+    """``python -m rpo.runtime.cli ARGS`` (the same entry point as the ``rpo`` script)."""
+    env = {**os.environ, "PYTHONWARNINGS": "default", "COLUMNS": "100"}
+    return subprocess.run([sys.executable, "-m", "rpo.runtime.cli", *map(str, args)], cwd=cwd, env=env,
+                          capture_output=True, text=True, timeout=timeout)
+
+
+def assert_user_error(res: subprocess.CompletedProcess, *needles: str) -> None:
+    assert res.returncode == 2, (res.returncode, res.stderr)
+    assert "Traceback" not in res.stderr + res.stdout
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1, res.stderr
+    assert lines[0].startswith("error: ")
+    for n in needles:
+        assert n in lines[0], (n, lines[0])
+
+
+# --------------------------------------------------------------------------- help and info
+
+
+@pytest.mark.parametrize("sub", [[], ["run"], ["validate"], ["info"]], ids=["rpo", "run", "validate", "info"])
+def test_help(sub):
+    res = rpo(*sub, "--help")
+    assert res.returncode == 0, res.stderr
+    assert res.stdout.startswith(f"Usage: rpo {' '.join(sub)}".rstrip())
+    if not sub:
+        for cmd in ("run", "validate", "info"):
+            assert cmd in res.stdout
+
+
+def test_console_script_entry_point():
+    script = Path(sys.executable).with_name("rpo")
+    if not script.exists():
+        pytest.skip("the rpo script is not installed next to this python")
+    res = subprocess.run([str(script), "--version"], capture_output=True, text=True, timeout=60)
+    assert res.returncode == 0 and "rpo" in res.stdout
+
+
+def test_info_and_validate():
+    manifest = json.loads((ROOT / "generated" / "manifest.json").read_text())
+    res = rpo("info")
+    assert res.returncode == 0, res.stderr
+    assert manifest["source_hash"] in res.stdout
+    for word in ("target_orbit", "step_baseline", "orbit_a", "wheel_speed_max", "kp_att", "casadi"):
+        assert word in res.stdout
+    res = rpo("validate", III)
+    assert res.returncode == 0, res.stderr
+    assert "valid" in res.stdout and "000 scenario III" in res.stdout and "perigee altitude 400 km" in res.stdout
+
+
+def test_runtime_never_imports_sympy():
+    code = ("import sys, rpo.runtime.cli, rpo.runtime.scenario, rpo.runtime.output, rpo.runtime.plots, "
+            "rpo.runtime.frames, rpo.runtime.simulate\n"
+            "from rpo.runtime.scenario import load_scenario\n"
+            "from rpo.runtime.compiled import load_model\n"
+            f"load_scenario({str(III)!r}).to_run(load_model())\n"
+            "bad = [m for m in sys.modules if m == 'sympy' or m.startswith(('sympy.', 'rpo.symbolic'))]\n"
+            "assert not bad, bad\n")
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=120)
+    assert res.returncode == 0, res.stderr
+
+
+# --------------------------------------------------------------------------- user errors
+
+
+def sub(old: str, new: str) -> str:
+    assert old in BASE, old
+    return BASE.replace(old, new, 1)
+
+
+BAD = {
+    "non-unit quaternion": (sub("[0.38831, 0.22356, -0.34408, 0.82512]", "[1, 1, 0, 0]"), "target.quaternion"),
+    "eccentricity": (sub("eccentricity = 0.138", "eccentricity = 1.5"), "orbit.eccentricity"),
+    "perigee": (sub("perigee_altitude = 400e3", "semi_major_axis = 6000e3"), "orbit.semi_major_axis"),
+    "inertia": (sub("[target]\n", "[target]\ninertia = [[1, 0, 0], [0, 2, 0], [0, 0, -3]]\n"), "target.inertia"),
+    "mass": (sub("[chaser]\n", "[chaser]\nmass = -1.0\n"), "chaser.mass"),
+    "unknown key": (sub("seed = 0 ", "sead = 0 "), "simulation.sead"),
+    "wrong type": (sub("rate = 100.0", 'rate = "fast"'), "simulation.rate"),
+    "bad TOML": (sub("[orbit]", "[orbit"), "invalid TOML"),
+}
+
+
+@pytest.mark.parametrize("case", BAD, ids=list(BAD))
+def test_bad_scenario_is_one_line_exit_2_and_touches_nothing(tmp_path, case):
+    text, field = BAD[case]
+    path = tmp_path / "bad.toml"
+    path.write_text(text)
+    out = tmp_path / "out"
+    res = rpo("run", path, "--out", out, cwd=tmp_path)
+    assert_user_error(res, "bad.toml", field)
+    assert not out.exists()
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.toml"]  # no runs/, no temporary folder
+    res = rpo("validate", path, cwd=tmp_path)
+    assert_user_error(res, field)
+
+
+@pytest.mark.parametrize("args,needle", [
+    (["run", "missing.toml"], "missing.toml: cannot read the scenario"),
+    (["run", III, "--duration", "-1"], "--duration"),
+    (["run", III, "--seed", "x"], "--seed"),
+    (["run", III, "--backend", "gpu"], "--backend"),
+    (["run"], "SCENARIO"),
+    (["frobnicate"], "frobnicate"),
+    (["run", III, "--duration", "0.001"], "simulation.duration = 0.001"),
+], ids=["missing-file", "duration", "seed", "backend", "no-arg", "command", "too-short"])
+def test_bad_command_line(tmp_path, args, needle):
+    res = rpo(*args, "--out", tmp_path / "out", cwd=tmp_path) if args[0] == "run" and len(args) > 1 else \
+        rpo(*args, cwd=tmp_path)
+    assert_user_error(res, needle)
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_existing_output_folder_is_refused_and_left_intact(tmp_path):
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "keep.txt").write_text("precious")
+    res = rpo("run", III, "--duration", "0.05", "--out", out, cwd=tmp_path)
+    assert_user_error(res, "not empty", str(out))
+    assert [p.name for p in out.iterdir()] == ["keep.txt"]
+    assert (out / "keep.txt").read_text() == "precious"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
+    # a file in the way is refused as well
+    res = rpo("run", III, "--duration", "0.05", "--out", out / "keep.txt", cwd=tmp_path)
+    assert_user_error(res, "keep.txt")
+    assert (out / "keep.txt").read_text() == "precious"
+
+
+# --------------------------------------------------------------------------- good and diverged runs
+
+
+def test_short_run_writes_everything(tmp_path):
+    out = tmp_path / "out"
+    res = rpo("run", III, "--duration", "2", "--seed", "3", "--out", out, cwd=tmp_path)
+    assert res.returncode == 0, res.stderr
+    assert "Traceback" not in res.stderr
+    assert f"results: {out}" in res.stdout
+    names = {p.name for p in out.iterdir()}
+    figures = {"attitude.png", "rates.png", "position.png", "velocity.png", "wheels.png", "thrusters.png"}
+    assert {"timeseries.npz", "timeseries.csv", "run.json", "scenario.toml"} | figures == names
+    assert (out / "scenario.toml").read_text() == BASE
+    for f in figures:
+        assert (out / f).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+    meta = json.loads((out / "run.json").read_text())
+    assert meta["status"] == "ok" and meta["divergence"] is None
+    assert meta["steps_done"] == meta["steps_requested"] == 200
+    assert meta["seed"] == 3 and meta["controller"] == "baseline" and meta["backend"] == "compiled"
+    manifest = json.loads((ROOT / "generated" / "manifest.json").read_text())
+    assert meta["model_source_hash"] == manifest["source_hash"]
+    assert meta["overrides"] == {"duration": 2.0, "seed": 3}
+    assert sorted(meta["figures"]) == sorted(figures)
+
+    data = np.load(out / "timeseries.npz")
+    t, z, y = data["t"], data["z"], data["y"]
+    assert t.shape == (201,) and t[-1] == pytest.approx(2.0)
+    assert z.shape == (201, len(data["z_labels"])) and y.shape == (201, len(data["y_labels"]))
+    assert np.all(np.isfinite(z)) and np.all(np.isfinite(y[:-1])) and np.all(np.isnan(y[-1]))
+    assert json.loads(str(data["metadata"]))["status"] == "ok"
+    r0 = z[0, list(data["z_labels"]).index("r_x"):][:3]
+    np.testing.assert_array_equal(r0, [60, 0, 25])
+
+    header = (out / "timeseries.csv").read_text().splitlines()[0].split(",")
+    assert header[0] == "t [s]" and header[1] == "q_c_x [-]" and "r_x [m]" in header
+    assert len(header) == 1 + z.shape[1] + y.shape[1]
+    csv = np.loadtxt(out / "timeseries.csv", delimiter=",", skiprows=1)
+    assert csv.shape == (201, len(header))
+    np.testing.assert_allclose(csv[:, 1:1 + z.shape[1]], z, rtol=1e-11, atol=1e-300)
+
+
+def test_quiet_run_without_plots_and_default_folder(tmp_path):
+    res = rpo("run", III, "--duration", "0.5", "--no-plots", "--quiet", cwd=tmp_path)
+    assert res.returncode == 0, res.stderr
+    assert res.stdout == "" and res.stderr == ""
+    (runs,) = list((tmp_path / "runs").iterdir())
+    assert runs.name.startswith("000_scenario_III-")
+    assert not list(runs.glob("*.png"))
+    assert (runs / "timeseries.npz").exists()
+
+
+def test_diverged_run_writes_results_and_exits_3(tmp_path):
+    path = tmp_path / "spin.toml"
+    path.write_text(sub("angular_velocity_deg_s = [0.0, 0.0, 0.0]", "angular_velocity = [30.0, 0.0, 0.0]"))
+    out = tmp_path / "out"
+    res = rpo("run", path, "--duration", "1", "--out", out, cwd=tmp_path)
+    assert res.returncode == 3, res.stderr
+    assert "Traceback" not in res.stderr
+    assert "diverged" in res.stderr and "w_c_x" in res.stderr and "step 0" in res.stderr
+    meta = json.loads((out / "run.json").read_text())
+    assert meta["status"] == "diverged"
+    assert meta["divergence"]["label"] == "w_c_x" and meta["divergence"]["step"] == 0
+    assert meta["steps_done"] < meta["steps_requested"]
+    data = np.load(out / "timeseries.npz")
+    assert data["z"].shape[0] == meta["rows"] >= 1
+    assert (out / "attitude.png").exists() and (out / "timeseries.csv").exists()
