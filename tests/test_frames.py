@@ -4,9 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from scipy.spatial.transform import Rotation
-
 from rpo.runtime import frames as fr
+from scipy.spatial.transform import Rotation
 
 RNG = np.random.default_rng(20240611)
 N = 200
