@@ -26,11 +26,14 @@ Unknown keys are errors.  Layout::
     true_anomaly_deg = 0.0     #                                          (p.orbit_nu0)
 
     [environment]
-    gravity_gradient = true    # p.gg_on      magnetic = true   # p.mag_on
-    j2 = true                  # p.j2_on      drag = true       # p.drag_on
+    gravity_gradient = true    # torques on/off                (p.gg_on)
+    magnetic = true            #                               (p.mag_on)
+    j2 = true                  # differential accelerations    (p.j2_on)
+    drag = true                #                               (p.drag_on)
     random_torque_std_chaser = 0.3   # N m, >= 0 (000 eq. 5)      (p.chaser_rand_std)
     random_torque_std_target = 0.3   # N m, >= 0                  (p.target_rand_std)
-    [environment.constants]    # mu, j2, r_earth, omega_earth, mu_mag, g0 (p fields of the same name)
+    [environment.constants]    # mu, j2, r_earth, earth_flattening, omega_earth, mu_mag, g0
+                               # (the p fields of the same name, SI)
 
     [chaser]                   # required
     mass = 100.0               # kg, > 0 (nominal m0 of the mass profile)   (p.chaser_mass)
@@ -236,6 +239,7 @@ class Constants(_Section):
     mu: Positive | None = None
     j2: float | None = None
     r_earth: Positive | None = None
+    earth_flattening: Num(0, 1, hi_open=True) | None = None
     omega_earth: float | None = None
     mu_mag: NonNegative | None = None
     g0: Positive | None = None
