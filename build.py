@@ -60,7 +60,8 @@ def _compare(new_dir: Path, old_dir: Path) -> list[str]:
             continue
         a, b = _read(old_dir / name), _read(new_dir / name)
         if a != b:
-            diff = list(difflib.unified_diff(a, b, f"generated/{name} (committed)", f"generated/{name} (from symbolic/)", n=1))
+            diff = list(difflib.unified_diff(a, b, f"generated/{name} (committed)",
+                                             f"generated/{name} (from symbolic/)", n=1))
             out.append(f"generated/{name}: differs ({len(diff)} diff lines)\n")
             out.extend(line if len(line) < 300 else line[:300] + "...\n" for line in diff[:60])
             if len(diff) > 60:

@@ -225,14 +225,15 @@ class CompiledFunction:
     def __call__(self, *args):
         if len(args) != len(self.inputs):
             raise TypeError(f"{self.name} takes {len(self.inputs)} inputs, got {len(args)}")
-        for buf, a, shape, d in zip(self.inputs, args, self.in_shapes, self.desc["inputs"]):
+        for buf, a, d in zip(self.inputs, args, self.desc["inputs"], strict=True):
             a = np.asarray(a, dtype=float)
             if a.size != buf.size:
                 raise ValueError(f"{self.name}: input {d['name']} needs {buf.size} values, got {a.size}")
             buf[:] = a.reshape(-1, order="F")
         if self.c_function(self._arg, self._res, self._iw_p, self._w_p, 0) != 0:
             raise FloatingPointError(f"{self.name} reported an evaluation error")
-        return tuple(o.reshape(s, order="F").copy() if s[1] > 1 else o.copy() for o, s in zip(self.outputs, self.out_shapes))
+        return tuple(o.reshape(s, order="F").copy() if s[1] > 1 else o.copy()
+                     for o, s in zip(self.outputs, self.out_shapes, strict=True))
 
     def clone(self) -> CompiledFunction:
         return CompiledFunction(self._lib, self.name, self.desc)
@@ -251,7 +252,7 @@ class CasadiFunction:
         res = self.fn(*[np.asarray(a, float).reshape(-1, 1, order="F") for a in args])
         res = res if isinstance(res, (list, tuple)) else [res]
         return tuple(np.asarray(r.full()).reshape(s, order="F") if s[1] > 1 else np.asarray(r.full()).ravel()
-                     for r, s in zip(res, self.out_shapes))
+                     for r, s in zip(res, self.out_shapes, strict=True))
 
     def clone(self) -> CasadiFunction:
         return self

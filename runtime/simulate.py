@@ -47,8 +47,8 @@ class Divergence:
 
     def message(self) -> str:
         what = "non-finite" if not np.isfinite(self.value) else f"|{self.value:.6g}| > {self.bound:.6g}"
-        return (f"simulation diverged at step {self.step} (t = {self.time:.6g} s): {self.label} is {what}; "
-                f"results up to t = {self.time - 0:.6g} s minus one step were kept")
+        return (f"simulation diverged in step {self.step} (ending at t = {self.time:.6g} s): {self.label} is "
+                f"{what}; the results up to the step's start were kept")
 
 
 @dataclass

@@ -52,7 +52,7 @@ def speed_limited_torques(T_w, Omega, Omega_max):
     dh_i/dt = -T_i, so a negative T_i spins wheel i up in the positive sense.
     """
     out = []
-    for T, W in zip(T_w, Omega):
+    for T, W in zip(T_w, Omega, strict=True):
         blocked = sp.Or(sp.And(W >= Omega_max, T < 0), sp.And(W <= -Omega_max, T > 0))
         out.append(sp.Piecewise((0, blocked), (T, True)))
     return sp.Matrix(out)
@@ -88,7 +88,7 @@ def thruster_layout():
 def thruster_wrench_matrix():
     """B (6 x 16): column j = [force; torque] of thruster j at unit thrust, body axes."""
     pos, dirs = thruster_layout()
-    cols = [sp.Matrix.vstack(d, cross(p, d)) for p, d in zip(pos, dirs)]
+    cols = [sp.Matrix.vstack(d, cross(p, d)) for p, d in zip(pos, dirs, strict=True)]
     return sp.Matrix.hstack(*cols)
 
 

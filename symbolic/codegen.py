@@ -20,8 +20,8 @@ import sympy as sp
 
 from . import closed_loop as cl
 from .controllers.baseline import Baseline
-from .plant import make_plant
 from .orbit import eccentric_anomaly
+from .plant import make_plant
 from .relative_attitude import attitude_error_rate, rate_error_dynamics
 from .to_casadi import sympy_function
 
@@ -171,6 +171,11 @@ def build_functions():
     return funcs, desc, manifest_layouts, extra
 
 
+def _caller(f: ca.Function):
+    """Call a CasADi Function on a list of MX arguments, returning its outputs as a list."""
+    return lambda *a: f.call(list(a))
+
+
 def casadi_step(cas: dict[str, ca.Function], P, ctrl) -> ca.Function:
     """The closed-loop step composed (:func:`closed_loop.step`) from the CasADi pieces, expanded to SX."""
     zl = cl.state_layout(P, ctrl)
@@ -182,7 +187,7 @@ def casadi_step(cas: dict[str, ca.Function], P, ctrl) -> ca.Function:
     names = ("plant_rhs", "measure", "env_outputs", "wheel_alloc", "thruster_alloc", "pwpf", "pwpf_filter")
     fn = {name: cas[name] for name in names}
     fn["law"] = cas[f"law_{ctrl.name}"]
-    fn = {name: (lambda f: (lambda *a: f.call(list(a))))(f) for name, f in fn.items()}
+    fn = {name: _caller(f) for name, f in fn.items()}
     z_next, y = cl.step(CASADI_OPS, fn, cl.step_indices(P, ctrl), z, t, p, k, w)
     stepf = ca.Function(f"step_{ctrl.name}", [z, t, p, k, w], [z_next, y],
                         ["z", "t", "p", "k", "w"], ["z_next", "y"]).expand()

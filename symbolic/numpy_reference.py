@@ -38,18 +38,22 @@ def lambdified(piece: cl.Piece):
 
     def call(*args):
         flat = [list(np.ravel(np.asarray(a, float))) if hasattr(s, "__len__") else float(np.ravel(a)[0])
-                for a, s in zip(args, syms)]
+                for a, s in zip(args, syms, strict=True)]
         return tuple(np.ravel(np.asarray(o, float)) if np.ndim(o) else np.array([float(o)])
                      for o in fn(*flat))
 
     return call
 
 
-def numpy_step(pieces: dict[str, cl.Piece], plant, ctrl):
-    """``step(z, t, p, k, w) -> (z_next, y)`` evaluated with NumPy."""
+def numpy_step(pieces: dict[str, cl.Piece], plant, ctrl, make=None):
+    """``step(z, t, p, k, w) -> (z_next, y)`` evaluated with NumPy.
+
+    ``make(name)`` may supply already-lambdified pieces (lambdify takes ~10 s per large piece).
+    """
+    make = make or (lambda name: lambdified(pieces[name]))
     names = ("plant_rhs", "measure", "env_outputs", "wheel_alloc", "thruster_alloc", "pwpf", "pwpf_filter")
-    fn = {name: lambdified(pieces[name]) for name in names}
-    fn["law"] = lambdified(pieces[f"law_{ctrl.name}"])
+    fn = {name: make(name) for name in names}
+    fn["law"] = make(f"law_{ctrl.name}")
     idx = cl.step_indices(plant, ctrl)
 
     def step(z, t, p, k, w):

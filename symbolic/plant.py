@@ -194,7 +194,7 @@ class Plant:
         I_t = inertia_tensor(p["target_inertia"])
         A = act.pyramid_matrix(p["wheel_beta"])
         q_c, w_c, h_w = x["q_c"], x["w_c"], x["h_w"]
-        q_t, w_t = x["q_t"], x["w_t"]
+        q_t = x["q_t"]
         r, v = x["r"], x["v"]
 
         Omega = act.wheel_speeds(h_w, p["wheel_inertia"], A, w_c)

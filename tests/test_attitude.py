@@ -5,8 +5,9 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from conftest import DEG, Q_C0_III, Q_T0_III, ZERO_GAINS, quiet_params, unit
 from rpo.runtime.simulate import Simulation
+
+from conftest import DEG, Q_C0_III, Q_T0_III, ZERO_GAINS, quiet_params, unit
 
 BETA = 30 * DEG
 A_PYRAMID = np.array([  # 000 eq. 47, typed from the paper as an independent reference

@@ -8,9 +8,10 @@ import sympy as sp
 from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation
 
-from conftest import DEG
 from rpo.symbolic import environment as env
 from rpo.symbolic.to_casadi import LAMBDIFY_MODULES
+
+from conftest import DEG
 
 MU, J2, RE = 3.986004418e14, 1.08262668e-3, 6378137.0
 rng = np.random.default_rng(3)
@@ -158,7 +159,7 @@ def test_thruster_allocation_is_exact_non_negative_and_never_fires_opposed_pairs
     pos, dirs = thruster_layout()
     B = np.array([np.concatenate([np.array(d, float).ravel(), np.cross(np.array(p, float).ravel(),
                                                                         np.array(d, float).ravel())])
-                  for p, d in zip(pos, dirs)]).T  # 6 x 16, from the geometry with numpy's cross
+                  for p, d in zip(pos, dirs, strict=True)]).T  # 6 x 16, from the geometry with numpy's cross
     p = model.vector("p")
     for _ in range(300):
         F, tau = rng.normal(size=3) * 0.3, rng.normal(size=3) * 0.05
@@ -193,8 +194,9 @@ def test_pwpf_duty_cycle_tracks_the_demand(model, demand):
 def test_wheel_transport_delay_is_exact_within_the_step(model):
     """A torque command issued at t_k acts only after t_k + delay: with the chaser at rest, the
     wheel momentum after one step changes by T (dt - delay) and by T dt in the next step."""
-    from conftest import Q_C0_III, Q_T0_III, quiet_params, unit
     from rpo.runtime.simulate import Simulation
+
+    from conftest import Q_C0_III, Q_T0_III, quiet_params, unit
 
     sim = Simulation(model, params=quiet_params(wheel_delay=0.002),
                      gains=dict(kp_att=0, kd_att=0.0, kp_pos=0, kd_pos=0))

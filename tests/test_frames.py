@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from rpo.runtime import frames as fr
 from scipy.spatial.transform import Rotation
+
+from rpo.runtime import frames as fr
 
 RNG = np.random.default_rng(20240611)
 N = 200

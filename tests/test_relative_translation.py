@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import numpy as np
-import pytest
 from scipy.integrate import solve_ivp
 
-from conftest import DEG, Q_C0_III, Q_T0_III, ZERO_GAINS, quiet_params, unit
 from rpo.runtime.simulate import Simulation
+
+from conftest import DEG, Q_C0_III, Q_T0_III, ZERO_GAINS, quiet_params, unit
 
 MU = 3.986004418e14
 R_E = 6378137.0

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+
 from rpo.runtime import frames as fr
 from rpo.runtime.errors import ScenarioError
 from rpo.runtime.scenario import load_scenario, loads_scenario
