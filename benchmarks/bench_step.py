@@ -56,7 +56,7 @@ def main(argv=None) -> int:
     model = load_model()
     run = load_scenario(args.scenario).to_run(model)
     sim = Simulation(model, run.controller, params=run.params, gains=run.gains)
-    z0 = sim.initial_state(run.initial_plant)
+    z0 = sim.initial_state(run.plant)
     n_steps = int(round(run.duration / sim.dt))
     print(f"scenario {Path(args.scenario).name}: {run.duration:g} s at {1 / sim.dt:g} Hz = {n_steps} steps, "
           f"controller {run.controller}")

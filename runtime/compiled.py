@@ -203,6 +203,7 @@ class CompiledFunction:
         self._arg = (_DOUBLE_P * max(self.sz_arg, 1))(*[b.ctypes.data_as(_DOUBLE_P) for b in self.inputs])
         self._res = (_DOUBLE_P * max(self.sz_res, 1))(*[b.ctypes.data_as(_DOUBLE_P) for b in self.outputs])
         self._iw_p = self.iw.ctypes.data_as(_INT_P)
+        self._out_pairs = list(zip(self.outputs, self.out_shapes, strict=True))
         self._w_p = self.work.ctypes.data_as(_DOUBLE_P)
 
     def _check_signature(self):
@@ -226,14 +227,16 @@ class CompiledFunction:
         if len(args) != len(self.inputs):
             raise TypeError(f"{self.name} takes {len(self.inputs)} inputs, got {len(args)}")
         for buf, a, d in zip(self.inputs, args, self.desc["inputs"], strict=True):
-            a = np.asarray(a, dtype=float)
+            if isinstance(a, float | int) and buf.size == 1:
+                buf[0] = a
+                continue
+            a = np.ravel(a, order="F")  # a view for contiguous vectors: no per-call allocation
             if a.size != buf.size:
                 raise ValueError(f"{self.name}: input {d['name']} needs {buf.size} values, got {a.size}")
-            buf[:] = a.reshape(-1, order="F")
+            buf[:] = a
         if self.c_function(self._arg, self._res, self._iw_p, self._w_p, 0) != 0:
             raise FloatingPointError(f"{self.name} reported an evaluation error")
-        return tuple(o.reshape(s, order="F").copy() if s[1] > 1 else o.copy()
-                     for o, s in zip(self.outputs, self.out_shapes, strict=True))
+        return tuple(o.reshape(s, order="F").copy() if s[1] > 1 else o.copy() for o, s in self._out_pairs)
 
     def clone(self) -> CompiledFunction:
         return CompiledFunction(self._lib, self.name, self.desc)

@@ -175,14 +175,15 @@ class Simulation:
             W = np.ascontiguousarray(rng.standard_normal((n, nw)))
             Zc[0] = z
             ok, bad = runner(Zc, Yc, W, n, done, t0) if runner else self._py_run(Zc, Yc, W, n, done, t0)
-            # copy recorded rows: global step index g = done + i has state Zc[i] and output Yc[i]
-            for i in range(ok + 1):
-                g = done + i
-                if g % record_every == 0:
-                    r = g // record_every
-                    Z[r] = Zc[i]
-                    if i < ok:
-                        Y[r] = Yc[i]
+            # copy recorded rows: global step g = done + i has state Zc[i] and output Yc[i]; rows
+            # with g % record_every == 0 are kept (slices, no per-step Python)
+            i0 = (-done) % record_every
+            if i0 <= ok:
+                r0 = (done + i0) // record_every
+                zs = Zc[i0:ok + 1:record_every]
+                Z[r0:r0 + len(zs)] = zs
+                ys = Yc[i0:ok:record_every]
+                Y[r0:r0 + len(ys)] = ys
             if ok < n:
                 last = done + ok
                 z_bad = Zc[ok + 1].copy()
