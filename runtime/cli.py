@@ -148,7 +148,7 @@ def _summary(result, model, inputs, out_dir: Path, t_write: float) -> None:
     y_lay = model.layouts[f"y_{inputs.controller}"]
     r = result.block("r", z_lay)[-1]
     goal = np.ravel(inputs.gains.get("r_goal", np.zeros(3)))
-    q_e = result.block("meas_q_e", y_lay, "y")
+    q_e = result.block("meas_q_e", y_lay)
     ok = np.all(np.isfinite(q_e), axis=1)
     ang = float(np.degrees(frames.rotation_angle(q_e[ok][-1]))) if ok.any() else float("nan")
     m_prop = float(result.block("m_prop", z_lay)[-1, 0])

@@ -22,6 +22,8 @@ import gzip
 import hashlib
 import json
 import os
+import platform
+import shlex
 import shutil
 import subprocess
 import sys
@@ -63,8 +65,13 @@ def read_manifest(gen_dir: Path | None = None, verify: bool = True) -> dict:
     path = gen_dir / "manifest.json"
     if not path.exists():
         raise ModelError(f"{path} is missing: run `python build.py` in the rpo checkout")
-    manifest = json.loads(path.read_text())
+    try:
+        manifest = json.loads(path.read_text())
+    except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
+        raise ModelError(f"{path} cannot be read ({exc}): run `python build.py`") from exc
     if verify:
+        if manifest.get("manifest_hash") != manifest_hash(manifest):
+            raise ModelError(f"{path} does not match its recorded hash (edited by hand?): run `python build.py`")
         for name, digest in manifest["files"].items():
             f = gen_dir / name
             if not f.exists():
@@ -75,30 +82,47 @@ def read_manifest(gen_dir: Path | None = None, verify: bool = True) -> dict:
     return manifest
 
 
+def manifest_hash(manifest: dict) -> str:
+    """sha256 of the manifest's canonical JSON without its ``manifest_hash`` field.
+
+    Same definition as ``rpo.symbolic.codegen.manifest_hash`` (the runtime must not import
+    rpo.symbolic); ``tests/test_build.py`` checks that the two agree.
+    """
+    body = {k: v for k, v in manifest.items() if k != "manifest_hash"}
+    return hashlib.sha256(json.dumps(body, sort_keys=True, separators=(",", ":")).encode()).hexdigest()
+
+
 # --------------------------------------------------------------------------- compiler
 
 
-def find_compiler() -> str | None:
-    """Path of the C compiler: $CC, else cc, gcc or clang on PATH."""
-    cands = [os.environ["CC"]] if os.environ.get("CC") else ["cc", "gcc", "clang"]
-    for c in cands:
+def find_compiler() -> list[str] | None:
+    """The C compiler command: $CC (may carry arguments, e.g. ``ccache gcc``), else cc, gcc, clang."""
+    if os.environ.get("CC"):  # explicit: used as given or not at all (no silent substitute)
+        cmd = shlex.split(os.environ["CC"])
+        path = shutil.which(cmd[0]) if cmd else None
+        return [path, *cmd[1:]] if path else None
+    for c in ("cc", "gcc", "clang"):
         path = shutil.which(c)
         if path:
-            return path
+            return [path]
     return None
 
 
-def compiler_identity(cc: str) -> str:
-    """First line of ``cc --version`` (part of the cache key)."""
-    try:
-        out = subprocess.run([cc, "--version"], capture_output=True, text=True, timeout=30, check=False)
-    except OSError as exc:
-        raise ModelError(f"cannot run the C compiler {cc}: {exc}") from exc
-    return (out.stdout or out.stderr).splitlines()[0].strip() if (out.stdout or out.stderr) else cc
+def compiler_identity(cc: list[str]) -> str:
+    """What the cache key needs to know about the compiler: the full command, a hash of the
+    executable it starts (a wrapper script counts), ``--version`` and ``-dumpmachine``."""
+    parts = [" ".join(cc), hashlib.sha256(Path(cc[0]).read_bytes()).hexdigest()]
+    for flag in ("--version", "-dumpmachine"):
+        try:
+            out = subprocess.run([*cc, flag], capture_output=True, text=True, timeout=30, check=False)
+        except OSError as exc:
+            raise ModelError(f"cannot run the C compiler {' '.join(cc)}: {exc}") from exc
+        parts.append((out.stdout or out.stderr).strip())
+    return "\n".join(parts)
 
 
 NO_COMPILER = (
-    "no C compiler found (looked for $CC, cc, gcc, clang). Install one "
+    "no C compiler found (looked for $CC if set, else cc, gcc, clang). Install one "
     "(Debian/Ubuntu: `apt-get install gcc`; Fedora: `dnf install gcc`; macOS: `xcode-select --install`), "
     "or run with backend 'casadi' (`--backend casadi`), which evaluates the model in CasADi's "
     "virtual machine, about 100x slower."
@@ -120,7 +144,8 @@ def library_key(gen_dir: Path, manifest: dict, cc_id: str) -> str:
             h.update(name.encode() + b"\0" + (gen_dir / name).read_bytes() + b"\0")
     h.update(loop_source().read_bytes())
     h.update(json.dumps({"cc": cc_id, "flags": CFLAGS, "abi": RUNTIME_ABI, "tools": manifest["tools"],
-                         "platform": sys.platform}, sort_keys=True).encode())
+                         "manifest": manifest["manifest_hash"], "platform": sys.platform,
+                         "machine": platform.machine()}, sort_keys=True).encode())
     return h.hexdigest()
 
 
@@ -148,7 +173,11 @@ def build_library(gen_dir: Path | None = None, cache: Path | None = None, log=No
         raise ModelError(NO_COMPILER)
     key = library_key(gen_dir, manifest, compiler_identity(cc))
     cache = cache_dir() if cache is None else Path(cache)
-    cache.mkdir(parents=True, exist_ok=True)
+    try:
+        cache.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        raise ModelError(f"cannot create the build cache {cache} ({exc.strerror}): set RPO_CACHE_DIR "
+                         "to a writable folder") from exc
     lib = cache / f"rpo_{manifest['module']}_{key[:24]}.so"
     if lib.exists():
         return lib, False
@@ -157,14 +186,14 @@ def build_library(gen_dir: Path | None = None, cache: Path | None = None, log=No
             return lib, False
         fd, tmp = tempfile.mkstemp(prefix=f".{lib.stem}.", suffix=".tmp.so", dir=cache)
         os.close(fd)
-        cmd = [cc, *CFLAGS, "-o", tmp, str(gen_dir / f"{manifest['module']}.c"), str(loop_source()), "-lm"]
+        cmd = [*cc, *CFLAGS, "-o", tmp, str(gen_dir / f"{manifest['module']}.c"), str(loop_source()), "-lm"]
         if log:
             log(f"compiling {lib.name} ({' '.join(Path(c).name if c.startswith('/') else c for c in cmd)})")
         try:
             res = subprocess.run(cmd, capture_output=True, text=True, check=False)
             if res.returncode != 0:
-                tail = "\n".join(res.stderr.strip().splitlines()[-15:])
-                raise ModelError(f"compiling the generated model failed ({cc}):\n{tail}")
+                last = (res.stderr.strip().splitlines() or ["(no output)"])[-1]
+                raise ModelError(f"compiling the generated model failed ({' '.join(cc)}): {last}")
             os.replace(tmp, lib)
         finally:
             if os.path.exists(tmp):
@@ -331,7 +360,16 @@ class Model:
 
 def _load_compiled(gen_dir: Path, manifest: dict, log=None) -> Model:
     lib_path, _ = build_library(gen_dir, log=log)
-    lib = ctypes.CDLL(str(lib_path))
+    try:
+        lib = ctypes.CDLL(str(lib_path))
+    except OSError as exc:
+        raise ModelError(f"cannot load {lib_path} ({exc}): delete it and run again to rebuild") from exc
+    selftest = lib.rpo_selftest_nan
+    selftest.restype = ctypes.c_int
+    selftest.argtypes = [ctypes.c_double]
+    if selftest(float("nan")) != 0 or selftest(float("inf")) != 0 or selftest(1.0) != 1:
+        raise ModelError(f"{lib_path} does not detect NaN/inf (built with -ffast-math or similar via $CC?): "
+                         "divergence would go unnoticed; use a plain C compiler command")
     int_size = getattr(lib, f"{manifest['module']}_casadi_int_size")
     int_size.restype = ctypes.c_int
     if int_size() != 8:

@@ -35,7 +35,7 @@ import numpy as np
 
 from .errors import OutputError
 
-CSV_FORMAT = "%.12g"
+CSV_FORMAT = "%.17g"  # round-trips every double: the CSV equals the NPZ
 
 
 def rpo_version() -> str:
@@ -63,9 +63,9 @@ def _jsonable(v):
     if isinstance(v, (list, tuple)):
         return [_jsonable(x) for x in v]
     if isinstance(v, np.ndarray):
-        return v.item() if v.size == 1 else v.tolist()
+        return _jsonable(v.item()) if v.size == 1 else _jsonable(v.tolist())
     if isinstance(v, np.generic):
-        return v.item()
+        return _jsonable(v.item())
     if isinstance(v, float) and not np.isfinite(v):
         return str(v)
     return v
@@ -79,6 +79,9 @@ def run_record(result, model, scenario_path=None, extra_meta: dict | None = None
         "divergence": None if div is None else {
             "message": div.message(), "step": int(div.step), "time": float(div.time), "label": div.label,
             "value": float(div.value), "bound": float(div.bound),
+            # both states by label: the one that failed the check and the last good one
+            "state": dict(zip(result.z_labels, div.state.tolist(), strict=True)),
+            "last_good_state": dict(zip(result.z_labels, div.last_good_state.tolist(), strict=True)),
         },
         "steps_done": int(result.steps_done),
         "steps_requested": int(result.steps_requested),

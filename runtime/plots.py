@@ -47,7 +47,7 @@ class _Data:
         return any(f["name"] == name for f in (self.z_layout if source == "z" else self.y_layout))
 
     def get(self, name: str, source: str) -> np.ndarray:
-        return self.r.block(name, self.z_layout if source == "z" else self.y_layout, source)
+        return self.r.block(name, self.z_layout if source == "z" else self.y_layout)
 
 
 def _finish(fig: Figure, axes, result, title: str, path: Path) -> None:

@@ -477,6 +477,11 @@ class Scenario(_Section):
         if sim.duration < dt * (1 - 1e-9):
             raise _field_error("simulation.duration", sim.duration,
                                f"must be at least one step (1 / rate = {dt:g} s)")
+        steps = sim.duration / dt
+        if abs(steps - round(steps)) > 1e-9 * max(1.0, steps):
+            # a fixed-step run covers whole steps; rounding silently would misreport the end time
+            raise _field_error("simulation.duration", sim.duration,
+                               f"must be a whole number of steps of 1 / rate = {dt:g} s")
         slots = int(manifest.get("delay_slots", 4))
         if not p["wheel_delay"] < slots * dt:
             where = "wheels.delay" if self.wheels.delay is not None else "simulation.rate"

@@ -54,7 +54,7 @@ class Divergence:
 @dataclass
 class RunResult:
     """Time histories of one run.  ``z[i]`` is the state at ``t[i]``; ``y[i]`` the outputs over the
-    step starting at ``t[i]`` (the last row of ``z`` has no output row, ``y`` has NaN there)."""
+    step starting at ``t[i]`` (NaN in the final row of a completed run: no step starts there)."""
 
     t: np.ndarray
     z: np.ndarray
@@ -82,9 +82,11 @@ class RunResult:
             return self.y[:, self.y_labels.index(label)]
         raise KeyError(label)
 
-    def block(self, name: str, layout: list[dict], source: str = "z") -> np.ndarray:
+    def block(self, name: str, layout: list[dict]) -> np.ndarray:
         """All columns of a layout field, e.g. ``block('r', model.layouts['z_baseline'])``."""
-        labels = next(f["labels"] for f in layout if f["name"] == name)
+        labels = next((f["labels"] for f in layout if f["name"] == name), None)
+        if labels is None:
+            raise KeyError(name)
         return np.column_stack([self.column(lbl) for lbl in labels])
 
 
@@ -150,24 +152,36 @@ class Simulation:
 
     def run(self, z0: np.ndarray, duration: float, seed: int = 0, t0: float = 0.0, record_every: int = 1,
             chunk: int = 4096, progress: Callable[[int, int], None] | None = None) -> RunResult:
-        """Run ``round(duration / dt)`` steps from ``z0`` at ``t0``; record every ``record_every``-th state."""
+        """Run ``round(duration / dt)`` steps from ``z0`` at ``t0``.
+
+        Records every ``record_every``-th state and always the final one; if the run diverges, the
+        last good state (with the output of the failing step) is the final row.
+        """
+        if not np.isfinite(duration) or not np.isfinite(t0):
+            raise ModelError(f"duration and t0 must be finite, got {duration}, {t0}")
         n_total = int(round(duration / self.dt))
         if n_total < 1:
             raise ModelError(f"duration {duration} s is shorter than one step ({self.dt} s)")
-        record_every = max(1, int(record_every))
-        chunk = max(1, int(chunk))
+        if int(record_every) != record_every or record_every < 1 or int(chunk) != chunk or chunk < 1:
+            raise ModelError(f"record_every and chunk must be integers >= 1, got {record_every}, {chunk}")
+        if not np.all(np.isfinite(z0)):
+            raise ModelError("initial state has non-finite entries")
+        record_every, chunk = int(record_every), int(chunk)
         rng = np.random.default_rng(seed)
         nz, ny, nw = self.nz, self.ny, self.nw
         Zc = np.empty((chunk + 1, nz))
         Yc = np.empty((chunk, ny))
-        n_rec = n_total // record_every + 1
-        Z = np.full((n_rec, nz), np.nan)
-        Y = np.full((n_rec, ny), np.nan)
-        T = t0 + np.arange(n_rec) * record_every * self.dt
+        # recorded steps: every record_every-th, and always the last one
+        G = np.arange(0, n_total + 1, record_every)
+        if G[-1] != n_total:
+            G = np.append(G, n_total)
+        Z = np.full((G.size, nz), np.nan)
+        Y = np.full((G.size, ny), np.nan)
         Z[0] = z0
         z = np.array(z0, float)
         done = 0
         divergence = None
+        last_good = None  # (step, state, output) when the run stops early
         wall0 = time.perf_counter()
         runner = self._c_runner()
         while done < n_total:
@@ -175,15 +189,13 @@ class Simulation:
             W = np.ascontiguousarray(rng.standard_normal((n, nw)))
             Zc[0] = z
             ok, bad = runner(Zc, Yc, W, n, done, t0) if runner else self._py_run(Zc, Yc, W, n, done, t0)
-            # copy recorded rows: global step g = done + i has state Zc[i] and output Yc[i]; rows
-            # with g % record_every == 0 are kept (slices, no per-step Python)
-            i0 = (-done) % record_every
-            if i0 <= ok:
-                r0 = (done + i0) // record_every
-                zs = Zc[i0:ok + 1:record_every]
-                Z[r0:r0 + len(zs)] = zs
-                ys = Yc[i0:ok:record_every]
-                Y[r0:r0 + len(ys)] = ys
+            # copy recorded rows: global step g = done + i has state Zc[i] and output Yc[i]; the
+            # rows of G in [done, done + ok] are kept (slices, no per-step Python)
+            lo, hi = np.searchsorted(G, done), np.searchsorted(G, done + ok, side="right")
+            idx = G[lo:hi] - done
+            Z[lo:hi] = Zc[idx]
+            has_y = idx < ok
+            Y[lo:hi][has_y] = Yc[idx[has_y]]
             if ok < n:
                 last = done + ok
                 z_bad = Zc[ok + 1].copy()
@@ -193,15 +205,24 @@ class Simulation:
                                         value=float(z_bad[j]) if j >= 0 else float("nan"),
                                         bound=float(self.bound[j]) if j >= 0 else float("nan"),
                                         state=z_bad, last_good_state=Zc[ok].copy())
+                last_good = (last, Zc[ok].copy(), Yc[ok].copy())  # output of the failing step at its start
                 done = last
                 break
             z = Zc[n].copy()
             done += n
             if progress:
                 progress(done, n_total)
-        keep = done // record_every + 1
+        keep = int(np.searchsorted(G, done, side="right"))
+        G, Z, Y = G[:keep], Z[:keep], Y[:keep]
+        if last_good is not None:
+            g, zg, yg = last_good
+            if G[-1] == g:
+                Y[-1] = yg
+            else:  # the last good state was not on the recording grid: keep it as the final row
+                G, Z, Y = np.append(G, g), np.vstack([Z, zg]), np.vstack([Y, yg])
+        T = t0 + G * self.dt
         return RunResult(
-            t=T[:keep], z=Z[:keep], y=Y[:keep],
+            t=T, z=Z, y=Y,
             z_labels=self.model.labels(self.z_layout), z_units=self.model.units(self.z_layout),
             y_labels=self.model.labels(self.y_layout), y_units=self.model.units(self.y_layout),
             steps_done=done, steps_requested=n_total, dt=self.dt,

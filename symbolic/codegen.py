@@ -242,8 +242,20 @@ def generate(out_dir: Path) -> dict:
         "layouts": layouts,
         **extra,
     }
+    manifest["manifest_hash"] = manifest_hash(manifest)
     (out_dir / "manifest.json").write_text(json.dumps(manifest, indent=1, sort_keys=True) + "\n")
     return manifest
+
+
+def manifest_hash(manifest: dict) -> str:
+    """sha256 of the manifest's canonical JSON without its own ``manifest_hash`` field.
+
+    The runtime recomputes it at load (a hand-edited layout, unit or default is refused) and
+    includes it in the library cache key.  The same definition lives in
+    ``rpo.runtime.compiled.manifest_hash``; ``tests/test_build.py`` checks that they agree.
+    """
+    body = {k: v for k, v in manifest.items() if k != "manifest_hash"}
+    return hashlib.sha256(json.dumps(body, sort_keys=True, separators=(",", ":")).encode()).hexdigest()
 
 
 def python_info() -> str:

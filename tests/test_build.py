@@ -59,6 +59,7 @@ def test_library_name_follows_the_content(gen_copy, tmp_path, monkeypatch):
     import hashlib
 
     m["files"]["rpo_model.c"] = hashlib.sha256(c.read_bytes()).hexdigest()
+    m["manifest_hash"] = compiled.manifest_hash(m)
     (gen_copy / "manifest.json").write_text(json.dumps(m))
     k2 = compiled.library_key(gen_copy, compiled.read_manifest(gen_copy), compiled.compiler_identity(cc))
     assert k1 != k2
@@ -80,8 +81,6 @@ def test_two_concurrent_builds_are_safe(gen_copy, tmp_path):
     assert sorted(o[1] for o in outs) == ["False", "True"]
     libs = [f for f in cache.iterdir() if f.suffix == ".so"]
     assert len(libs) == 1 and not [f for f in cache.iterdir() if "tmp" in f.name]
-    m = compiled.load_model(gen_dir=gen_copy) if False else None  # loading is covered by every other test
-    del m
 
 
 def test_no_compiler_gives_a_clear_error(gen_copy, tmp_path, monkeypatch):
@@ -107,11 +106,43 @@ def test_casadi_fallback_is_explicit_warned_and_equal(model):
         assert np.allclose(x, y, rtol=1e-13, atol=1e-13)
 
 
+def test_hand_edited_manifest_is_refused(gen_copy):
+    """Swapping two parameter fields (or a unit, or a default) would silently repack p."""
+    path = gen_copy / "manifest.json"
+    m = json.loads(path.read_text())
+    lay = m["layouts"]["p"]
+    i, j = [k for k, f in enumerate(lay) if f["name"] in ("orbit_raan", "orbit_argp")]
+    lay[i], lay[j] = lay[j], lay[i]
+    path.write_text(json.dumps(m))
+    with pytest.raises(ModelError, match="does not match its recorded hash"):
+        compiled.read_manifest(gen_copy)
+
+
+def test_manifest_hash_definitions_agree():
+    from rpo.symbolic import codegen
+
+    m = json.loads((ROOT / "generated" / "manifest.json").read_text())
+    assert codegen.manifest_hash(m) == compiled.manifest_hash(m) == m["manifest_hash"]
+
+
+def test_fast_math_library_is_refused(gen_copy, tmp_path, monkeypatch):
+    """A $CC that adds -ffast-math breaks NaN detection; the loader's self-test refuses it."""
+    cc = compiled.find_compiler()
+    wrapper = tmp_path / "ccwrap"
+    wrapper.write_text(f'#!/bin/sh\nexec {cc[0]} -ffast-math "$@"\n')
+    wrapper.chmod(0o755)
+    monkeypatch.setenv("CC", str(wrapper))
+    monkeypatch.setenv("RPO_CACHE_DIR", str(tmp_path / "cache"))
+    with pytest.raises(ModelError, match="does not detect NaN"):
+        compiled.load_model(gen_dir=gen_copy)
+
+
 def test_loaded_library_is_checked_against_the_manifest(gen_copy, tmp_path, monkeypatch):
     """A manifest that disagrees with the library's signatures is refused at load time."""
     monkeypatch.setenv("RPO_CACHE_DIR", str(tmp_path / "cache"))
     m = json.loads((gen_copy / "manifest.json").read_text())
     m["functions"]["kepler"]["inputs"][0]["shape"] = [2, 1]
+    m["manifest_hash"] = compiled.manifest_hash(m)  # consistent manifest, inconsistent library
     (gen_copy / "manifest.json").write_text(json.dumps(m))
     with pytest.raises(ModelError, match="kepler"):
         compiled.load_model(gen_dir=gen_copy)

@@ -49,7 +49,18 @@ def test_record_every_decimates_without_changing_the_trajectory(model):
     z0 = sim.initial_state(Z0)
     full = sim.run(z0, 1.0, seed=1)
     dec = sim.run(z0, 1.0, seed=1, record_every=7, chunk=10)
-    assert np.array_equal(dec.z, full.z[::7]) and np.allclose(dec.t, full.t[::7])
+    # every 7th state, and always the final one (100 steps is not a multiple of 7)
+    assert np.array_equal(dec.z[:-1], full.z[::7]) and np.allclose(dec.t[:-1], full.t[::7])
+    assert np.array_equal(dec.z[-1], full.z[-1]) and dec.t[-1] == pytest.approx(1.0)
+
+
+def test_divergence_keeps_the_last_good_state_off_the_recording_grid(model):
+    sim = Simulation(model, bounds={"r": 100.0})
+    res = sim.run(sim.initial_state(Z0), 300.0, record_every=50)
+    d = res.divergence
+    assert d is not None and d.step % 50 != 0
+    assert res.t[-1] == pytest.approx(d.step * 0.01) and np.array_equal(res.z[-1], d.last_good_state)
+    assert np.all(np.isfinite(res.y[-1]))  # the failing step's output, computed at the last good state
 
 
 @pytest.mark.parametrize("delay", [-0.001, 0.04, 0.1])

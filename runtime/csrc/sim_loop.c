@@ -12,6 +12,10 @@
 typedef long long casadi_int;
 typedef int (*rpo_step_fn)(const double** arg, double** res, casadi_int* iw, double* w, int mem);
 
+/* 1 if x is finite, else 0.  The loader calls it with NaN and inf: a library built with
+ * -ffast-math (which may fold isfinite to 1) would miss divergence, so it is refused. */
+int rpo_selftest_nan(double x) { return isfinite(x) ? 1 : 0; }
+
 /* Returns the number of completed, healthy steps (0..n).  If it is less than n, *bad_index is
  * the index of the first offending entry of Z[ret + 1] (or -1 when the step function itself
  * reported an error).  t_k = t0 + (k0 + k) dt, formed from the integer step count so that
