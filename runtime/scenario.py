@@ -590,6 +590,10 @@ class Scenario(_Section):
             plant["h_w"] = np.array(self.chaser.wheel_momentum, float)
         else:
             speeds = np.array(self.chaser.wheel_speed_rpm or [0.0] * 4, float) * RPM
+            limit = float(params["wheel_speed_max"][0])
+            if np.abs(speeds).max() > limit * (1 + 1e-12):
+                raise ScenarioError(f"{self._source}: chaser.wheel_speed_rpm = {self.chaser.wheel_speed_rpm}: "
+                                    f"each |speed| must be <= wheels.max_speed_rpm = {limit / RPM:g} rpm")
             plant["h_w"] = _wheel_momentum(model, p, plant, speeds)
         sim = self.simulation
         return RunInputs(params={k: v.copy() for k, v in params.items()}, gains=gains, plant=plant,

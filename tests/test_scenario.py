@@ -264,3 +264,11 @@ def test_bad_file(tmp_path):
     bad.write_bytes(b"[meta]\nname = '\xe9'\n")
     with pytest.raises(ScenarioError, match="latin1.toml: cannot read"):
         load_scenario(bad)
+
+
+def test_initial_wheel_speed_above_the_limit_is_refused(model):
+    text = (ROOT / "scenarios" / "000_scenario_III.toml").read_text()
+    text = text.replace("wheel_speed_rpm = [0.0, 0.0, 0.0, 0.0]", "wheel_speed_rpm = [8000.0, 0.0, 0.0, 0.0]")
+    assert "8000.0" in text
+    with pytest.raises(ScenarioError, match=r"chaser.wheel_speed_rpm = .*<= wheels.max_speed_rpm = 7000 rpm"):
+        loads_scenario(text, "s.toml").to_run(model)
