@@ -271,6 +271,33 @@ def info(backend: str) -> int:
     return 0
 
 
+@cli.command()
+@click.option("--scenarios", "folder", type=click.Path(file_okay=False, exists=True, path_type=Path),
+              default=Path("scenarios"), show_default=True, help="Folder of scenario files.")
+@click.option("--write", "target", type=click.Path(dir_okay=False, path_type=Path), default=None,
+              help="Write the table here (e.g. docs/scenarios.md) instead of printing it.")
+@click.option("--check", "check", type=click.Path(dir_okay=False, exists=True, path_type=Path), default=None,
+              help="Exit 1 if this file differs from the table (for CI).")
+def choices(folder: Path, target: Path | None, check: Path | None) -> int:
+    """Table of the values the scenario files mark as chosen (the papers are silent there)."""
+    from .choices import render, scenario_files
+
+    text = render(scenario_files(folder))
+    if check is not None:
+        if check.read_text() != text:
+            _err(f"{check} is out of date: run `rpo choices --write {check}`")
+            return 1
+        return 0
+    if target is None:
+        click.echo(text, nl=False)
+        return 0
+    tmp = target.with_name(f".{target.name}.tmp")
+    tmp.write_text(text)
+    tmp.replace(target)
+    _err(f"wrote {target}")
+    return 0
+
+
 # --------------------------------------------------------------------------- entry point
 
 
