@@ -434,7 +434,8 @@ class C001:
         k.add("k_p", 1, "-", "PD-like proportional gain k_p (001 eq. 57)", default=0.005)
         k.add("k_d", 1, "-", "PD-like derivative gain k_d: N s/m and N m s (001 eq. 57)", default=2.0)
         k.add("k_a", 1, "-", "attractive APF coefficient (001 eq. 51)", default=0.75)
-        k.add("k_r", 1, "m", "repulsive APF coefficient (001 eq. 52)", default=2.5e-5)
+        k.add("k_r", 1, "-", "repulsive APF coefficient (001 eq. 52; SI numbers: beta_FOV in m, beta_CA in m^2)",
+              default=2.5e-5)
         # ESO (001 sec. 7; exponents negative: see docs/controllers/c001.md)
         k.add("kappa1", 1, "-", "STA gain kappa_1 (001 eq. 24)", default=0.7)
         k.add("kappa2", 1, "-", "STA gain kappa_2 (001 eq. 24)", default=0.8)
