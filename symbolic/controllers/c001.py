@@ -43,8 +43,9 @@ def _max0(a):
 
 
 def _min1(a):
-    """``min(a, 1) = a + (1 - a) Step(a - 1)``."""
-    return a + (1 - a) * Step(a - 1)
+    """``min(a, 1) = a (1 - Step(a - 1)) + Step(a - 1)`` (exact on both branches)."""
+    s = Step(a - 1)
+    return a * (1 - s) + s
 
 
 # =========================================================================== dual-quaternion algebra
@@ -393,7 +394,12 @@ def control_dual_force(q_ST, grad_Vp, w_ST, w_TI_S, J, f_G, d_hat, k_p, k_d) -> 
 
 def saturate(x: sp.Matrix, limit) -> sp.Matrix:
     """Per-axis actuator limit ``[-limit, limit]`` (001 sec. 7: 2 mN m, 750 mN), written with :class:`Step`."""
-    return x.applyfunc(lambda e: e + (limit - e) * Step(e - limit) - (limit + e) * Step(-limit - e))
+    # e (1 - hi - lo) + limit (hi - lo) is exact in floating point on both branches (no e - e)
+    def sat(e):
+        hi, lo = Step(e - limit), Step(-limit - e)
+        return e * (1 - hi - lo) + limit * (hi - lo)
+
+    return x.applyfunc(sat)
 
 
 # =========================================================================== measurement -> paper variables
