@@ -232,7 +232,7 @@ def compiled_law():
     meas = meas_layout()
     cmd, xc_dot, diag = ctrl.law(meas, sp.Symbol("t"), None)
     args = [list(meas.vector()), list(ctrl.xc.vector()), list(ctrl.k.vector())]
-    f = sp.lambdify(args, [cmd, xc_dot, diag], "numpy")
+    f = sp.lambdify(args, [cmd, xc_dot, diag], "numpy", cse=True)  # cse: seconds instead of a minute
     return ctrl, meas, f
 
 
