@@ -330,3 +330,70 @@ def test_law_at_rest_on_target_commands_nothing():
     assert np.abs(cmd).max() < 1e-9 and np.abs(xc_dot).max() < 1e-9
     assert diag[0] < 1e-7  # acos near 1 loses half the digits
     assert np.abs(diag[1:14] - np.r_[0, 0, 0, 1, np.zeros(9)]).max() < 1e-9
+
+
+# --------------------------------------------------------------------------- closed loop (compiled runtime)
+
+SCEN = __import__("pathlib").Path(__file__).resolve().parents[1] / "scenarios"
+
+
+def fly(model, scenario, duration, plant="paper", gains=None):
+    from rpo.runtime.scenario import load_scenario
+    from rpo.runtime.simulate import Simulation
+
+    inputs = load_scenario(SCEN / scenario).with_overrides(duration=duration, plant=plant).to_run(model)
+    g = {**inputs.gains, **{k: np.atleast_1d(np.asarray(v, float)) for k, v in (gains or {}).items()}}
+    sim = Simulation(model, "c002", params=inputs.params, gains=g)
+    return sim.run(sim.initial_state(inputs.plant), inputs.duration, seed=inputs.seed, record_every=10)
+
+
+def cols(res, name, comps=XYZ):
+    return np.column_stack([res.column(f"ctrl_{name}_{c}") for c in comps])
+
+
+def test_closed_loop_paper_plant_meets_the_published_claim(model):
+    """kappa1 = 3 (the theorem's condition holds): |r~| < 0.3 m and attitude error < 0.5 deg by 50 s
+    (paper: 'within 0.3 at about 50 s', Euler errors near zero), converging to ~0.4 deg / 1e-5 m."""
+    res = fly(model, "002_scenario_kappa3.toml", 60.0)
+    assert res.ok
+    t = res.t[:-1]
+    att = np.rad2deg(res.column("ctrl_att_err")[:-1])
+    pos = np.linalg.norm(cols(res, "pos_err")[:-1], axis=1)
+    late = t >= 50.0
+    assert pos[late].max() < 0.3 and att[late].max() < 0.5
+    assert att[t >= 8.0].max() < 0.5          # the attitude converges first (about 6.4 s)
+    assert pos[-1] < 0.01
+    # the attitude saturates (1 N m) at the start, the force (100 N) only marginally
+    tau = cols(res, "eps_r")[:-1]
+    assert np.abs(tau[:100]).max() > 2.0
+    assert np.abs(res.column("cmd_tau_w_x")[:-1]).max() <= 1.0 + 1e-12
+
+
+def test_closed_loop_estimates_and_auxiliary_states_stay_bounded(model):
+    res = fly(model, "002_scenario_kappa3.toml", 60.0)
+    a = np.column_stack([res.column(f"ctrl_alpha_hat_{i}") for i in range(1, 10)])[:-1]
+    assert np.all(a >= -1e-12) and a.max() < 1.0           # eq. 25 keeps alpha^ >= 0 from 0
+    chi1, chi2 = cols(res, "chi1")[:-1], cols(res, "chi2")[:-1]
+    # |tanh(chi)| < 1 with margin: Theorem 1 ii's compact set for kappa > varpi
+    assert np.abs(chi1).max() < 2.0 and np.abs(chi2).max() < 0.5
+    excess = np.abs(np.clip(cols(res, "eps_r")[:-1], -1, 1) - cols(res, "eps_r")[:-1]).max()
+    assert excess < 3.0                                     # varpi1 < kappa1 = 3 along this run
+
+
+def test_paper_gains_violate_kappa1_condition_and_chi1_escapes(model):
+    """The paper's kappa1 = 2 with k3 = 4 N m and a 1 N m limit: chi_1 escapes to infinity (t ~ 1.7 s)."""
+    res = fly(model, "002_scenario.toml", 5.0)
+    assert not res.ok
+    assert res.divergence.label.startswith("xc_chi1") and 1.0 < res.divergence.time < 2.5
+
+
+def test_closed_loop_full_plant_retuned_gains(model):
+    """000's wheels (0.09 N m per axis) and PWPF thrusters, random torques, mass profile: bounded and
+    converging with the retuned gains of 002_scenario_full.toml."""
+    res = fly(model, "002_scenario_full.toml", 150.0, plant="full")
+    assert res.ok
+    t = res.t[:-1]
+    pos = np.linalg.norm(cols(res, "pos_err")[:-1], axis=1)
+    att = np.rad2deg(res.column("ctrl_att_err")[:-1])
+    assert pos[t >= 120].max() < 0.8 and att[t >= 120].max() < 2.0
+    assert np.abs(cols(res, "chi2")[:-1]).max() < 1.0
