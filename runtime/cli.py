@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import math
 import sys
-import time
 import warnings
 from datetime import UTC, datetime
 from importlib import metadata
@@ -98,23 +97,20 @@ def run(scenario: str, out: str | None, duration: float | None, seed: int | None
     The folder gets timeseries.npz/.csv, run.json, a copy of the scenario and PNG figures.
     Exit code 3 if the simulation diverged (the results up to that point are still written).
     """
-    from .output import check_out_dir, write_run
+    from .metrics import format_table
+    from .output import check_out_dir
+    from .runner import execute_run
     from .scenario import load_scenario
-    from .simulate import Simulation
 
+    # validate the scenario and the folder before loading (maybe compiling) the model
     sc = load_scenario(scenario).with_overrides(duration=duration, seed=seed, controller=controller, plant=plant)
     out_dir = check_out_dir(out if out is not None else _default_out(scenario))
     model = _load_model(backend, quiet)
-    inputs = sc.to_run(model)
-    sim = Simulation(model, inputs.controller, params=inputs.params, gains=inputs.gains)
-    z0 = sim.initial_state(inputs.plant)
-    n_steps = int(round(inputs.duration / sim.dt))
-
+    n_steps = int(round(sc.simulation.duration / float(sc.params(model.manifest)["dt"][0])))
     expected = n_steps * STEP_COST.get(model.backend, 2e-3)
     show_bar = not quiet and expected > 1.0 and sys.stderr.isatty()
-    if not quiet:
-        _err(f"{sc.name}: {n_steps} steps of {sim.dt:g} s ({inputs.duration:g} s), controller "
-             f"{inputs.controller}, seed {inputs.seed}, backend {model.backend}")
+    log = None if quiet else _err
+    kwargs = dict(duration=duration, seed=seed, controller=controller, plant=plant, plots=not no_plots, log=log)
     if show_bar:
         with click.progressbar(length=n_steps, label="simulating", file=sys.stderr, show_eta=True) as bar:
             last = [0]
@@ -123,21 +119,10 @@ def run(scenario: str, out: str | None, duration: float | None, seed: int | None
                 bar.update(done - last[0])
                 last[0] = done
 
-            result = sim.run(z0, inputs.duration, seed=inputs.seed, record_every=inputs.record_every,
-                             progress=progress)
+            outcome = execute_run(scenario, out_dir, model, progress=progress, **kwargs)
     else:
-        result = sim.run(z0, inputs.duration, seed=inputs.seed, record_every=inputs.record_every)
-
-    if not quiet:
-        _err(f"simulated {result.steps_done} steps in {result.wall_time:.3g} s; writing {out_dir} ...")
-    t_write = time.perf_counter()
-    extra = {"scenario": sc.name, "scenario_meta": sc.meta.model_dump(),
-             "overrides": {k: v for k, v in (("duration", duration), ("seed", seed), ("controller", controller),
-                                             ("plant", plant)) if v is not None},
-             "inputs": inputs.to_json(), "z0": z0}
-    write_run(result, out_dir, model, scenario_path=scenario, scenario_text=sc.text, extra_meta=extra,
-              plots=not no_plots, params=inputs.params, gains=inputs.gains, title=sc.name)
-    t_write = time.perf_counter() - t_write
+        outcome = execute_run(scenario, out_dir, model, **kwargs)
+    result, inputs, t_write = outcome.result, outcome.inputs, outcome.write_time
 
     if result.divergence is not None:
         _err(f"diverged: {result.divergence.message()}")
@@ -145,6 +130,8 @@ def run(scenario: str, out: str | None, duration: float | None, seed: int | None
         return EXIT_DIVERGED
     if not quiet:
         _summary(result, model, inputs, out_dir, t_write)
+        click.echo("metrics (metrics.json; definitions in rpo.runtime.metrics):")
+        click.echo(format_table(outcome.metrics))
     return 0
 
 

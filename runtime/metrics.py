@@ -311,12 +311,12 @@ def format_table(m: dict) -> str:
         return none if v is None else format(v * scale, fmt)
 
     deg = 180.0 / np.pi
-    settle = lambda v: "not settled" if v is None else f"{v:.4g} s"  # noqa: E731
+    settle = lambda v: "not settled" if v is None else f"settled at {v:.4g} s"  # noqa: E731
     rows = [
-        ("attitude", f"settled {settle(m['att_settling_time_s']) if m['att_err_final_rad'] is not None else '-'}"
+        ("attitude", f"{settle(m['att_settling_time_s']) if m['att_err_final_rad'] is not None else '-'}"
                      f" (< {m['thresholds']['att_deg']:g} deg), final {f(m['att_err_final_rad'], deg)} deg, "
                      f"steady RMS {f(m['att_err_ss_rms_rad'], deg)} deg"),
-        ("position", f"settled {settle(m['pos_settling_time_s']) if m['pos_err_final_m'] is not None else '-'}"
+        ("position", f"{settle(m['pos_settling_time_s']) if m['pos_err_final_m'] is not None else '-'}"
                      f" (< {m['thresholds']['pos_m']:g} m), final {f(m['pos_err_final_m'])} m, "
                      f"steady RMS {f(m['pos_err_ss_rms_m'])} m"),
         ("rate, velocity", f"final {f(m['rate_err_final_rad_s'], deg)} deg/s, {f(m['vel_err_final_m_s'])} m/s"),
