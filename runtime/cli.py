@@ -72,6 +72,7 @@ def cli() -> None:
       rpo validate scenarios/000_scenario_III.toml
       rpo run scenarios/000_scenario_III.toml --out runs/iii
       rpo info
+      rpo report                       (the reproduction report: docs/reproduction.md)
     """
 
 
@@ -148,6 +149,57 @@ def _summary(result, model, inputs, out_dir: Path, t_write: float) -> None:
     click.echo(f"final: distance {np.linalg.norm(r):.4g} m, to goal {np.linalg.norm(r - goal):.4g} m, "
                f"attitude error {ang:.4g} deg, propellant {m_prop:.4g} kg")
     click.echo(f"results: {out_dir}")
+
+
+@cli.command()
+@click.argument("run_list", default="scenarios/reproduction.toml", type=click.Path(dir_okay=False, path_type=str))
+@click.option("--out", "out_base", default="runs/report", show_default=True, type=click.Path(file_okay=False),
+              help="Base folder; each invocation writes its runs into a fresh <UTC time> folder inside.")
+@click.option("--md", "md_path", default="docs/reproduction.md", show_default=True, type=click.Path(dir_okay=False),
+              help="The markdown report to (re)write.")
+@click.option("--json", "json_path", default="docs/reproduction.json", show_default=True,
+              type=click.Path(dir_okay=False), help="Its JSON twin (all tables and metrics).")
+@click.option("--notes", "notes_path", default="docs/reproduction_notes.toml", show_default=True,
+              type=click.Path(dir_okay=False), help="Free text per paper (TOML; skipped if absent).")
+@click.option("--only", multiple=True, help="Run only this label (repeatable).")
+@click.option("--backend", type=BACKENDS, default="auto", show_default=True, help="Model backend.")
+@click.option("--no-plots", is_flag=True, help="Do not write the PNG figures of the runs.")
+@click.option("--quiet", "-q", is_flag=True, help="Print only errors.")
+def report(run_list: str, out_base: str, md_path: str, json_path: str, notes_path: str, only: tuple[str, ...],
+           backend: str, no_plots: bool, quiet: bool) -> int:
+    """Run the declared runs of RUN_LIST (TOML; default scenarios/reproduction.toml) and render the
+    reproduction report (published values against ours) as markdown and JSON.
+
+    Each run goes through the same code as `rpo run`; see rpo.runtime.report for the file formats.
+    """
+    from .report import make_report, summary_line
+
+    model = _load_model(backend, quiet)
+    state: dict = {"lines": []}
+
+    def on_plan(runs):
+        if not quiet:
+            bar = click.progressbar(length=len(runs), label=f"report: {len(runs)} runs", file=sys.stderr,
+                                    item_show_func=lambda r: r.label if r is not None else "")
+            state["bar"] = bar.__enter__()
+
+    def on_run(r):
+        state["lines"].append(summary_line(r))
+        if "bar" in state:
+            state["bar"].update(1, r)
+
+    try:
+        twin = make_report(Path(run_list), model, out_base=Path(out_base), md_path=Path(md_path),
+                           json_path=Path(json_path), notes_path=Path(notes_path), plots=not no_plots,
+                           only=list(only) or None, on_run=on_run, on_plan=on_plan)
+    finally:
+        if "bar" in state:
+            state["bar"].__exit__(None, None, None)
+    if not quiet:
+        for line in state["lines"]:
+            click.echo(line)
+        click.echo(f"runs: {twin['runs_dir']}\nreport: {md_path} (+ {json_path})")
+    return 0
 
 
 @cli.command()
