@@ -14,7 +14,8 @@ Inputs are data, not code:
       duration = 300.0                  # optional overrides, as rpo run: duration, seed,
       seed = 0                          #   gains = { name = value }  (the controller's gain names)
       thresholds = { att_deg = 1.0, pos_m = 0.5 }   # settling thresholds (rpo.runtime.metrics)
-      error_times = [3000.0, 4000.0]    # errors_at these times go into metrics.json
+      error_times = [3000.0, 4000.0]    # errors_at these times go into metrics.json (the paper's
+                                        #   table2 times are added to the runs of its case)
 
       [[comparison]]                    # all controllers on one common scenario: expands to runs
       case = "000-III"                  # (one per controller and plant, labels cmp-<case>-<ctrl>-<plant>)
@@ -193,9 +194,12 @@ def plan(run_list: RunList, base: Path) -> list[PlannedRun]:
     for r in run_list.run:
         pth = run_list.paper.get(r.paper) if r.paper else None
         th = {**((pth.thresholds if pth else None) or {}), **(r.thresholds or {})} or None
+        times = list(r.error_times)
+        if pth and pth.table2 and pth.table2.case == r.case:  # the paper's Table 2 needs these times
+            times += [t for t in pth.table2.times if t not in times]
         runs.append(PlannedRun(label=r.label, scenario=base / r.scenario, controller=r.controller, plant=r.plant,
                                paper=r.paper, case=r.case, duration=r.duration, seed=r.seed, gains=r.gains,
-                               thresholds=th, error_times=list(r.error_times)))
+                               thresholds=th, error_times=times))
     labels = [r.label for r in runs]
     dup = {x for x in labels if labels.count(x) > 1}
     if dup:
