@@ -89,9 +89,12 @@ def quat_angle(q: np.ndarray) -> np.ndarray:
 
 
 def _block(columns: Mapping, prefix: str, comps: tuple[str, ...]) -> np.ndarray | None:
+    """The columns ``prefix_<comp>``, or ``prefix_0..n-1`` (a field declared without component names)."""
     labels = [f"{prefix}_{c}" for c in comps]
     if not all(lbl in columns for lbl in labels):
-        return None
+        labels = [f"{prefix}_{i}" for i in range(len(comps))]
+        if not all(lbl in columns for lbl in labels):
+            return None
     return np.column_stack([np.asarray(columns[lbl], float) for lbl in labels])
 
 

@@ -119,3 +119,9 @@ def test_metrics_json_ready():
     import json
     m = M.compute_metrics(T, columns_for(decaying(), np.column_stack([decaying()] * 3)), error_times=[50.0])
     json.dumps(m, allow_nan=False)
+
+
+def test_numbered_components_are_accepted():
+    pos = {f"ctrl_pos_err_{i}": (i + 1) * np.exp(-T) for i in range(3)}
+    m = M.compute_metrics(T, {"ctrl_att_err": 0 * T, **pos})
+    assert m["pos_err_final_m"] == pytest.approx(np.sqrt(14) * np.exp(-100))
