@@ -204,10 +204,14 @@ def _components(f: dict) -> list[str]:
 
 
 def _panels(d: _Data, path: Path, title: str, panels: list[tuple[str, str, float, str]], height=2.2) -> bool:
-    """One panel per present y field: (field, y label, scale, unit); False (nothing written) if none."""
+    """One panel per present y field: (field, y label, scale, unit); False (nothing written) if none.
+    The absent fields are named in the title."""
     present = [p for p in panels if d.has(p[0], "y")]
     if not present:
         return False
+    absent = [p[0] for p in panels if not d.has(p[0], "y")]
+    if absent:
+        title = f"{title}\n(not logged by this controller: {', '.join(absent)})"
     fig = Figure(figsize=(9, 1.5 + height * len(present)), layout="constrained")
     axes = np.atleast_1d(fig.subplots(len(present), 1, sharex=True, squeeze=False)[:, 0])
     for ax, (name, ylabel, scale, unit) in zip(axes, present, strict=True):

@@ -60,6 +60,7 @@ import json
 import math
 import os
 import tomllib
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
@@ -269,6 +270,9 @@ def execute(runs: list[PlannedRun], model, out: Path, *, plots: bool = True,
                     r.reason = o.result.divergence.message()
             except RpoError as exc:
                 r.status, r.reason = "error", str(exc)
+            except Exception as exc:  # noqa: BLE001 - one broken run must not lose the others' results
+                r.status, r.reason = "error", f"{type(exc).__name__}: {exc}"
+                warnings.warn(f"run {r.label} failed: {r.reason}", RuntimeWarning, stacklevel=2)
         if on_run:
             on_run(r)
 
@@ -310,7 +314,7 @@ def metric_cell(r: PlannedRun | None, metric: str, unit: str | None = None, with
 def _find(runs: list[PlannedRun], paper: str, case: str, plant: str, controller: str | None) -> PlannedRun | None:
     cands = [r for r in runs if r.paper == paper and r.case == case and r.plant == plant]
     if controller:
-        cands = [r for r in cands if (r.controller_used or r.controller) == controller] or []
+        cands = [r for r in cands if (r.controller_used or r.controller) == controller]
     return cands[0] if cands else None
 
 
@@ -453,7 +457,7 @@ def render_markdown(tables: dict, runs: list[PlannedRun], notes: Notes, info: di
         if notes.comparison.strip():
             out += [notes.comparison.strip(), ""]
     out += ["## Runs", "",
-            _md_table(["label", "scenario", "controller", "plant", "duration [s]", "status", "folder"],
+            _md_table(["label", "scenario", "controller", "plant", "ran to [s]", "status", "folder"],
                       [[r.label, r.scenario.name, r.controller_used or r.controller or "-", r.plant,
                         "-" if r.metrics is None else _num(r.metrics.get("t_end_s")),
                         r.status + (f": {r.reason}" if r.reason else ""), r.folder or "-"] for r in runs]), ""]
