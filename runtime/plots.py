@@ -76,8 +76,9 @@ def _finish(fig: Figure, axes, result, title: str, path: Path) -> None:
 
 
 def _lines(ax, t, data, labels, unit: str, ylabel: str) -> None:
-    for i in range(data.shape[1]):
-        ax.plot(t, data[:, i], lw=1.0, color=AXES_COLORS[i % 4], label=labels[i])
+    n = data.shape[1]
+    for i in range(n):  # x, y, z, w in the usual colours; longer fields (estimates) in the tab10 cycle
+        ax.plot(t, data[:, i], lw=1.0, color=AXES_COLORS[i] if n <= 4 else f"C{i % 10}", label=labels[i])
     ax.set_ylabel(f"{ylabel} [{unit}]")
     ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8, frameon=False)
 
