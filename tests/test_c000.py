@@ -91,7 +91,7 @@ def test_table1_nominal_estimates_are_the_true_ratios():
     P, meas = _meas_layout()
     x0 = ctrl.xc0(meas, P.p)
     subs = {s: d for f in ctrl.k.fields for s, d in zip(ctrl.k._symbols[f.name], f.default, strict=True)}
-    vals = {meas["n"]: 0.0, meas["n_dot"]: 0.0, meas["r_t"]: 4.2164e7, P.p["mu"]: MU}
+    vals = {meas["n"]: 0.0, meas["n_dot"]: 0.0, meas["r_t"]: 4.2164e7, P.p["mu"]: MU, P.p["gravity_on"]: 1.0}
     vals.update({s: 0.0 for s in meas["r"]})
     vals.update({s: 0.0 for s in meas["v"]})
     got = _num(x0, {**subs, **vals})
@@ -233,7 +233,7 @@ def _law_function():
     P, meas = _meas_layout()
     ctrl = C.C000()
     cmd, xc_dot, diag = ctrl.law(meas, P.t, P.p)
-    args = [meas.vector(), ctrl.xc.vector(), ctrl.k.vector(), sp.Matrix([P.p["mu"]])]
+    args = [meas.vector(), ctrl.xc.vector(), ctrl.k.vector(), sp.Matrix([P.p["mu"], P.p["gravity_on"]])]
     fn = sp.lambdify(args, [cmd, xc_dot, diag], modules="numpy")
     return ctrl, meas, fn
 
@@ -303,7 +303,7 @@ def test_law_matches_an_independent_numpy_evaluation(trial):
     off = ctrl.xc.offsets()
     xc = {"a": [xcv[slice(*off[f"a_hat_{a}"])] for a in XYZ], "b": [xcv[off[f"b_hat_{a}"][0]] for a in XYZ],
           "th": [xcv[slice(*off[f"theta_{a}{a}"])] for a in XYZ], "h": [xcv[off[f"h_hat_{a}{a}"][0]] for a in XYZ]}
-    cmd, xc_dot, diag = fn(np.array(mvec), xcv, kvec, np.array([MU]))
+    cmd, xc_dot, diag = fn(np.array(mvec), xcv, kvec, np.array([MU, 1.0]))
     cmd, xc_dot = np.ravel(cmd), np.ravel(xc_dot)
     tau, F_body, xdot = _numpy_law(m, xc, k)
     assert np.allclose(cmd[0:3], tau, rtol=1e-9, atol=1e-12)

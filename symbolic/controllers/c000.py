@@ -171,9 +171,10 @@ def boundary_layer_surface(s, d):
 
     Printed: s - d sign(s), which inside |s| < d is nonzero and of the opposite sign of s; the
     text says S_aug = 0 inside the layer and S_aug_dot = s_dot outside: Slotine's s_delta.
-    Written as a Piecewise so that d = 0 is allowed (then S_aug = s).
+    Written as max(s - d, 0) + min(s + d, 0) (d >= 0), which allows d = 0 (then S_aug = s) and keeps
+    s out of Piecewise conditions (s itself may contain the Piecewise of the shorter rotation).
     """
-    return sp.Piecewise((s - d, s > d), (s + d, s < -d), (0, True))
+    return sp.Max(s - d, 0) + sp.Min(s + d, 0)
 
 
 def u1_term(acc_d, lam, e_dot):
@@ -320,9 +321,9 @@ class C000:
     def __post_init__(self):
         k = self.k
         # --- attitude (Table 2 lost: chosen, see docs/controllers/c000.md)
-        k.add("lam_att", 1, "1/s", "lambda_0 of the attitude surfaces (eqs. 53, 79, 80)", default=0.1)
-        k.add("D_att", 3, "rad/s^2", "disturbance bound D_j (eq. 51)", XYZ, default=(0.002,) * 3)
-        k.add("eps_att", 3, "rad/s^2", "reaching margin eps_j (eq. 55)", XYZ, default=(0.002,) * 3)
+        k.add("lam_att", 1, "1/s", "lambda_0 of the attitude surfaces (eqs. 53, 79, 80)", default=0.2)
+        k.add("D_att", 3, "rad/s^2", "disturbance bound D_j (eq. 51)", XYZ, default=(0.0075,) * 3)
+        k.add("eps_att", 3, "rad/s^2", "reaching margin eps_j (eq. 55)", XYZ, default=(0.0075,) * 3)
         k.add("d_att", 3, "rad/s", "boundary-layer width d_j (eq. 52)", XYZ, default=(0.002,) * 3)
         k.add("wdot_d", 3, "rad/s^2", "user-set desired relative angular acceleration (eq. 56), chaser axes",
               XYZ, default=(0, 0, 0))
@@ -332,15 +333,15 @@ class C000:
               default=1.0)
         k.add("shortest", 1, "-", "1: e = sgn(q_e4) q_ev (shorter rotation); 0: e = q_ev (eq. 54)", default=1.0)
         # --- translation
-        k.add("lam_pos", 1, "1/s", "lambda_0 of the translation surfaces (eqs. 85, 107, 120)", default=0.05)
-        k.add("D_pos", 3, "m/s^2", "disturbance bound D_jj (eqs. 104, 118)", XYZ, default=(0.002,) * 3)
-        k.add("eps_pos", 3, "m/s^2", "reaching margin eps_jj", XYZ, default=(0.002,) * 3)
+        k.add("lam_pos", 1, "1/s", "lambda_0 of the translation surfaces (eqs. 85, 107, 120)", default=0.03)
+        k.add("D_pos", 3, "m/s^2", "disturbance bound D_jj (eqs. 104, 118)", XYZ, default=(0.02,) * 3)
+        k.add("eps_pos", 3, "m/s^2", "reaching margin eps_jj", XYZ, default=(0.02,) * 3)
         k.add("d_pos", 3, "m/s", "boundary-layer width d_jj (eqs. 84, 106, 119)", XYZ, default=(0.01,) * 3)
         k.add("acc_d", 3, "m/s^2", "user-set desired relative acceleration x_ddot_d (eqs. 88, 122), LVLH", XYZ,
               default=(0, 0, 0))
         k.add("acc_d_on", 1, "-", "1: feed wdot_d and acc_d into u_1 (eqs. 56, 88); 0: off", default=1.0)
         k.add("gamma_theta", 1, "-", "adaptation gain of alpha_hat, a_hat (eqs. 96-100...; 1 = printed)",
-              default=1.0)
+              default=1e-8)
         k.add("gamma_h", 1, "-", "adaptation gain of h_hat (eqs. 101, 116, 128; 1 = printed)", default=1.0)
         k.add("r_goal", 3, "m", "goal relative position, LVLH", XYZ, default=(0, 0, 0))
         # --- nominal model (initial estimates, see xc0)
@@ -426,7 +427,8 @@ class C000:
 
         # ---- translation, per LVLH axis (eqs. 81-88, 96-101, 105-108, 113-116, 119-122, 127-128)
         r_c = chaser_orbit_radius(r_t, r)
-        _, phi = translation_regressors(r, v, n, n_dot, r_c, p["mu"])
+        mu = p["mu"] * p["gravity_on"]  # free space (gravity_on = 0): no gravity terms
+        _, phi = translation_regressors(r, v, n, n_dot, r_c, mu)
         e_pos = tracking_error(r, k["r_goal"])
         F_L, s_p, S_p, xdot_p = [], [], [], {}
         for j, ax in enumerate(XYZ):
@@ -478,7 +480,7 @@ class C000:
             vals[f"b_hat_{ax}"] = 1 / b
         r, v = meas["r"], meas["v"]
         r_c = chaser_orbit_radius(meas["r_t"], r)
-        theta, _ = translation_regressors(r, v, meas["n"], meas["n_dot"], r_c, p["mu"])
+        theta, _ = translation_regressors(r, v, meas["n"], meas["n_dot"], r_c, p["mu"] * p["gravity_on"])
         for j, ax in enumerate(XYZ):
             vals[f"theta_{ax}{ax}"] = sp.Matrix([m * th for th in theta[j]])
             vals[f"h_hat_{ax}{ax}"] = m
