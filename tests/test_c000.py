@@ -316,3 +316,80 @@ def test_law_matches_an_independent_numpy_evaluation(trial):
         assert np.isclose(xc_dot[off[f"h_hat_{a}{a}"][0]], xdot[("h", j)], rtol=1e-9, atol=1e-15)
     diag = np.ravel(diag)
     assert diag[0] == pytest.approx(2 * np.arccos(min(1.0, abs(m["q_e"][3]))))
+
+
+# ------------------------------------------------------------------ closed loop (compiled runtime)
+
+def _quat_mul(p, q):
+    return (Rotation.from_quat(p) * Rotation.from_quat(q)).as_quat()
+
+
+def _closed_loop(model, params, gains=None, duration=200.0, att0_deg=60.0, r0=(20.0, -10.0, 15.0),
+                 v0=(0.2, 0.0, -0.1), seed=0):
+    """Chaser 'att0_deg' off the interface frame of a tumbling target, with a position/velocity error."""
+    from rpo.runtime.simulate import Simulation
+
+    sim = Simulation(model, "c000", params=params, gains=gains or {})
+    q_t = np.array([0.38831, 0.22356, -0.34408, 0.82512])
+    q_t /= np.linalg.norm(q_t)
+    w_t = np.array([0.01, -0.02, 0.015])
+    q_i = _quat_mul(q_t, [1.0, 0, 0, 0])  # interface frame: 180 deg about X_T (000 eq. 16)
+    q_off = Rotation.from_rotvec(np.radians(att0_deg) * np.array([0.6, -0.48, 0.64])).as_quat()
+    q_c = _quat_mul(q_i, q_off)
+    z0 = sim.initial_state({"q_c": q_c, "w_c": np.zeros(3), "q_t": q_t, "w_t": w_t, "r": np.array(r0),
+                            "v": np.array(v0)})
+    res = sim.run(z0, duration, seed=seed)
+    y = model.layouts["y_c000"]
+    ok = np.isfinite(res.block("ctrl_att_err", y)[:, 0])
+    return res, y, ok
+
+
+def _ideal(**over):
+    base = dict(gg_on=0, mag_on=0, j2_on=0, drag_on=0, mass_profile_on=0, chaser_rand_std=0, target_rand_std=0,
+                actuators_ideal=1, torque_max=0.5, force_max=5.0)
+    base.update(over)
+    return base
+
+
+def test_closed_loop_converges_where_the_assumptions_hold(model):
+    """Ideal (unsaturated) actuators, no disturbance (D >= 0 holds), constant mass, elliptic LEO gravity
+    and a tumbling target: attitude error 60 deg -> < 0.1 deg after 90 s (measured: 70 s), distance
+    27 m -> < 0.5 m after 150 s (measured: 96 s); the attitude surfaces end inside their boundary layers."""
+    res, y, ok = _closed_loop(model, _ideal(), {"lam_pos": 0.05}, duration=180.0)
+    t = res.t[ok]
+    att = np.degrees(res.block("ctrl_att_err", y)[ok, 0])
+    dist = np.linalg.norm(res.block("ctrl_pos_err", y)[ok], axis=1)
+    assert res.ok
+    assert att[0] == pytest.approx(60.0, abs=0.5) and dist[0] > 20
+    assert att[t > 90].max() < 0.1, f"attitude error after 90 s: {att[t > 90].max():.3g} deg"
+    assert dist[t > 150].max() < 0.5, f"distance after 150 s: {dist[t > 150].max():.3g} m"
+    S_att = res.block("ctrl_S_aug_att", y)[ok]
+    assert np.abs(S_att[t > 90]).max() < 1e-3
+
+
+def test_adaptive_states_stay_bounded_in_the_full_plant(model):
+    """Scenario I-like start in the full plant (wheels, PWPF, 000 mass/inertia profile, random torques):
+    every estimate stays finite and within a factor of a few of its nominal value."""
+    from rpo.runtime.scenario import load_scenario
+
+    sc = load_scenario("scenarios/000_scenario_I.toml").with_overrides(duration=200.0)
+    inputs = sc.to_run(model)
+    from rpo.runtime.simulate import Simulation
+
+    sim = Simulation(model, "c000", params=inputs.params, gains=inputs.gains)
+    res = sim.run(sim.initial_state(inputs.plant), inputs.duration, seed=inputs.seed)
+    assert res.ok
+    y = model.layouts["y_c000"]
+    ok = np.isfinite(res.block("ctrl_att_err", y)[:, 0])
+    b_hat, h_hat = res.block("ctrl_b_hat", y)[ok], res.block("ctrl_h_hat", y)[ok]
+    assert np.all(np.isfinite(b_hat)) and np.all(np.isfinite(h_hat))
+    assert b_hat.min() > 0.5 * 11 and b_hat.max() < 3 * 27, (b_hat.min(), b_hat.max())
+    assert h_hat.min() > 50 and h_hat.max() < 400, (h_hat.min(), h_hat.max())
+    for ax in "xyz":
+        a = res.block(f"ctrl_a_hat_{ax}", y)[ok]
+        assert np.all(np.isfinite(a)) and np.abs(a - a[0]).max() < 5.0
+    th = np.hstack([res.block(f"ctrl_theta_{ax}{ax}", y)[ok] for ax in "xyz"])
+    assert np.all(np.isfinite(th)) and np.abs(th - th[0]).max() < 1e3
+    # and the attitude is synchronised despite the profile (wheels at their speed limit on the way)
+    t = res.t[ok]
+    assert np.degrees(res.block("ctrl_att_err", y)[ok, 0])[t > 120].max() < 1.0
