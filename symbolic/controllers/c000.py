@@ -49,11 +49,17 @@ docs/controllers/c000.md):
   gamma (default 1 = the printed laws) scale them.
 
 The error variable: eq. 54 defines e_x = q_1 - q_1d (a quaternion component), but the proof
-(eqs. 59-60) replaces e_ddot by omega_e_dot - omega_e_dot_d, which is only true if e_dot is the
-rate error.  It is implemented so that the proof's premise holds: e = sgn(q_e4) q_ev (desired
-q_d = [0, 0, 0, +-1]), e_dot := omega_e (not d/dt q_ev = 1/2 (q_e4 omega_e + q_ev x omega_e)).  On s = 0,
-q_ev_dot = -lambda/2 sgn(q_e4) (q_e4 q_ev) -> 0.  The sign picks the shorter rotation (switch
-``shortest``; 0 = the paper's literal q_ev, which unwinds when q_e4 < 0).
+(eqs. 59-60) writes s_dot = e_ddot + lambda_0 e_dot = omega_e_dot - omega_e_dot_d + lambda_0 e_dot,
+i.e. it takes the "e_dot" of eq. 53 to be the rate error omega_e, while d/dt q_ev =
+1/2 (q_e4 omega_e + q_ev x omega_e) (eq. 24) is not omega_e and q_ev_ddot is not omega_e_dot.
+Implemented so that the proof's identity holds on the spacecraft equations (tests/test_c000.py):
+
+    e = sgn(q_e4) q_ev (q_d = identity),  s = omega_e + lambda_0 e  (eq. 53 with omega_e for e_dot),
+    u_1 = -omega_e_dot_d + lambda_0 e_dot  with e_dot = sgn(q_e4) d/dt q_ev from eq. 24 (eq. 56),
+
+so that s_dot = omega_e_dot + lambda_0 e_dot exactly.  On s = 0, |q_ev| decays at rate
+lambda_0 |q_e4| / 2.  The sign picks the shorter rotation (switch ``shortest``; 0 = the paper's
+literal q_ev, which unwinds when q_e4 < 0).
 """
 
 from __future__ import annotations
@@ -63,6 +69,7 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from ..layout import XYZ, Layout
+from ..relative_attitude import attitude_error_rate
 from ..rotations import quat_to_dcm, quat_vec
 from . import command_layout
 
@@ -162,7 +169,11 @@ def tracking_error(x, x_d):
 
 
 def sliding_surface(e_dot, e, lam):
-    """s = e_dot + lambda_0 e (000 eqs. 53, 85, 107, 120)."""
+    """s = e_dot + lambda_0 e (000 eqs. 53, 85, 107, 120).
+
+    Attitude: ``e_dot`` is the rate error omega_e (whose derivative is eq. 49's omega_e_dot), ``e`` is
+    sgn(q_e4) q_ev (module doc); translation: v and r - r_goal.
+    """
     return e_dot + lam * e
 
 
@@ -406,14 +417,14 @@ class C000:
         # ---- attitude, per chaser axis (eqs. 48-56, 66-67, 73-80)
         sgn4 = k["shortest"] * sp.Piecewise((-1, q_e[3] < 0), (1, True)) + (1 - k["shortest"])
         e_att = tracking_error(sgn4 * quat_vec(q_e), sp.zeros(3, 1))  # q_d: identity (synchronised)
-        edot_att = w_e  # the proof's premise e_ddot = omega_e_dot (module doc)
+        edot_att = sgn4 * quat_vec(attitude_error_rate(q_e, w_e))  # d/dt e (eq. 24), for u_1 (module doc)
         C_tc = dcm_target_to_chaser(q_e)
         delta = target_rate_in_target_axes(C_tc, w_c, w_e)
         tau, s_a, S_a, xdot_a = [], [], [], {}
         for j, ax in enumerate(XYZ):
             _, f, _ = table1_attitude_axis(j, k["I_c_nom"], k["I_t_nom"], w_c, w_e, h_rw, C_tc, delta)
             a_hat, b_hat = xc[f"a_hat_{ax}"], xc[f"b_hat_{ax}"]
-            s = sliding_surface(edot_att[j], e_att[j], k["lam_att"])
+            s = sliding_surface(w_e[j], e_att[j], k["lam_att"])  # omega_e in the place of e_dot (module doc)
             S = boundary_layer_surface(s, k["d_att"][j])
             u1 = u1_term(on * k["wdot_d"][j], k["lam_att"], edot_att[j])
             tau.append(attitude_control_axis(b_hat, u1, k["D_att"][j], k["eps_att"][j], s, list(a_hat), f))
