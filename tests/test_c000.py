@@ -443,7 +443,7 @@ def test_desired_acceleration_input_with_and_without(model):
     from rpo.runtime.scenario import load_scenario
     from rpo.runtime.simulate import Simulation
 
-    inputs = load_scenario("scenarios/000_scenario_III_ideal.toml").to_run(model)
+    inputs = load_scenario("scenarios/000_III_ideal.toml").to_run(model)
     out = {}
     for on in (1.0, 0.0):
         sim = Simulation(model, "c000", params=inputs.params, gains={**inputs.gains, "acc_d_on": on})
