@@ -166,7 +166,7 @@ def test_short_run_writes_everything(tmp_path):
 
     assert meta["status"] == "ok" and meta["divergence"] is None
     assert meta["steps_done"] == meta["steps_requested"] == 200
-    assert meta["seed"] == 3 and meta["controller"] == "baseline" and meta["backend"] == "compiled"
+    assert meta["seed"] == 3 and meta["controller"] == "c000" and meta["backend"] == "compiled"
     manifest = json.loads((ROOT / "generated" / "manifest.json").read_text())
     assert meta["model_source_hash"] == manifest["source_hash"]
     assert meta["overrides"] == {"duration": 2.0, "seed": 3}
