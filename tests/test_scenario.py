@@ -56,7 +56,7 @@ def test_scenario_maps_to_valid_z0(model, path):
     sim = Simulation(model, run.controller, params=run.params, gains=run.gains)
     z0 = sim.initial_state(run.plant)
     assert np.all(np.isfinite(z0))
-    assert run.duration == 300.0 and run.dt == pytest.approx(0.01) and run.controller == "baseline"
+    assert run.duration == 300.0 and run.dt == pytest.approx(0.01) and run.controller == "c000"
     offs = model.offsets(f"z_{run.controller}")
     for q in ("q_c", "q_t"):
         assert np.linalg.norm(z0[offs[q]]) == pytest.approx(1.0, abs=1e-12)
@@ -238,7 +238,7 @@ BAD = {
     "wheel delay": (BASE + "\n[wheels]\ndelay = 0.05\n", "wheels.delay = 0.05", "[0, 0.04)"),
     "pwpf levels": (BASE + "\n[thrusters]\npwpf = { u_on = 0.1, u_off = 0.15 }\n", "thrusters.pwpf.u_off = 0.15",
                     "u_off < u_on"),
-    "unknown controller": (replaced('controller = "baseline"', 'controller = "nope"'), "simulation.controller",
+    "unknown controller": (replaced('controller = "c000"', 'controller = "nope"'), "simulation.controller",
                            "available: baseline"),
     "bad TOML": (replaced("duration = 300.0", "duration = = 300.0"), "invalid TOML", "line 21"),
 }
