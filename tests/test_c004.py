@@ -1,0 +1,290 @@
+"""004 (Sun & Huo): relative model (eqs. 1-20) against rigid-body physics, the controller (eqs. 21-36)
+against an independent NumPy evaluation, and the Lyapunov identities (eqs. 26, 35) the design rests on."""
+
+from __future__ import annotations
+
+import functools
+
+import numpy as np
+import pytest
+import sympy as sp
+from scipy.spatial.transform import Rotation
+
+from rpo.symbolic import rigid_body as rb
+from rpo.symbolic import rotations as rot
+from rpo.symbolic.controllers import c004 as c
+from rpo.symbolic.layout import Layout
+
+rng = np.random.default_rng(4)
+M = sp.Matrix
+
+J_TRUE = np.array([[598.3, -22.5, -51.5], [-22.5, 424.4, -27], [-51.5, -27, 263.6]])
+J_T = np.array([[3336.3, -135.4, -154.2], [-135.4, 3184.5, -148.5], [-154.2, -148.5, 2423.7]])
+M_TRUE = 58.2
+P_T = np.array([0.0, 5.0, 0.0])
+
+
+def skew(a):
+    return np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+
+
+def npv(e):
+    """Numbers of a SymPy column (flattened), matrix (2-D) or scalar."""
+    if isinstance(e, sp.MatrixBase):
+        a = np.array(sp.N(e), dtype=float)
+        return a.reshape(-1) if a.shape[1] == 1 else a
+    return float(sp.N(e))
+
+
+def rand_quat():
+    return Rotation.random(random_state=rng.integers(1 << 31)).as_quat()
+
+
+def mrp_np(q):
+    q = q if q[3] >= 0 else -q
+    return q[:3] / (1 + q[3])
+
+
+# --------------------------------------------------------------------------- rotations, eqs. 9, 10, L
+
+@pytest.mark.parametrize("i", range(10))
+def test_eq9_corrected_is_C_c_from_t_and_printed_is_not_a_rotation(i):
+    q_c, q_t = rand_quat(), rand_quat()
+    R_ref = Rotation.from_quat(q_c).as_matrix().T @ Rotation.from_quat(q_t).as_matrix()  # C_{c<-t}
+    q_ct = (Rotation.from_quat(q_t).inv() * Rotation.from_quat(q_c)).as_quat()
+    s = mrp_np(q_ct)
+    for sig in (s, -s / (s @ s)):  # both MRP sets give the same R
+        assert np.allclose(npv(c.rotation_matrix(M(sig))), R_ref, atol=1e-12)
+    S_ = skew(s)
+    s2 = s @ s
+    printed = np.eye(3) - 4 * (1 - s2) / (1 + s2) ** 2 * S_ + 8 / (1 + s2) ** 2 * S_.T @ S_
+    assert np.abs(printed.T @ printed - np.eye(3)).max() > 1e-3
+
+
+@pytest.mark.parametrize("i", range(10))
+def test_eq10_relative_mrp_is_the_quaternion_composition_up_to_the_shadow_set(i):
+    q_c, q_t = rand_quat(), rand_quat()
+    sig_e = npv(c.relative_mrp(M(mrp_np(q_c)), M(mrp_np(q_t))))
+    q_ct = (Rotation.from_quat(q_t).inv() * Rotation.from_quat(q_c)).as_quat()
+    ref = mrp_np(q_ct)
+    got_principal = sig_e if sig_e @ sig_e <= 1 else -sig_e / (sig_e @ sig_e)
+    assert np.allclose(got_principal, ref, atol=1e-12)
+    # the law's quaternion route: sign(w) q_v / (1 + |w|) == mrp_switch(mrp_from_quat(q)), for q and -q
+    for q in (q_ct, -q_ct):
+        assert np.allclose(npv(c.principal_mrp(M(q))), ref, atol=1e-14)
+        assert np.allclose(npv(rot.mrp_switch(rot.mrp_from_quat(M(q)))), ref, atol=1e-12)
+
+
+def test_paper_initial_sigma_e_is_switched_to_its_shadow_set():
+    s = np.array([0.5, -0.6, 0.7])
+    assert np.linalg.norm(s) > 1
+    q = npv(rot.quat_from_mrp(M(s)))
+    got = npv(c.principal_mrp(M(q)))
+    assert np.allclose(got, -s / (s @ s), atol=1e-14)
+    assert np.linalg.norm(got) < 1
+
+
+def test_inertia_operator_L_reproduces_J_a():
+    a = rng.normal(size=3)
+    Jsym = M(J_TRUE)
+    assert np.allclose(npv(c.inertia_operator(M(a)) * c.inertia_parameters(Jsym)), J_TRUE @ a, atol=1e-12)
+
+
+# --------------------------------------------------------------------------- relative model vs rigid bodies
+
+def _random_two_body_state():
+    return {
+        "R_c": rng.normal(size=3) * 30, "V_c": rng.normal(size=3), "q_c": rand_quat(), "w_c": rng.normal(size=3) * 0.1,
+        "R_t": rng.normal(size=3) * 30, "V_t": rng.normal(size=3), "q_t": rand_quat(), "w_t": rng.normal(size=3) * 0.1,
+    }
+
+
+@pytest.mark.parametrize("i", range(6))
+def test_paper_relative_model_eqs_1_to_20_equal_rigid_body_physics(i):
+    """Time derivatives of the paper's variables, by the chain rule along two free rigid bodies
+    (inertial Newton, the plant's Euler equations in rb), against eqs. 1-4, 5-8, 13-20."""
+    x0 = _random_two_body_state()
+    f, d_f = rng.normal(size=3), rng.normal(size=3) * 0.1
+    tau, d_tau = rng.normal(size=3), rng.normal(size=3) * 0.1
+    m, J, Jt, p_t = M_TRUE, M(J_TRUE), M(J_T), M(rng.normal(size=3) * 3)
+    # inertial dynamics (independent of the paper's body-frame form)
+    C_Ic = Rotation.from_quat(x0["q_c"]).as_matrix()
+    xdot = {
+        "R_c": x0["V_c"], "V_c": C_Ic @ (f + d_f) / m,
+        "q_c": npv(rot.quat_rate(M(x0["q_c"]), M(x0["w_c"]))),
+        "w_c": npv(rb.chaser_angular_acceleration(J, M(x0["w_c"]), sp.zeros(3, 1), M(tau + d_tau), sp.zeros(3, 1))),
+        "R_t": x0["V_t"], "V_t": np.zeros(3),
+        "q_t": npv(rot.quat_rate(M(x0["q_t"]), M(x0["w_t"]))),
+        "w_t": npv(rb.target_angular_acceleration(Jt, M(x0["w_t"]), sp.zeros(3, 1))),
+    }
+    h = sp.Symbol("h", real=True)
+    X = {k: M(x0[k]) + h * M(xdot[k]) for k in x0}
+
+    def paper_vars(X):
+        C_cI = rot.quat_to_dcm(X["q_c"]).T
+        C_tI = rot.quat_to_dcm(X["q_t"]).T
+        R = C_cI * C_tI.T
+        r, v = C_cI * X["R_c"], C_cI * X["V_c"]
+        r_t, v_t = C_tI * X["R_t"], C_tI * X["V_t"]
+        r_pt, v_pt = c.docking_point(r_t, v_t, X["w_t"], p_t)
+        r_e, v_e, w_e = c.relative_state(r, v, X["w_c"], R, r_pt, v_pt, X["w_t"])
+        sig_e = c.principal_mrp(rot.quat_mul(rot.quat_conj(X["q_t"]), X["q_c"]))
+        return {"r": r, "v": v, "sig": c.principal_mrp(X["q_c"]), "w": X["w_c"], "r_t": r_t, "v_t": v_t,
+                "sig_t": c.principal_mrp(X["q_t"]), "w_t": X["w_t"], "r_e": r_e, "v_e": v_e, "w_e": w_e,
+                "sig_e": sig_e, "R": R}
+
+    P = paper_vars(X)
+    at0 = {k: npv(e.subs(h, 0)) if k != "R" else np.array(e.subs(h, 0), float) for k, e in P.items()}
+    d = {k: npv(sp.diff(e, h).subs(h, 0)) for k, e in P.items() if k != "R"}
+    v0 = {k: M(val) if k != "R" else M(val) for k, val in at0.items()}
+    w, w_e, R = v0["w"], v0["w_e"], v0["R"]
+    # chaser and target, eqs. 1-8
+    assert np.allclose(d["r"], npv(c.position_kinematics(v0["r"], v0["v"], w)), atol=1e-9)
+    assert np.allclose(d["sig"], npv(c.mrp_kinematics(v0["sig"], w)), atol=1e-12)
+    assert np.allclose(d["v"], npv(c.translational_dynamics(m, v0["v"], w, M(f), M(d_f))), atol=1e-12)
+    assert np.allclose(d["w"], npv(c.rotational_dynamics(J, w, M(tau), M(d_tau))), atol=1e-12)
+    assert np.allclose(d["r_t"], npv(c.position_kinematics(v0["r_t"], v0["v_t"], v0["w_t"])), atol=1e-9)
+    assert np.allclose(d["sig_t"], npv(c.mrp_kinematics(v0["sig_t"], v0["w_t"])), atol=1e-12)
+    assert np.allclose(d["v_t"], npv(c.translational_dynamics(1000.0, v0["v_t"], v0["w_t"], sp.zeros(3, 1),
+                                                              sp.zeros(3, 1))), atol=1e-12)
+    assert np.allclose(d["w_t"], npv(c.rotational_dynamics(Jt, v0["w_t"], sp.zeros(3, 1), sp.zeros(3, 1))),
+                       atol=1e-12)
+    # eq. 9 from sigma_e, eq. 10 from (sigma, sigma_t)
+    assert np.allclose(npv(c.rotation_matrix(v0["sig_e"])), at0["R"], atol=1e-12)
+    se10 = npv(c.relative_mrp(v0["sig"], v0["sig_t"]))
+    se10 = se10 if se10 @ se10 <= 1 else -se10 / (se10 @ se10)
+    assert np.allclose(se10, at0["sig_e"], atol=1e-10)
+    # relative model, eqs. 13-20
+    assert np.allclose(d["r_e"], npv(c.position_kinematics(v0["r_e"], v0["v_e"], w)), atol=1e-9)
+    assert np.allclose(d["sig_e"], npv(c.mrp_kinematics(v0["sig_e"], w_e)), atol=1e-12)
+    wtd = c.target_angular_acceleration(Jt, R, w, w_e)                                   # eq. 18
+    assert np.allclose(npv(wtd), xdot["w_t"], atol=1e-12)
+    Rvpt = c.docking_point_acceleration(R, v0["v"], v0["v_e"], w, w_e, p_t, wtd)       # eq. 17
+    v15 = npv(c.relative_velocity_rate_coupled(m, v0["v"], v0["v_e"], w, w_e, Rvpt, M(f), M(d_f)))
+    g = c.coupling_g(w, w_e, v0["v_e"], R, p_t)
+    n1 = c.coupling_n1(R, p_t, Jt, w, w_e)
+    v19 = npv(c.relative_velocity_rate(m, g, n1, M(f), M(d_f)))
+    assert np.allclose(d["v_e"], v15, atol=1e-10)
+    assert np.allclose(d["v_e"], v19, atol=1e-10)
+    w16 = npv(c.relative_rate_rate_coupled(J, w, w_e, R, wtd, M(tau), M(d_tau)))
+    n2 = c.coupling_n2(R, Jt, w, w_e)
+    w20 = npv(c.relative_rate_rate(J, w, w_e, n2, M(tau), M(d_tau)))
+    assert np.allclose(d["w_e"], w16, atol=1e-12)
+    assert np.allclose(d["w_e"], w20, atol=1e-12)
+    # eq. 30 and its regressor form eq. 31 (J s2_dot = Y theta + J n2 + tau + d_tau)
+    L2 = sp.diag(0.2, 0.3, 0.4)
+    Js2dot = npv(J * (M(d["w_e"]) + L2 * M(d["sig_e"])))
+    e30 = npv(c.attitude_surface_dynamics(J, w, w_e, v0["sig_e"], L2, n2, M(tau), M(d_tau)))
+    e31 = npv(c.attitude_regressor(w, w_e, v0["sig_e"], L2) * c.inertia_parameters(J) + J * n2 + M(tau + d_tau))
+    assert np.allclose(Js2dot, e30, atol=1e-10)
+    assert np.allclose(Js2dot, e31, atol=1e-10)
+    # eq. 22 (m s1_dot = -m y - m n1 + f + d_f), with the corrected y
+    L1 = sp.diag(0.05, 0.1, 0.07)
+    ms1dot = m * (d["v_e"] + npv(L1 * M(d["r_e"])))
+    y = c.position_regressor(g, v0["v_e"], v0["r_e"], w, L1)
+    assert np.allclose(ms1dot, npv(c.position_surface_dynamics(m, y, n1, M(f), M(d_f))), atol=1e-9)
+    # the printed y (+Lambda1 v_e) does not satisfy eq. 22
+    y_printed = g + L1 * v0["v_e"] + L1 * c.S(w) * v0["r_e"]
+    assert not np.allclose(ms1dot, npv(c.position_surface_dynamics(m, y_printed, n1, M(f), M(d_f))), atol=1e-3)
+
+
+def test_target_kinetic_energy_is_conserved_claim1():
+    w_t = M(rng.normal(size=3) * 0.1)
+    v_t = M(rng.normal(size=3))
+    Jt = M(J_T)
+    wd = c.rotational_dynamics(Jt, w_t, sp.zeros(3, 1), sp.zeros(3, 1))
+    vd = c.translational_dynamics(5.0, v_t, w_t, sp.zeros(3, 1), sp.zeros(3, 1))
+    Edot = 5.0 * (v_t.T * vd)[0] + (w_t.T * Jt * wd)[0]
+    assert abs(float(Edot)) < 1e-12
+
+
+# --------------------------------------------------------------------------- the law
+
+def fake_meas():
+    """The measurement fields the law reads, as the infra documents them (free-space or LVLH)."""
+    m = Layout("meas")
+    for name, size in (("q_c", 4), ("w_c", 3), ("q_t", 4), ("w_t", 3), ("r", 3), ("v", 3), ("q_L", 4), ("n", 1)):
+        m.add(name, size, "-", name)
+    return m
+
+
+@functools.cache
+def lambdified_law():
+    ctrl = c.C004()
+    meas = fake_meas()
+    t = sp.Symbol("t", real=True)
+    cmd, xc_dot, diag = ctrl.law(meas, t, None)
+    args = [list(meas.vector()), list(ctrl.xc.vector()), list(ctrl.k.vector())]
+    fn = sp.lambdify(args, [cmd, xc_dot, diag], "numpy", cse=True)
+    return ctrl, meas, lambda *a: [np.asarray(o, float).reshape(-1) for o in fn(*a)]
+
+
+def defaults(layout):
+    return np.concatenate([f.default for f in layout.fields])
+
+
+def reference_law(q_c, w_c, q_t, w_t, r_L, v_L, q_L, n, xc, k):
+    """004 eqs. 12, 21-36 evaluated with NumPy/scipy only (independent of symbolic/)."""
+    k0, K1, K2, L1, L2 = k[0], np.diag(k[1:4]), np.diag(k[4:7]), np.diag(k[7:10]), np.diag(k[10:13])
+    g1, g2, g3, g4, g5, g6, m0 = k[13:20]
+    th0, p_t = k[20:26], k[26:29]
+    mh, rfh, rmh, thh, rth, rJh = xc[0], xc[1], xc[2], xc[3:9], xc[9], xc[10]
+    Rc, Rt, RL = (Rotation.from_quat(q).as_matrix() for q in (q_c, q_t, q_L))  # C_{I<-body}
+    R = Rc.T @ Rt                                   # C_{c<-t}
+    C_cL = Rc.T @ RL
+    q_ct = (Rotation.from_quat(q_t).inv() * Rotation.from_quat(q_c)).as_quat()
+    sig = mrp_np(q_ct)
+    w = w_c
+    w_e = w - R @ w_t
+    r_e = C_cL @ r_L - R @ p_t
+    v_e = C_cL @ (v_L + np.cross([0, 0, n], r_L)) - R @ np.cross(w_t, p_t)
+    wt = w - w_e
+    g = np.cross(w, v_e) + np.cross(wt, np.cross(wt, R @ p_t))
+    s1 = v_e + L1 @ r_e
+    y = g - L1 @ v_e + L1 @ np.cross(w, r_e)
+    rob1 = rfh + rmh * np.linalg.norm(p_t) * wt @ wt
+    f = -k0 * r_e - K1 @ s1 + (m0 + mh) * y - rob1 * np.sign(s1)
+    dxc1 = [-g1 * y @ s1, g2 * np.abs(s1).sum(), g3 * np.linalg.norm(p_t) * wt @ wt * np.abs(s1).sum()]
+
+    def L(a):
+        return np.array([[a[0], 0, 0, 0, a[2], a[1]], [0, a[1], 0, a[2], 0, a[0]], [0, 0, a[2], a[1], a[0], 0]])
+
+    s2 = w_e + L2 @ sig
+    G = ((1 - sig @ sig) * np.eye(3) + 2 * skew(sig) + 2 * np.outer(sig, sig)) / 4
+    Y = L(np.cross(w_e, wt)) - skew(w) @ L(w) + L(L2 @ G @ w_e)
+    tau = -K2 @ s2 - Y @ (th0 + thh) - (rth + rJh * wt @ wt) * np.sign(s2)
+    dth = g4 * Y.T @ s2
+    dxc2 = [g5 * np.abs(s2).sum(), g6 * wt @ wt * np.abs(s2).sum()]
+    return np.concatenate([tau, f, np.zeros(3)]), np.concatenate([dxc1, dth, dxc2]), (sig, r_e, w_e, v_e, s1, s2)
+
+
+def random_meas(orbit=True):
+    q_c, q_t = rand_quat(), rand_quat()
+    q_L = rand_quat() if orbit else np.array([0, 0, 0, 1.0])
+    n = 1.1e-3 if orbit else 0.0
+    return [q_c, rng.normal(size=3) * 0.05, q_t, rng.normal(size=3) * 0.05, rng.normal(size=3) * 40,
+            rng.normal(size=3) * 0.5, q_L, n]
+
+
+@pytest.mark.parametrize("i", range(8))
+def test_law_equals_independent_numpy_evaluation(i):
+    ctrl, meas, law = lambdified_law()
+    ms = random_meas(orbit=i % 2 == 0)
+    xc = rng.normal(size=ctrl.xc.size) * 0.5
+    k = defaults(ctrl.k) * rng.uniform(0.5, 1.5, size=ctrl.k.size)
+    cmd, xc_dot, diag = law(np.concatenate([np.atleast_1d(a) for a in ms]), xc, k)
+    cmd_ref, xc_dot_ref, (sig, r_e, w_e, v_e, s1, s2) = reference_law(*ms, xc, k)
+    assert np.allclose(cmd, cmd_ref, rtol=1e-10, atol=1e-10)
+    assert np.allclose(xc_dot, xc_dot_ref, rtol=1e-10, atol=1e-12)
+    o = ctrl.diag.offsets()
+    assert np.isclose(diag[0], 4 * np.arctan(np.linalg.norm(sig)))
+    q_err = diag[o["q_err"][0]:o["q_err"][1]]
+    assert abs(q_err[3]) > 0 and q_err[3] >= 0 and np.isclose(2 * np.arccos(min(1, q_err[3])), diag[0])
+    for name, ref in (("pos_err", r_e), ("rate_err", w_e), ("vel_err", v_e), ("sigma_e", sig), ("s1", s1),
+                      ("s2", s2)):
+        assert np.allclose(diag[o[name][0]:o[name][1]], ref, atol=1e-10), name
+
+
+def test_standard_diag_fields_come_first():
+    names = [f.name for f in c.C004().diag.fields]
+    assert names[:5] == ["att_err", "q_err", "pos_err", "rate_err", "vel_err"]
