@@ -83,12 +83,16 @@ def cli() -> None:
 @click.option("--duration", type=click.FloatRange(min=0, min_open=True), default=None,
               help="Override simulation.duration [s].")
 @click.option("--seed", type=click.IntRange(min=0), default=None, help="Override simulation.seed.")
+@click.option("--controller", default=None, help="Override simulation.controller (see `rpo info`).")
+@click.option("--plant", type=click.Choice(["paper", "full"]), default=None,
+              help="paper (default): the scenario's own plant (its paper's model); full: the common full-fidelity "
+                   "plant of seed 000 (orbit, environment, wheels, PWPF thrusters, mass profile).")
 @click.option("--backend", type=BACKENDS, default="auto", show_default=True,
               help="Model backend: compiled C (auto) or the slow CasADi fallback.")
 @click.option("--no-plots", is_flag=True, help="Do not write the PNG figures.")
 @click.option("--quiet", "-q", is_flag=True, help="Print only errors and the divergence message.")
-def run(scenario: str, out: str | None, duration: float | None, seed: int | None, backend: str,
-        no_plots: bool, quiet: bool) -> int:
+def run(scenario: str, out: str | None, duration: float | None, seed: int | None, controller: str | None,
+        plant: str, backend: str, no_plots: bool, quiet: bool) -> int:
     """Simulate SCENARIO (a TOML file) and write the results into a new folder.
 
     The folder gets timeseries.npz/.csv, run.json, a copy of the scenario and PNG figures.
@@ -98,7 +102,7 @@ def run(scenario: str, out: str | None, duration: float | None, seed: int | None
     from .scenario import load_scenario
     from .simulate import Simulation
 
-    sc = load_scenario(scenario).with_overrides(duration=duration, seed=seed)
+    sc = load_scenario(scenario).with_overrides(duration=duration, seed=seed, controller=controller, plant=plant)
     out_dir = check_out_dir(out if out is not None else _default_out(scenario))
     model = _load_model(backend, quiet)
     inputs = sc.to_run(model)
@@ -128,7 +132,8 @@ def run(scenario: str, out: str | None, duration: float | None, seed: int | None
         _err(f"simulated {result.steps_done} steps in {result.wall_time:.3g} s; writing {out_dir} ...")
     t_write = time.perf_counter()
     extra = {"scenario": sc.name, "scenario_meta": sc.meta.model_dump(),
-             "overrides": {k: v for k, v in (("duration", duration), ("seed", seed)) if v is not None},
+             "overrides": {k: v for k, v in (("duration", duration), ("seed", seed), ("controller", controller),
+                                             ("plant", plant)) if v is not None},
              "inputs": inputs.to_json(), "z0": z0}
     write_run(result, out_dir, model, scenario_path=scenario, scenario_text=sc.text, extra_meta=extra,
               plots=not no_plots, params=inputs.params, gains=inputs.gains, title=sc.name)
@@ -263,6 +268,33 @@ def info(backend: str) -> int:
     for ctrl, entry in sorted(m["controllers"].items()):
         echo(f"\ngains of {ctrl} (layout {entry['gains']}; [controller.{ctrl}] in a scenario):")
         table(m["layouts"][entry["gains"]])
+    return 0
+
+
+@cli.command()
+@click.option("--scenarios", "folder", type=click.Path(file_okay=False, exists=True, path_type=Path),
+              default=Path("scenarios"), show_default=True, help="Folder of scenario files.")
+@click.option("--write", "target", type=click.Path(dir_okay=False, path_type=Path), default=None,
+              help="Write the table here (e.g. docs/scenarios.md) instead of printing it.")
+@click.option("--check", "check", type=click.Path(dir_okay=False, exists=True, path_type=Path), default=None,
+              help="Exit 1 if this file differs from the table (for CI).")
+def choices(folder: Path, target: Path | None, check: Path | None) -> int:
+    """Table of the values the scenario files mark as chosen (the papers are silent there)."""
+    from .choices import render, scenario_files
+
+    text = render(scenario_files(folder))
+    if check is not None:
+        if check.read_text() != text:
+            _err(f"{check} is out of date: run `rpo choices --write {check}`")
+            return 1
+        return 0
+    if target is None:
+        click.echo(text, nl=False)
+        return 0
+    tmp = target.with_name(f".{target.name}.tmp")
+    tmp.write_text(text)
+    tmp.replace(target)
+    _err(f"wrote {target}")
     return 0
 
 

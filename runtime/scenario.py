@@ -326,9 +326,64 @@ class Thrusters(_Section):
     pwpf: Pwpf = Field(default_factory=Pwpf)
 
 
+class PlantSection(_Section):
+    """Which plant model: the orbit or free space, and the actuator model."""
+
+    gravity: bool | None = None  # false: free space (004's model), the LVLH frame is frozen to ECI
+    actuators: Literal["ideal", "wheels_thrusters"] | None = None
+    max_force: Num(0, lo_open=True, unit="N") | None = None    # per axis, ideal actuators
+    max_torque: Num(0, lo_open=True, unit="N m") | None = None  # per axis, ideal actuators
+
+
+class DisturbanceAxes(_Section):
+    """Per axis, chaser body: constant + sin1 sin(omega1 t) + cos1 cos(omega1 t) + sin2 sin(omega2 t)
+    + cos2 cos(omega2 t) + sin_nu sin(nu) + cos_nu cos(nu), nu the target's true anomaly."""
+
+    constant: Vec3 | None = None
+    sin1: Vec3 | None = None
+    cos1: Vec3 | None = None
+    omega1: Vec3 | None = None
+    sin2: Vec3 | None = None
+    cos2: Vec3 | None = None
+    omega2: Vec3 | None = None
+    sin_nu: Vec3 | None = None
+    cos_nu: Vec3 | None = None
+
+
+class Disturbance(_Section):
+    force: DisturbanceAxes = Field(default_factory=DisturbanceAxes)   # N
+    torque: DisturbanceAxes = Field(default_factory=DisturbanceAxes)  # N m
+
+
+class Sensors(_Section):
+    """Measurement noise (std per axis, a new sample each step from the run's seed) and bias."""
+
+    attitude_noise_deg: Num(0, unit="deg") | None = None
+    rate_noise_deg_s: Num(0, unit="deg/s") | None = None
+    position_noise: Num(0, unit="m") | None = None
+    velocity_noise: Num(0, unit="m/s") | None = None
+    attitude_bias_deg: Vec3 | None = None
+    rate_bias_deg_s: Vec3 | None = None
+    position_bias: Vec3 | None = None
+    velocity_bias: Vec3 | None = None
+
+
+class Constraints(_Section):
+    """001's camera cone and envelope spheres (logged for every controller)."""
+
+    camera_half_angle_deg: Num(0, 90, lo_open=True, hi_open=True, unit="deg") | None = None
+    camera_zn: float | None = None
+    chaser_radius: Num(0, unit="m") | None = None
+    target_radius: Num(0, unit="m") | None = None
+
+
+_DIST_KEYS = {"constant": "c0", "sin1": "a1", "cos1": "b1", "omega1": "w1", "sin2": "a2", "cos2": "b2",
+              "omega2": "w2", "sin_nu": "s_nu", "cos_nu": "c_nu"}
+
 # (scenario path, p field, conversion to SI) for the keys that map one-to-one onto a parameter.
 _SCALE = {"deg": lambda v: v * DEG, "rpm": lambda v: v * RPM, "bool": lambda v: 1.0 if v else 0.0,
-          "hz": lambda v: 1.0 / v, "profile": lambda v: 1.0 if v == "seed000" else 0.0}
+          "hz": lambda v: 1.0 / v, "profile": lambda v: 1.0 if v == "seed000" else 0.0,
+          "ideal": lambda v: 1.0 if v == "ideal" else 0.0, "degvec": lambda v: np.array(v, float) * DEG}
 PARAM_MAP: tuple[tuple[str, str, str | None], ...] = (
     ("simulation.rate", "dt", "hz"),
     ("orbit.semi_major_axis", "orbit_a", None),
@@ -366,7 +421,39 @@ PARAM_MAP: tuple[tuple[str, str, str | None], ...] = (
     ("thrusters.pwpf.t_m", "pwpf_tm", None),
     ("thrusters.pwpf.u_on", "pwpf_uon", None),
     ("thrusters.pwpf.u_off", "pwpf_uoff", None),
+    ("plant.gravity", "gravity_on", "bool"),
+    ("plant.actuators", "actuators_ideal", "ideal"),
+    ("plant.max_force", "force_max", None),
+    ("plant.max_torque", "torque_max", None),
+    *((f"disturbance.{kind}.{key}", f"dist_{kind}_{p}", None)
+      for kind in ("force", "torque") for key, p in _DIST_KEYS.items()),
+    ("sensors.attitude_noise_deg", "meas_att_std", "deg"),
+    ("sensors.rate_noise_deg_s", "meas_rate_std", "deg"),
+    ("sensors.position_noise", "meas_pos_std", None),
+    ("sensors.velocity_noise", "meas_vel_std", None),
+    ("sensors.attitude_bias_deg", "meas_att_bias", "degvec"),
+    ("sensors.rate_bias_deg_s", "meas_rate_bias", "degvec"),
+    ("sensors.position_bias", "meas_pos_bias", None),
+    ("sensors.velocity_bias", "meas_vel_bias", None),
+    ("constraints.camera_half_angle_deg", "camera_half_angle", "deg"),
+    ("constraints.camera_zn", "camera_zn", None),
+    ("constraints.chaser_radius", "chaser_radius", None),
+    ("constraints.target_radius", "target_radius", None),
 )
+
+#: ``--plant full``: the common full-fidelity plant of seed 000 for the scenario's initial
+#: conditions, bodies and orbit: orbit on, every environment disturbance at 000's values, the
+#: 000 wheel pyramid and PWPF thrusters (Table 3), 000's mass/inertia profile; the papers'
+#: synthetic disturbance models off (the environment replaces them).
+FULL_PLANT = {
+    "plant": {"gravity": True, "actuators": "wheels_thrusters"},
+    "environment": {"gravity_gradient": True, "magnetic": True, "j2": True, "drag": True},
+    "chaser": {"mass_profile": "seed000"},
+    "disturbance": {},
+    "wheels": {},
+    "thrusters": {},
+}
+
 
 
 def _inertia_components(I: list[list[float]], labels: list[str]) -> np.ndarray:
@@ -393,6 +480,10 @@ class Scenario(_Section):
     relative: Relative
     wheels: Wheels = Field(default_factory=Wheels)
     thrusters: Thrusters = Field(default_factory=Thrusters)
+    plant: PlantSection = Field(default_factory=PlantSection)
+    disturbance: Disturbance = Field(default_factory=Disturbance)
+    sensors: Sensors = Field(default_factory=Sensors)
+    constraints: Constraints = Field(default_factory=Constraints)
     controller: dict[str, dict[str, Any]] = Field(default_factory=dict)
 
     _source: str = PrivateAttr(default="scenario")
@@ -497,6 +588,11 @@ class Scenario(_Section):
                                f"would record {n_rows} rows ({size / 1e9:.3g} GB, limit "
                                f"{MAX_RECORD_BYTES / 1e9:g} GB): raise simulation.record_every or shorten the run")
 
+        # ideal actuators need their limits
+        if self.plant.actuators == "ideal" and (self.plant.max_force is None or self.plant.max_torque is None):
+            raise _field_error("plant.actuators", "ideal",
+                               "ideal actuators need plant.max_force [N] and plant.max_torque [N m] (per axis)")
+
         # thrusters: Schmitt trigger levels
         if not p["pwpf_uoff"] < p["pwpf_uon"]:
             where = "thrusters.pwpf.u_off" if self.thrusters.pwpf.u_off is not None else "thrusters.pwpf.u_on"
@@ -544,9 +640,11 @@ class Scenario(_Section):
     def name(self) -> str:
         return self.meta.name or Path(self._source).stem
 
-    def with_overrides(self, duration: float | None = None, seed: int | None = None) -> Scenario:
-        """A re-validated copy with ``simulation.duration`` / ``simulation.seed`` replaced."""
-        if duration is None and seed is None:
+    def with_overrides(self, duration: float | None = None, seed: int | None = None,
+                       controller: str | None = None, plant: str | None = None) -> Scenario:
+        """A re-validated copy with ``simulation.duration`` / ``seed`` / ``controller`` replaced and,
+        with ``plant="full"``, the paper's plant replaced by the common full plant (:data:`FULL_PLANT`)."""
+        if duration is None and seed is None and controller is None and plant in (None, "paper"):
             return self
         data = copy.deepcopy(self._data)
         sim = data.setdefault("simulation", {})
@@ -554,6 +652,21 @@ class Scenario(_Section):
             sim["duration"] = duration
         if seed is not None:
             sim["seed"] = seed
+        if controller is not None:
+            sim["controller"] = controller
+        if plant == "full":
+            for section, values in FULL_PLANT.items():
+                if not values:
+                    data.pop(section, None)
+                    continue
+                table = data.setdefault(section, {})
+                if section == "plant":
+                    table.pop("max_force", None)
+                    table.pop("max_torque", None)
+                if section == "environment":
+                    table.pop("random_torque_std_chaser", None)
+                    table.pop("random_torque_std_target", None)
+                table.update(values)
         sc = validate_scenario(data, f"{self._source} (with command-line overrides)", self._manifest)
         sc._text = self._text
         return sc
@@ -576,6 +689,9 @@ class Scenario(_Section):
         _nu, _r, _r_dot, n, _n_dot, _r_eci, _v_eci, q_IL = orbit
         n = float(np.ravel(n)[0])
         q_IL = np.ravel(q_IL)
+        if float(params["gravity_on"][0]) == 0.0:
+            # free space: the frame of r, v ("lvlh") is fixed in ECI (symbolic/plant.py reference_frame)
+            n, q_IL = 0.0, np.array([0.0, 0.0, 0.0, 1.0])
 
         def body(b: _Body) -> tuple[np.ndarray, np.ndarray]:
             q_IB = frames.attitude_to_eci(b.quaternion, b.attitude_frame, q_IL)

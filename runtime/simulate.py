@@ -148,6 +148,14 @@ class Simulation:
             n = np.linalg.norm(z[offs[q]])
             if abs(n - 1) > 1e-6:
                 raise ModelError(f"initial state: {q} must be a unit quaternion (|q| = {n:.9g})")
+        entry = self.model.manifest["controllers"][self.controller]
+        if "xc0" in entry and not controller:
+            # the design starts its states from the first (noise-free) measurement
+            nx = self.model.layout_size("x")
+            meas = self.model.functions["measure"](z[:nx], 0.0, self.p, np.zeros(self.nw))[0]
+            xc0 = np.ravel(self.model.functions[entry["xc0"]](meas, self.p, self.k)[0])
+            first = self.nz - xc0.size  # controller states close the packed state (closed_loop.state_layout)
+            z[first:] = xc0
         return z
 
     def run(self, z0: np.ndarray, duration: float, seed: int = 0, t0: float = 0.0, record_every: int = 1,

@@ -133,6 +133,25 @@ def propellant_flow(on, F_max, isp, g0):
     return sum(on) * F_max / (isp * g0)
 
 
+# --------------------------------------------------------------------------- ideal actuators
+# The papers 001, 002 and 004 command body force and torque directly, limited per axis.
+
+
+def saturate(v, limit):
+    """Per-axis saturation of a column to [-limit, limit]."""
+    return v.applyfunc(lambda c: sp.Max(-limit, sp.Min(limit, c)))
+
+
+def ideal_wrench(F_cmd, tau_cmd, F_max, tau_max):
+    """Force [N] and torque [N m] the ideal actuators apply: the commands saturated per axis."""
+    return saturate(F_cmd, F_max), saturate(tau_cmd, tau_max)
+
+
+def ideal_propellant_flow(F, isp, g0):
+    """Propellant flow of ideal thrust, as from one thruster pair per body axis: sum_i |F_i| / (Isp g0)."""
+    return sum(sp.Abs(c) for c in F) / (isp * g0)
+
+
 # --------------------------------------------------------------------------- PWPF modulator
 # Fig. 7: prefilter K_m / (T_m s + 1) on (demand - output), Schmitt trigger (U_on, U_off).
 # Discretised exactly for a demand and an output held over the step dt.

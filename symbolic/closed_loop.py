@@ -57,6 +57,12 @@ def model_pieces(plant: Plant, ctrl) -> dict[str, Piece]:
     meas = P.meas.vector()
     pr = P.p
     cmd, xc_dot, diag = ctrl.law(P.meas, t, pr)
+    k = ctrl.k.vector()
+    extra = {}
+    if hasattr(ctrl, "xc0"):
+        # initial controller state from the first measurement (e.g. an observer started there)
+        extra[f"xc0_{ctrl.name}"] = Piece(f"xc0_{ctrl.name}", [("meas", meas), ("p", p), ("k", k)],
+                                          [("xc0", ctrl.xc0(P.meas, pr))])
     tau_w = sp.Matrix(sp.symbols("tau_x tau_y tau_z", real=True))
     F_c = sp.Matrix(sp.symbols("F_x F_y F_z", real=True))
     tau_t = sp.Matrix(sp.symbols("taut_x taut_y taut_z", real=True))
@@ -66,13 +72,16 @@ def model_pieces(plant: Plant, ctrl) -> dict[str, Piece]:
     return {
         "plant_rhs": Piece("plant_rhs", [("x", x), ("u", u), ("t", t), ("p", p), ("w", w)],
                            [("xdot", P.rhs())]),
-        "measure": Piece("measure", [("x", x), ("t", t), ("p", p)], [("meas", P.measurement())]),
+        "measure": Piece("measure", [("x", x), ("t", t), ("p", p), ("w", w)], [("meas", P.measurement())]),
         "env_outputs": Piece("env_outputs", [("x", x), ("u", u), ("t", t), ("p", p), ("w", w)],
                              [("env", P.env_outputs())]),
         f"law_{ctrl.name}": Piece(
             f"law_{ctrl.name}",
-            [("meas", meas), ("xc", ctrl.xc.vector()), ("t", t), ("p", p), ("k", ctrl.k.vector())],
+            [("meas", meas), ("xc", ctrl.xc.vector()), ("t", t), ("p", p), ("k", k)],
             [("cmd", cmd), ("xc_dot", xc_dot), ("diag", diag)]),
+        "ideal_actuators": Piece("ideal_actuators", [("F", F_c), ("tau", tau_w), ("p", p)], list(zip(
+            ("F_applied", "tau_applied"), act.ideal_wrench(F_c, tau_w, pr["force_max"], pr["torque_max"]),
+            strict=True))),
         "wheel_alloc": Piece("wheel_alloc", [("tau", tau_w), ("p", p)],
                              [("T_w", act.allocate_wheel_torques(pr["wheel_beta"], tau_w,
                                                                  pr["wheel_torque_max"]))]),
@@ -86,6 +95,7 @@ def model_pieces(plant: Plant, ctrl) -> dict[str, Piece]:
             ("f_next", sp.Matrix([act.pwpf_filter_step(f[i], duty[i], on[i], pr["pwpf_km"],
                                                        pr["pwpf_tm"], pr["dt"]) for i in range(16)])),
         ]),
+        **extra,
     }
 
 
@@ -150,9 +160,14 @@ def step(ops, fn, idx, z, t, p, k, w):
     dt = p[idx["dt"]]
     delay = p[idx["wheel_delay"]]
 
-    meas = fn["measure"](x, t, p)[0]
+    meas = fn["measure"](x, t, p, w)[0]
     cmd, _, diag = fn["law"](meas, xc, t, p, k)
-    T_new = fn["wheel_alloc"](cmd[0:3], p)[0]
+    # actuator model switch (0/1): wheels and PWPF thrusters, or the papers' ideal actuators
+    ideal = p[idx["actuators_ideal"]]
+    real = 1 - ideal
+    T_new = real * fn["wheel_alloc"](cmd[0:3], p)[0]
+    F_ideal, tau_ideal = fn["ideal_actuators"](cmd[3:6], cmd[0:3] + cmd[6:9], p)
+    F_ideal, tau_ideal = ideal * F_ideal, ideal * tau_ideal
 
     # transport delay: delay = n dt + delta, 0 <= delta < dt
     n = ops.floor(delay / dt)
@@ -168,12 +183,12 @@ def step(ops, fn, idx, z, t, p, k, w):
     T_late = pick(n)          # applied during [t + delta, t + dt)
     T_early = pick(n + 1)     # applied during [t, t + delta)
 
-    duty = fn["thruster_alloc"](cmd[3:6], cmd[6:9], p)[0]
+    duty = real * fn["thruster_alloc"](cmd[3:6], cmd[6:9], p)[0]
     on = fn["pwpf"](f, on_prev, duty, p)[0]
     f_next = fn["pwpf_filter"](f, duty, on, p)[0]
 
     def plant_with(Tw):
-        u = ops.vcat(Tw, on)
+        u = ops.vcat(Tw, on, F_ideal, tau_ideal)
         return lambda xx, tt: fn["plant_rhs"](xx, u, tt, p, w)[0]
 
     t_delta, t_next = t + delta, t + dt
@@ -196,7 +211,7 @@ def step(ops, fn, idx, z, t, p, k, w):
         xc_next = xc
 
     z_next = ops.vcat(x_next, T_new, *hist[:-1], f_next, on, xc_next)
-    env = fn["env_outputs"](x, ops.vcat(T_late, on), t, p, w)[0]
+    env = fn["env_outputs"](x, ops.vcat(T_late, on, F_ideal, tau_ideal), t, p, w)[0]
     y = ops.vcat(meas, cmd, T_new, T_late, duty, on, env, diag)
     return z_next, y
 
@@ -210,5 +225,6 @@ def step_indices(plant: Plant, ctrl) -> dict:
         "nc": ctrl.xc.size,
         "dt": po["dt"][0],
         "wheel_delay": po["wheel_delay"][0],
+        "actuators_ideal": po["actuators_ideal"][0],
         "quats": [xo["q_c"][0], xo["q_t"][0]],
     }

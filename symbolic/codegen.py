@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import gzip
 import hashlib
+import importlib
 import json
 import os
 import platform
@@ -57,8 +58,17 @@ CASADI_OPS = SimpleNamespace(
 
 
 def controllers():
-    """Controller designs to generate a closed-loop step for."""
-    return [Baseline()]
+    """Controller designs to generate a closed-loop step for: the baseline, then every module of
+    ``symbolic/controllers/`` that exposes ``DESIGN`` (sorted by module name)."""
+    found = [Baseline()]
+    pkg = SYMBOLIC_DIR / "controllers"
+    for path in sorted(pkg.glob("*.py")):
+        if path.stem.startswith("_") or path.stem == "baseline":
+            continue
+        mod = importlib.import_module(f"{__package__}.controllers.{path.stem}")
+        if hasattr(mod, "DESIGN"):
+            found.append(mod.DESIGN())
+    return found
 
 
 def sources(P=None, ctrls=None) -> tuple[dict[str, cl.Piece], dict]:
@@ -98,7 +108,8 @@ def sources(P=None, ctrls=None) -> tuple[dict[str, cl.Piece], dict]:
 #: Manifest layout names of each source function's inputs and outputs, and its description.
 _SIGNATURES = {
     "plant_rhs": (["x", "u", None, "p", "w"], ["x"], "plant right-hand side dx/dt (000 eqs. 6, 10, 24, 30, 45-47)"),
-    "measure": (["x", None, "p"], ["meas"], "truth -> relative pose measurement"),
+    "measure": (["x", None, "p", "w"], ["meas"], "truth + sensor noise -> what the controllers read"),
+    "ideal_actuators": ([None, None, "p"], [None, None], "ideal actuators: per-axis saturated force and torque"),
     "env_outputs": (["x", "u", None, "p", "w"], ["env"], "environment/actuator diagnostics"),
     "wheel_alloc": ([None, "p"], [None], "pyramid wheel allocation with saturation (inverse of 000 eq. 46)"),
     "thruster_alloc": ([None, None, "p"], [None], "thruster duty allocation"),
@@ -140,7 +151,8 @@ def build_functions():
                       [ca.densify(ca.jacobian(xdot, xs)), ca.densify(ca.jacobian(xdot, us))],
                       ["x", "u", "t", "p", "w"], ["dfdx", "dfdu"])
     add(jac, ["x", "u", None, "p", "w"], [None, None], "Jacobians of plant_rhs w.r.t. x and u (CasADi AD)")
-    for name in ("measure", "env_outputs", "wheel_alloc", "thruster_alloc", "pwpf", "pwpf_filter"):
+    for name in ("measure", "env_outputs", "ideal_actuators", "wheel_alloc", "thruster_alloc", "pwpf",
+                 "pwpf_filter"):
         add(cas[name], *_SIGNATURES[name])
 
     ctrl_entries = {}
@@ -158,6 +170,10 @@ def build_functions():
         add(stepf, [f"z_{ctrl.name}", None, "p", klay, "w"], [f"z_{ctrl.name}", f"y_{ctrl.name}"],
             f"one closed-loop step (plant + {ctrl.name} + actuators), RK4 over dt")
         ctrl_entries[ctrl.name] = {"step": stepf.name(), "law": law.name(), "gains": klay}
+        if f"xc0_{ctrl.name}" in cas:
+            add(cas[f"xc0_{ctrl.name}"], ["meas", "p", klay], [f"xc_{ctrl.name}"],
+                f"initial state of {ctrl.name} from the first measurement")
+            ctrl_entries[ctrl.name]["xc0"] = f"xc0_{ctrl.name}"
 
     for name in ("target_orbit", "kepler", "relative_attitude_rhs"):
         add(cas[name], *_SIGNATURES[name])
@@ -184,7 +200,8 @@ def casadi_step(cas: dict[str, ca.Function], P, ctrl) -> ca.Function:
     p = ca.MX.sym("p", P.p.size)
     k = ca.MX.sym("k", ctrl.k.size)
     w = ca.MX.sym("w", P.w.size)
-    names = ("plant_rhs", "measure", "env_outputs", "wheel_alloc", "thruster_alloc", "pwpf", "pwpf_filter")
+    names = ("plant_rhs", "measure", "env_outputs", "ideal_actuators", "wheel_alloc", "thruster_alloc", "pwpf",
+             "pwpf_filter")
     fn = {name: cas[name] for name in names}
     fn["law"] = cas[f"law_{ctrl.name}"]
     fn = {name: _caller(f) for name, f in fn.items()}

@@ -51,7 +51,8 @@ def numpy_step(pieces: dict[str, cl.Piece], plant, ctrl, make=None):
     ``make(name)`` may supply already-lambdified pieces (lambdify takes ~10 s per large piece).
     """
     make = make or (lambda name: lambdified(pieces[name]))
-    names = ("plant_rhs", "measure", "env_outputs", "wheel_alloc", "thruster_alloc", "pwpf", "pwpf_filter")
+    names = ("plant_rhs", "measure", "env_outputs", "ideal_actuators", "wheel_alloc", "thruster_alloc", "pwpf",
+             "pwpf_filter")
     fn = {name: make(name) for name in names}
     fn["law"] = make(f"law_{ctrl.name}")
     idx = cl.step_indices(plant, ctrl)

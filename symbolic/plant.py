@@ -2,9 +2,14 @@
 
 State x (25): chaser attitude q_c (ECI -> body, scalar last) and body rate w_c; wheel momenta
 h_w; target q_t, w_t; relative position r and velocity v of the chaser in the target's LVLH
-frame (000 eq. 30); propellant used.  Input u (20): wheel torques on the body T_w (after the
-transport delay, before the speed limit) and the 16 thruster on-levels.  Exogenous w (6):
-standard-normal samples for the random torques of eq. 5, held over a step.
+frame (000 eq. 30); propellant used.  Input u (26): wheel torques on the body T_w (after the
+transport delay, before the speed limit), the 16 thruster on-levels, and the force and torque of
+the papers' ideal actuators (001, 002, 004).  Exogenous w (18): standard-normal samples for the
+random torques of eq. 5 and for the sensor noise, held over a step.
+
+Switches for the papers' own models (0/1 parameters): ``gravity_on`` (0: free space, 004),
+``actuators_ideal``, the environment terms, the mass profile; plus the papers' disturbance
+models (:meth:`Plant.scenario_disturbance`) and sensor noise/bias (:meth:`Plant.measurement`).
 
 Everything here is SymPy; :mod:`rpo.symbolic.codegen` translates these very expressions.
 """
@@ -19,6 +24,7 @@ import sympy as sp
 from . import actuators as act
 from . import environment as env
 from . import orbit as orb
+from .constraints import beta_ca, beta_fov
 from .layout import XYZ, XYZW, Layout
 from .mass_properties import chaser_mass_properties
 from .relative_attitude import attitude_error, rate_error
@@ -61,6 +67,35 @@ def _params() -> Layout:
     p.add("j2_on", 1, "-", "differential J2 on/off", default=1)
     p.add("drag_on", 1, "-", "differential drag on/off", default=1)
     p.add("mass_profile_on", 1, "-", "000 time-varying chaser mass/inertia on/off", default=1)
+    p.add("gravity_on", 1, "-", "orbit on (1) or free space (0, 004's model: LVLH frozen to ECI, no gravity)",
+          default=1)
+    p.add("actuators_ideal", 1, "-", "ideal force/torque actuators (1) or wheels and thrusters (0)", default=0)
+    p.add("force_max", 1, "N", "ideal actuators: per-axis force limit, chaser body", default=1.0)
+    p.add("torque_max", 1, "N m", "ideal actuators: per-axis torque limit, chaser body", default=0.1)
+    # Papers' own disturbance models (002, 004 eqs.; 001 sec. 7), in chaser body axes; per axis
+    # d = c0 + a1 sin(w1 t) + b1 cos(w1 t) + a2 sin(w2 t) + b2 cos(w2 t) + s_nu sin(nu) + c_nu cos(nu)
+    for q, unit in (("force", "N"), ("torque", "N m")):
+        for name, u_, doc in (("c0", unit, "constant term"), ("a1", unit, "sin(w1 t) amplitude"),
+                              ("b1", unit, "cos(w1 t) amplitude"), ("w1", "rad/s", "first angular frequency"),
+                              ("a2", unit, "sin(w2 t) amplitude"), ("b2", unit, "cos(w2 t) amplitude"),
+                              ("w2", "rad/s", "second angular frequency"),
+                              ("s_nu", unit, "sin(true anomaly) amplitude"),
+                              ("c_nu", unit, "cos(true anomaly) amplitude")):
+            p.add(f"dist_{q}_{name}", 3, u_, f"scenario disturbance {q} on the chaser, body: {doc}", XYZ,
+                  default=(0, 0, 0))
+    p.add("meas_att_std", 1, "rad", "attitude measurement noise std (per axis, chaser)", default=0.0)
+    p.add("meas_rate_std", 1, "rad/s", "rate measurement noise std (per axis, chaser)", default=0.0)
+    p.add("meas_pos_std", 1, "m", "relative position noise std (per axis, LVLH)", default=0.0)
+    p.add("meas_vel_std", 1, "m/s", "relative velocity noise std (per axis, LVLH)", default=0.0)
+    p.add("meas_att_bias", 3, "rad", "attitude measurement bias (small rotation, chaser body)", XYZ, default=(0, 0, 0))
+    p.add("meas_rate_bias", 3, "rad/s", "rate measurement bias, chaser body", XYZ, default=(0, 0, 0))
+    p.add("meas_pos_bias", 3, "m", "relative position bias, LVLH", XYZ, default=(0, 0, 0))
+    p.add("meas_vel_bias", 3, "m/s", "relative velocity bias, LVLH", XYZ, default=(0, 0, 0))
+    p.add("camera_half_angle", 1, "rad", "camera half field of view (001: 45 deg), camera on body +z",
+          default=45 * DEG)
+    p.add("camera_zn", 1, "m", "camera lens vertex on body +z (001 z_N)", default=1.2)
+    p.add("chaser_radius", 1, "m", "chaser envelope sphere radius (001 R_S)", default=2.1)
+    p.add("target_radius", 1, "m", "target envelope sphere radius (001 R_T)", default=1.5)
     # chaser
     p.add("chaser_mass", 1, "kg", "chaser nominal mass m0", default=100.0)
     p.add("chaser_inertia", 6, "kg m^2", "chaser nominal inertia (no wheel axial inertia)",
@@ -112,6 +147,8 @@ def _input() -> Layout:
     u = Layout("u")
     u.add("T_w", 4, "N m", "wheel torques on the body (delayed command)", WHEELS)
     u.add("thr_on", 16, "-", "thruster on-levels (0 or 1)", THRUSTERS)
+    u.add("F_ideal", 3, "N", "force of the ideal actuators, chaser body", XYZ)
+    u.add("tau_ideal", 3, "N m", "torque of the ideal actuators, chaser body", XYZ)
     return u
 
 
@@ -119,17 +156,31 @@ def _noise() -> Layout:
     w = Layout("w")
     w.add("n_c", 3, "-", "standard-normal sample for the chaser random torque", XYZ)
     w.add("n_t", 3, "-", "standard-normal sample for the target random torque", XYZ)
+    w.add("n_att", 3, "-", "standard-normal sample for the attitude measurement noise", XYZ)
+    w.add("n_rate", 3, "-", "standard-normal sample for the rate measurement noise", XYZ)
+    w.add("n_pos", 3, "-", "standard-normal sample for the position measurement noise", XYZ)
+    w.add("n_vel", 3, "-", "standard-normal sample for the velocity measurement noise", XYZ)
     return w
 
 
 def _measurement() -> Layout:
     m = Layout("meas")
-    m.add("q_e", 4, "-", "chaser attitude relative to the interface frame (000 eq. 22)", XYZW)
-    m.add("w_e", 3, "rad/s", "rate error, chaser axes (000 eq. 17)", XYZ)
+    m.add("q_c", 4, "-", "chaser attitude relative to ECI", XYZW)
+    m.add("w_c", 3, "rad/s", "chaser body rate relative to ECI, body axes", XYZ)
+    m.add("q_t", 4, "-", "target attitude relative to ECI", XYZW)
+    m.add("w_t", 3, "rad/s", "target body rate relative to ECI, body axes", XYZ)
     m.add("r", 3, "m", "relative position, LVLH", XYZ)
     m.add("v", 3, "m/s", "relative velocity, LVLH", XYZ)
-    m.add("w_c", 3, "rad/s", "chaser body rate", XYZ)
-    m.add("q_cL", 4, "-", "chaser attitude relative to the target's LVLH frame", XYZW)
+    m.add("q_L", 4, "-", "LVLH frame relative to ECI (identity in free space)", XYZW)
+    m.add("n", 1, "rad/s", "LVLH rate (true-anomaly rate; 0 in free space)")
+    m.add("n_dot", 1, "rad/s^2", "LVLH angular acceleration (0 in free space)")
+    m.add("r_t", 1, "m", "target orbit radius")
+    m.add("r_t_dot", 1, "m/s", "target orbit radius rate")
+    m.add("nu", 1, "rad", "target true anomaly")
+    m.add("h_rw", 3, "N m s", "wheel angular momentum, chaser body", XYZ)
+    m.add("q_e", 4, "-", "chaser attitude relative to the interface frame (000 eq. 22)", XYZW)
+    m.add("w_e", 3, "rad/s", "rate error, chaser axes (000 eq. 17)", XYZ)
+    m.add("q_cL", 4, "-", "chaser attitude relative to the LVLH frame", XYZW)
     return m
 
 
@@ -147,6 +198,12 @@ def _env_outputs() -> Layout:
     y.add("a_d", 3, "m/s^2", "differential disturbance acceleration, LVLH (000 eq. 45)", XYZ)
     y.add("F_thr", 3, "N", "thruster force, chaser body", XYZ)
     y.add("tau_thr", 3, "N m", "thruster torque, chaser body", XYZ)
+    y.add("F_applied", 3, "N", "control force on the chaser (thrusters or ideal), body", XYZ)
+    y.add("tau_applied", 3, "N m", "control torque on the chaser (wheels, thrusters or ideal), body", XYZ)
+    y.add("F_dist", 3, "N", "scenario disturbance force, chaser body", XYZ)
+    y.add("tau_dist", 3, "N m", "scenario disturbance torque, chaser body", XYZ)
+    y.add("beta_fov", 1, "m", "001 eq. 41 field-of-view margin (camera on body +z; > 0 in view)")
+    y.add("beta_ca", 1, "m^2", "001 eq. 47 collision margin (> 0 clear)")
     return y
 
 
@@ -180,6 +237,33 @@ class Plant:
         u_lat = p["orbit_argp"] + o["nu"]
         return quat_mul(quat_mul(axis(2, p["orbit_raan"]), axis(0, p["orbit_inc"])), axis(2, u_lat))
 
+    def reference_frame(self, o):
+        """The frame of r, v: the target's LVLH frame, or in free space (gravity_on = 0) a frame
+        fixed in ECI.  Returns (q_L/ECI, C_ECI<-L, rate n, its derivative).
+
+        ``gravity_on`` is 0 or 1 (validated by the scenario), so the blends below are exact.
+        """
+        g = self.p["gravity_on"]
+        q_L = g * self.lvlh_attitude(o) + (1 - g) * vec(0, 0, 0, 1)
+        C_IL = g * o["C_IL"] + (1 - g) * sp.eye(3)
+        return q_L, C_IL, g * o["n"], g * o["n_dot"]
+
+    def scenario_disturbance(self, kind: str, nu) -> sp.Matrix:
+        """The papers' disturbance models (002 sec. 4, 004 sec. 5, 001 sec. 7) in chaser body axes.
+
+        Per axis: c0 + a1 sin(w1 t) + b1 cos(w1 t) + a2 sin(w2 t) + b2 cos(w2 t) + s_nu sin(nu) + c_nu cos(nu).
+        """
+        p, t = self.p, self.t
+
+        def c(name):
+            return p[f"dist_{kind}_{name}"]
+
+        return sp.Matrix([
+            c("c0")[i] + c("a1")[i] * sp.sin(c("w1")[i] * t) + c("b1")[i] * sp.cos(c("w1")[i] * t)
+            + c("a2")[i] * sp.sin(c("w2")[i] * t) + c("b2")[i] * sp.cos(c("w2")[i] * t)
+            + c("s_nu")[i] * sp.sin(nu) + c("c_nu")[i] * sp.cos(nu)
+            for i in range(3)])
+
     def mass_properties(self):
         p = self.p
         return chaser_mass_properties(self.t, p["chaser_mass"], inertia_tensor(p["chaser_inertia"]),
@@ -189,7 +273,7 @@ class Plant:
         """Every intermediate quantity of the right-hand side, by name."""
         p, x, u, w = self.p, self.x, self.u, self.w
         o = self.orbit()
-        C_IL = o["C_IL"]
+        _q_L, C_IL, n_L, n_dot_L = self.reference_frame(o)
         m_c, I_c = self.mass_properties()
         I_t = inertia_tensor(p["target_inertia"])
         A = act.pyramid_matrix(p["wheel_beta"])
@@ -201,7 +285,7 @@ class Plant:
         T_w = act.speed_limited_torques(u["T_w"], Omega, p["wheel_speed_max"])
         F_thr, tau_thr = act.thruster_wrench(u["thr_on"], p["thruster_force"])
 
-        r_c_eci, v_c_eci = chaser_inertial_state(o["r_eci"], o["v_eci"], C_IL, o["n"], r, v)
+        r_c_eci, v_c_eci = chaser_inertial_state(o["r_eci"], o["v_eci"], o["C_IL"], o["n"], r, v)
         C_Ic, C_It = quat_to_dcm(q_c), quat_to_dcm(q_t)
         rc = norm(r_c_eci)
         rt = o["r"]
@@ -223,16 +307,20 @@ class Plant:
 
         a_c = perturbation(r_c_eci, v_c_eci, m_c, p["chaser_cd"], p["chaser_area"])
         a_t = perturbation(o["r_eci"], o["v_eci"], p["target_mass"], p["target_cd"], p["target_area"])
-        a_d = C_IL.T * env.relative_disturbance(a_c, a_t)
-        a_ctrl = C_IL.T * C_Ic * F_thr / m_c
+        a_d = o["C_IL"].T * env.relative_disturbance(a_c, a_t)
+        F_dist = self.scenario_disturbance("force", o["nu"])
+        tau_dist = self.scenario_disturbance("torque", o["nu"])
+        F_ctrl = F_thr + u["F_ideal"]
+        a_ctrl = C_IL.T * C_Ic * (F_ctrl + F_dist) / m_c
 
-        M_c = M_gg_c + M_mag_c + M_r_c + tau_thr
+        M_c = M_gg_c + M_mag_c + M_r_c + tau_thr + u["tau_ideal"] + tau_dist
         M_t = M_gg_t + M_mag_t + M_r_t
         return {
             "orbit": o, "m_c": m_c, "I_c": I_c, "I_t": I_t, "A": A, "Omega": Omega, "T_w": T_w,
             "T_c": A * T_w, "F_thr": F_thr, "tau_thr": tau_thr, "M_c": M_c, "M_t": M_t,
             "M_gg_c": M_gg_c, "M_gg_t": M_gg_t, "M_mag_t": M_mag_t, "a_d": a_d, "a_ctrl": a_ctrl,
-            "h_rw": A * h_w,
+            "h_rw": A * h_w, "n_L": n_L, "n_dot_L": n_dot_L, "C_IL": C_IL, "C_Ic": C_Ic,
+            "F_ctrl": F_ctrl, "tau_ctrl": A * T_w + tau_thr + u["tau_ideal"], "F_dist": F_dist, "tau_dist": tau_dist,
         }
 
     def rhs(self) -> sp.Matrix:
@@ -247,9 +335,10 @@ class Plant:
             "q_t": quat_rate(x["q_t"], x["w_t"]),
             "w_t": target_angular_acceleration(k["I_t"], x["w_t"], k["M_t"]),
             "r": x["v"],
-            "v": relative_acceleration(x["r"], x["v"], o["r"], o["n"], o["n_dot"], p["mu"],
+            "v": relative_acceleration(x["r"], x["v"], o["r"], k["n_L"], k["n_dot_L"], p["gravity_on"] * p["mu"],
                                        k["a_ctrl"], k["a_d"]),
-            "m_prop": act.propellant_flow(u["thr_on"], p["thruster_force"], p["thruster_isp"], p["g0"]),
+            "m_prop": act.propellant_flow(u["thr_on"], p["thruster_force"], p["thruster_isp"], p["g0"])
+            + act.ideal_propellant_flow(u["F_ideal"], p["thruster_isp"], p["g0"]),
         })
 
     def torques(self) -> dict[str, sp.Matrix]:
@@ -259,28 +348,48 @@ class Plant:
                 "I_c": k["I_c"], "I_t": k["I_t"]}
 
     def measurement(self) -> sp.Matrix:
-        """Truth -> the relative pose the 000-family controllers use."""
-        x = self.x
+        """Truth plus sensor noise and bias -> what every controller reads (its own variables
+        are formed from these in its module).
+
+        Noise (std * standard normal, drawn per step by the runtime) and bias act on the chaser's
+        attitude (a small rotation in body axes), its rate, and the relative position and
+        velocity.  The target's attitude and rate are passed exactly.
+        """
+        x, p, w = self.x, self.p, self.w
         o = self.orbit()
-        q_e = attitude_error(x["q_c"], x["q_t"])
+        q_L, _C_IL, n_L, n_dot_L = self.reference_frame(o)
+        dtheta = p["meas_att_std"] * w["n_att"] + p["meas_att_bias"]
+        dq = vec(dtheta[0] / 2, dtheta[1] / 2, dtheta[2] / 2, 1)
+        q_c = quat_mul(x["q_c"], dq / norm(dq))
+        w_c = x["w_c"] + p["meas_rate_std"] * w["n_rate"] + p["meas_rate_bias"]
+        q_e = attitude_error(q_c, x["q_t"])
+        g = p["gravity_on"]
         return self.meas.pack({
+            "q_c": q_c, "w_c": w_c, "q_t": x["q_t"], "w_t": x["w_t"],
+            "r": x["r"] + p["meas_pos_std"] * w["n_pos"] + p["meas_pos_bias"],
+            "v": x["v"] + p["meas_vel_std"] * w["n_vel"] + p["meas_vel_bias"],
+            "q_L": q_L, "n": n_L, "n_dot": n_dot_L, "r_t": o["r"], "r_t_dot": g * o["r_dot"], "nu": o["nu"],
+            "h_rw": act.pyramid_matrix(p["wheel_beta"]) * x["h_w"],
             "q_e": q_e,
-            "w_e": rate_error(q_e, x["w_c"], x["w_t"]),
-            "r": x["r"],
-            "v": x["v"],
-            "w_c": x["w_c"],
-            "q_cL": quat_mul(quat_conj(self.lvlh_attitude(o)), x["q_c"]),
+            "w_e": rate_error(q_e, w_c, x["w_t"]),
+            "q_cL": quat_mul(quat_conj(q_L), q_c),
         })
 
     def env_outputs(self) -> sp.Matrix:
         """Logged environment and actuator quantities at the start of a step."""
         k = self._terms()
         o = k["orbit"]
+        p = self.p
+        # target centroid relative to the chaser, chaser body axes (001 sec. 5)
+        p_TS = -(k["C_Ic"].T * k["C_IL"] * self.x["r"])
         return self.env.pack({
             "nu": o["nu"], "r_t": o["r"], "n": o["n"], "m_c": k["m_c"],
             "I_c_diag": sp.Matrix([k["I_c"][i, i] for i in range(3)]),
             "wheel_speed": k["Omega"], "M_gg_c": k["M_gg_c"], "M_gg_t": k["M_gg_t"],
             "M_mag_t": k["M_mag_t"], "a_d": k["a_d"], "F_thr": k["F_thr"], "tau_thr": k["tau_thr"],
+            "F_applied": k["F_ctrl"], "tau_applied": k["tau_ctrl"], "F_dist": k["F_dist"], "tau_dist": k["tau_dist"],
+            "beta_fov": beta_fov(p_TS, p["camera_half_angle"], p["camera_zn"], p["target_radius"]),
+            "beta_ca": beta_ca(p_TS, p["chaser_radius"], p["target_radius"]),
         })
 
 

@@ -100,7 +100,7 @@ def test_casadi_fallback_is_explicit_warned_and_equal(model):
     z = np.zeros(model.layout_size("z_baseline"))
     z[3] = z[14] = 1
     z[18:24] = [60, 0, 25, 3, -0.5, 5]
-    w = rng.normal(size=6)
+    w = rng.normal(size=model.layout_size("w"))
     a, b = model.step_baseline(z, 1.0, p, k, w), fb.step_baseline(z, 1.0, p, k, w)
     for x, y in zip(a, b, strict=True):
         assert np.allclose(x, y, rtol=1e-13, atol=1e-13)

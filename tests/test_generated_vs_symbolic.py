@@ -14,16 +14,25 @@ disturbance of eq. 45 (a_c - a_t, J2 terms of ~1.5e-2 m/s^2).  Thruster wrenches
 
 from __future__ import annotations
 
+import json
+from pathlib import Path
+
 import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
+import rpo.generated
+
 N_POINTS = 25
 RTOL = 1e-12
 #: (output layout, field) -> magnitude of the terms whose difference the field is [SI units]
-CANCELLATION_SCALE = {("x", "v"): 10.0, ("env", "a_d"): 2e-2, ("y_baseline", "env_a_d"): 2e-2,
-                      ("env", "F_thr"): 1.0, ("env", "tau_thr"): 1.0, ("y_baseline", "env_F_thr"): 1.0,
-                      ("y_baseline", "env_tau_thr"): 1.0}
+_MANIFEST = json.loads((Path(rpo.generated.__file__).parent / "manifest.json").read_text())
+CONTROLLERS = sorted(_MANIFEST["controllers"])
+CANCELLATION_SCALE = {("x", "v"): 10.0, ("env", "a_d"): 2e-2, ("env", "F_thr"): 1.0, ("env", "tau_thr"): 1.0,
+                      ("env", "F_applied"): 1.0, ("env", "tau_applied"): 1.0}
+for _c in CONTROLLERS:
+    for _f in ("a_d", "F_thr", "tau_thr", "F_applied", "tau_applied"):
+        CANCELLATION_SCALE[(f"y_{_c}", f"env_{_f}")] = CANCELLATION_SCALE[("env", _f)]
 
 
 class Inputs:
@@ -52,8 +61,10 @@ class Inputs:
         o = m.offsets("p")
         for f in m.layouts["p"]:
             s = o[f["name"]]
-            if f["name"].endswith("_on"):
+            if f["name"].endswith("_on") or f["name"] == "actuators_ideal":
                 p[s] = g.integers(0, 2, f["size"])
+            elif f["name"].startswith(("meas_", "dist_")):
+                p[s] = g.uniform(0, 0.01, f["size"])
             elif f["name"] in ("dt", "wheel_delay", "pwpf_uon", "pwpf_uoff"):
                 continue
             elif f["name"] == "orbit_e":
@@ -62,7 +73,7 @@ class Inputs:
                 p[s] *= 1 + g.uniform(-0.05, 0.05, f["size"])
         return p
 
-    def value(self, fname, name, shape):
+    def value(self, fname, name, shape, layout=None):
         g, n = self.rng, int(np.prod(shape))
         if name in ("x",):
             return self.x()
@@ -71,13 +82,14 @@ class Inputs:
         if name == "t":
             return g.uniform(0, 400)
         if name == "u":
-            return np.concatenate([g.normal(0, 0.05, 4), g.integers(0, 2, 16)])
+            return np.concatenate([g.normal(0, 0.05, 4), g.integers(0, 2, 16), g.normal(0, 0.5, 6)])
         if name == "w":
             return g.normal(size=n)
         if name == "k":
-            return self.m.vector("k_baseline") * (1 + g.uniform(-0.5, 0.5, n))
+            return self.m.vector(layout) * (1 + g.uniform(-0.5, 0.5, n))
         if name == "meas":
-            return self.m.measure(self.x(), g.uniform(0, 400), self.p())[0]
+            w = g.normal(size=self.m.layout_size("w"))
+            return self.m.measure(self.x(), g.uniform(0, 400), self.p(), w)[0]
         if name in ("tau", "F"):
             return g.normal(0, 0.1, n)
         if name == "f":
@@ -122,12 +134,16 @@ def assert_close(model, fname, out_desc, got, ref):
         assert err <= RTOL * scale, f"{fname}.{out_desc['name']}[{fld}]: |C - SymPy| = {err:.3e}, scale {scale:.3e}"
 
 
-SOURCE_FUNCS = ["plant_rhs", "measure", "env_outputs", "wheel_alloc", "thruster_alloc", "pwpf", "pwpf_filter",
-                "law_baseline", "target_orbit", "kepler", "relative_attitude_rhs"]
+SOURCE_FUNCS = ["plant_rhs", "measure", "env_outputs", "ideal_actuators", "wheel_alloc", "thruster_alloc", "pwpf",
+                "pwpf_filter", "target_orbit", "kepler", "relative_attitude_rhs"]
+for _c in CONTROLLERS:
+    SOURCE_FUNCS.append(f"law_{_c}")
+    if "xc0" in _MANIFEST["controllers"][_c]:
+        SOURCE_FUNCS.append(f"xc0_{_c}")
 
 
 def test_every_generated_function_is_covered(model):
-    covered = set(SOURCE_FUNCS) | {"plant_jac", "step_baseline"}
+    covered = set(SOURCE_FUNCS) | {"plant_jac"} | {f"step_{c}" for c in CONTROLLERS}
     assert set(model.manifest["functions"]) == covered
 
 
@@ -137,27 +153,32 @@ def test_generated_function_equals_sympy_source(model, numpy_piece, fname):
     ref_fn = numpy_piece(fname)
     gen = Inputs(model, np.random.default_rng(abs(hash(fname)) % (1 << 32)))
     for _ in range(N_POINTS):
-        args = [gen.value(fname, i["name"], i["shape"]) for i in desc["inputs"]]
+        args = [gen.value(fname, i["name"], i["shape"], i["layout"]) for i in desc["inputs"]]
         got = model.functions[fname](*args)
         ref = ref_fn(*args)
         for o, g_, r_ in zip(desc["outputs"], got, ref, strict=True):
             assert_close(model, fname, o, g_, r_)
 
 
-def test_generated_step_equals_numpy_composition(model, sources, numpy_piece):
+@pytest.mark.parametrize("ctrl", CONTROLLERS)
+def test_generated_step_equals_numpy_composition(model, sources, numpy_piece, ctrl):
     from rpo.symbolic.numpy_reference import numpy_step
 
     pieces, ctx = sources
-    step = numpy_step(pieces, ctx["plant"], ctx["controllers"][0], make=numpy_piece)
-    desc = model.manifest["functions"]["step_baseline"]
+    design = next(c for c in ctx["controllers"] if c.name == ctrl)
+    step = numpy_step(pieces, ctx["plant"], design, make=numpy_piece)
+    fname = f"step_{ctrl}"
+    desc = model.manifest["functions"][fname]
     gen = Inputs(model, np.random.default_rng(11))
-    for _ in range(N_POINTS):
+    for _ in range(N_POINTS // 5 if ctrl != "baseline" else N_POINTS):
         z = gen.value("step", "z", desc["inputs"][0]["shape"])
-        t, p, k, w = gen.value("step", "t", 1), gen.p(), gen.value("step", "k", (7, 1)), gen.value("step", "w", (6, 1))
-        got = model.step_baseline(z, t, p, k, w)
+        t, p = gen.value("step", "t", 1), gen.p()
+        k = gen.value("step", "k", desc["inputs"][3]["shape"], desc["inputs"][3]["layout"])
+        w = gen.value("step", "w", desc["inputs"][4]["shape"])
+        got = model.functions[fname](z, t, p, k, w)
         ref = step(z, t, p, k, w)
         for o, g_, r_ in zip(desc["outputs"], got, ref, strict=True):
-            assert_close(model, "step_baseline", o, g_, r_)
+            assert_close(model, fname, o, g_, r_)
 
 
 def test_generated_jacobian_equals_finite_differences_of_the_sympy_rhs(model, numpy_piece):
@@ -167,7 +188,7 @@ def test_generated_jacobian_equals_finite_differences_of_the_sympy_rhs(model, nu
     gen = Inputs(model, np.random.default_rng(5))
     for _ in range(5):
         x, t, p = gen.x(), gen.value("j", "t", 1), gen.p()
-        u, w = gen.value("j", "u", (20, 1)), gen.value("j", "w", (6, 1))
+        u, w = gen.value("j", "u", (26, 1)), gen.value("j", "w", (18, 1))
         A, B = model.plant_jac(x, u, t, p, w)
         for M, base, which in ((A, x, 0), (B, u, 1)):
             fd = np.zeros_like(M)
@@ -181,6 +202,7 @@ def test_generated_jacobian_equals_finite_differences_of_the_sympy_rhs(model, nu
                 fd[:, j] = (rhs(*args_p)[0] - rhs(*args_m)[0]) / (2 * h)
             scale = np.abs(fd).max(axis=1, keepdims=True) + 1e-30
             if which == 1:  # thruster on-levels enter through a speed-limit switch: skip the
-                fd, M = fd[:, :4], M[:, :4]  # discrete columns' kinks, keep the wheel torques
+                cols = np.r_[0:4, 20:26]  # discrete columns' kinks, keep wheel torques and ideal wrench
+                fd, M = fd[:, cols], M[:, cols]
                 scale = np.abs(fd).max(axis=1, keepdims=True) + 1e-30
             assert np.all(np.abs(M - fd) <= 1e-5 * scale + 1e-12), np.abs(M - fd).max()
