@@ -288,3 +288,73 @@ def test_law_equals_independent_numpy_evaluation(i):
 def test_standard_diag_fields_come_first():
     names = [f.name for f in c.C004().diag.fields]
     assert names[:5] == ["att_err", "q_err", "pos_err", "rate_err", "vel_err"]
+
+
+# --------------------------------------------------------------------------- Lyapunov identities (eqs. 23-27, 32-36)
+
+def _random_relative_point():
+    sig = rng.normal(size=3)
+    sig = sig / np.linalg.norm(sig) * rng.uniform(0, 1)
+    return {"r_e": M(rng.normal(size=3) * 20), "v_e": M(rng.normal(size=3)), "w": M(rng.normal(size=3) * 0.05),
+            "w_e": M(rng.normal(size=3) * 0.05), "sig": M(sig), "R": c.rotation_matrix(M(sig)),
+            "f_d": M(rng.normal(size=3) * 0.01), "t_d": M(rng.normal(size=3) * 0.01)}
+
+
+GAINS = {"k0": 0.1, "K1": sp.diag(20, 15, 25), "K2": sp.diag(100, 80, 120), "L1": sp.diag(0.05, 0.04, 0.06),
+         "L2": sp.diag(0.2, 0.25, 0.15), "g": [0.02, 0.03, 0.04, 0.05, 0.06, 0.07], "m0": 50.0,
+         "th0": M([580, 400, 300, 0, 0, 0]), "p_t": M(P_T)}
+
+
+@pytest.mark.parametrize("i", range(5))
+def test_position_lyapunov_derivative_eq26_with_eq27_and_its_bound(i):
+    """V1_dot along eqs. 13, 22 under eqs. 25, 27: the m_tilde terms cancel and V1_dot <= -k0 r^T L1 r - s1^T K1 s1
+    when rho_f >= ||d_f|| and rho_m = |m| ||J_t^-1|| ||J_t|| (the paper's bound)."""
+    x, G = _random_relative_point(), GAINS
+    m, Jt = M_TRUE, M(J_T)
+    m_hat_d, rf_hat, rm_hat = rng.normal() * 5, rng.uniform(0, 1), rng.uniform(0, 10)
+    rho_f = float(c.norm2(x["f_d"]))
+    rho_m = m * np.linalg.norm(np.linalg.inv(J_T), 2) * np.linalg.norm(J_T, 2)
+    g = c.coupling_g(x["w"], x["w_e"], x["v_e"], x["R"], G["p_t"])
+    n1 = c.coupling_n1(x["R"], G["p_t"], Jt, x["w"], x["w_e"])
+    s1 = c.position_surface(x["v_e"], x["r_e"], G["L1"])
+    y = c.position_regressor(g, x["v_e"], x["r_e"], x["w"], G["L1"])
+    f = c.position_control(G["k0"], G["K1"], x["r_e"], s1, G["m0"], m_hat_d, y, rf_hat, rm_hat, G["p_t"], x["w"],
+                           x["w_e"])
+    dm, drf, drm = c.position_adaptation(*G["g"][:3], y, s1, G["p_t"], x["w"], x["w_e"])
+    r_dot = c.position_kinematics(x["r_e"], x["v_e"], x["w"])                  # eq. 13
+    ms1_dot = c.position_surface_dynamics(m, y, n1, f, x["f_d"])              # eq. 22
+    m_tilde, rf_tilde, rm_tilde = G["m0"] + m_hat_d - m, rf_hat - rho_f, rm_hat - rho_m
+    V1dot = float(G["k0"] * (x["r_e"].T * r_dot)[0] + (s1.T * ms1_dot)[0] + m_tilde * dm / G["g"][0]
+                  + rf_tilde * drf / G["g"][1] + rm_tilde * drm / G["g"][2])
+    nominal = float(-G["k0"] * (x["r_e"].T * G["L1"] * x["r_e"])[0] - (s1.T * G["K1"] * s1)[0])
+    wt2 = float(c.dot(x["w"] - x["w_e"], x["w"] - x["w_e"]))
+    s1n = npv(s1)
+    rest = float(-m * (s1.T * n1)[0] + (s1.T * x["f_d"])[0]) - (rho_f + rho_m * 5.0 * wt2) * np.abs(s1n).sum()
+    assert np.isclose(V1dot, nominal + rest, rtol=1e-9, atol=1e-9)
+    assert V1dot <= nominal + 1e-9
+
+
+@pytest.mark.parametrize("i", range(5))
+def test_attitude_lyapunov_derivative_eq35_with_eq36_and_its_bound(i):
+    """V2_dot along eq. 30 under eqs. 34, 36: theta_tilde terms cancel, V2_dot <= -s2^T K2 s2 for rho_tau >= ||d_tau||,
+    rho_J = ||J|| ||J_t^-1|| ||J_t||."""
+    x, G = _random_relative_point(), GAINS
+    J, Jt = M(J_TRUE), M(J_T)
+    th_hat_d = M(rng.normal(size=6) * 10)
+    rt_hat, rJ_hat = rng.uniform(0, 1), rng.uniform(0, 100)
+    rho_t = float(c.norm2(x["t_d"]))
+    rho_J = np.linalg.norm(J_TRUE, 2) * np.linalg.norm(np.linalg.inv(J_T), 2) * np.linalg.norm(J_T, 2)
+    n2 = c.coupling_n2(x["R"], Jt, x["w"], x["w_e"])
+    s2 = c.attitude_surface(x["w_e"], x["sig"], G["L2"])
+    Y = c.attitude_regressor(x["w"], x["w_e"], x["sig"], G["L2"])
+    tau = c.attitude_control(G["K2"], s2, Y, G["th0"], th_hat_d, rt_hat, rJ_hat, x["w"], x["w_e"])
+    dth, drt, drJ = c.attitude_adaptation(*G["g"][3:], Y, s2, x["w"], x["w_e"])
+    Js2_dot = c.attitude_surface_dynamics(J, x["w"], x["w_e"], x["sig"], G["L2"], n2, tau, x["t_d"])  # eq. 30
+    th_tilde = G["th0"] + th_hat_d - c.inertia_parameters(J)
+    V2dot = float((s2.T * Js2_dot)[0] + (th_tilde.T * dth)[0] / G["g"][3] + (rt_hat - rho_t) * drt / G["g"][4]
+                  + (rJ_hat - rho_J) * drJ / G["g"][5])
+    nominal = float(-(s2.T * G["K2"] * s2)[0])
+    wt2 = float(c.dot(x["w"] - x["w_e"], x["w"] - x["w_e"]))
+    rest = float((s2.T * (J * n2 + x["t_d"]))[0]) - (rho_t + rho_J * wt2) * np.abs(npv(s2)).sum()
+    assert np.isclose(V2dot, nominal + rest, rtol=1e-9, atol=1e-9)
+    assert V2dot <= nominal + 1e-9
