@@ -385,8 +385,8 @@ def test_paper_model_eqs_13_14_19_20_agree_with_the_free_space_plant(model):
     w0 = np.zeros(model.layout_size("w"))
     p_t = np.array([1.0, 5.0, -2.0])
     for _ in range(4):
-        st = {"q_c": rand_quat(), "w_c": rng.normal(size=3) * 0.05, "q_t": rand_quat(), "w_t": rng.normal(size=3) * 0.05,
-              "r": rng.normal(size=3) * 30, "v": rng.normal(size=3) * 0.5}
+        st = {"q_c": rand_quat(), "w_c": rng.normal(size=3) * 0.05, "q_t": rand_quat(),
+              "w_t": rng.normal(size=3) * 0.05, "r": rng.normal(size=3) * 30, "v": rng.normal(size=3) * 0.5}
         x = model.vector("x", {**st, "h_w": np.zeros(4), "m_prop": 0.0})
         F, tau = rng.normal(size=3) * 5, rng.normal(size=3)
         u = np.zeros(model.layout_size("u"))
@@ -398,7 +398,7 @@ def test_paper_model_eqs_13_14_19_20_agree_with_the_free_space_plant(model):
 
         h = 1e-5
         plus, minus = pv(x + h * xdot), pv(x - h * xdot)
-        d = [(a - b) / (2 * h) for a, b in zip(plus[:4], minus[:4])]
+        d = [(a - b) / (2 * h) for a, b in zip(plus[:4], minus[:4], strict=True)]
         sig, r_e, v_e, w_e, R = pv(x)
         f_tot, t_tot = F + np.array([0.01, -0.02, 0.03]), tau + np.array([0.02, 0.01, -0.01])
         w = M(st["w_c"])
