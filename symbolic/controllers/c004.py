@@ -320,6 +320,19 @@ def attitude_adaptation(gamma4, gamma5, gamma6, Y, s2, omega, omega_e):
     return gamma4 * Y.T * s2, gamma5 * n1s, gamma6 * dot(w_tc, w_tc) * n1s
 
 
+# --------------------------------------------------------------------------- actuators (not in 004)
+
+def split_torque(tau, limit):
+    """(tau_w, tau_thr) [N m]: tau clipped per axis to +-limit for the wheels, the remainder for the thrusters.
+
+    004 commands one torque tau to ideal actuators; tau_w + tau_thr = tau exactly, so the paper
+    plant (which applies sat(tau_w + tau_thr)) is unaffected.  In the full plant this lets the
+    thrusters carry what the 000 wheels (0.1 N m, about 1 N m s) cannot.
+    """
+    tau_w = sp.Matrix([sp.Max(-limit, sp.Min(limit, ti, evaluate=False), evaluate=False) for ti in tau])
+    return tau_w, tau - tau_w
+
+
 # --------------------------------------------------------------------------- measurement -> paper variables
 
 def paper_relative_state(q_c, w_c, q_t, w_t, r_L, v_L, q_L, n, p_t):
@@ -370,6 +383,8 @@ class C004:
         k.add("theta0", 6, "kg m^2", "nominal inertia parameters [J11, J22, J33, J23, J13, J12]", THETA,
               default=(580, 400, 300, 0, 0, 0))
         k.add("p_t", 3, "m", "docking point P in the target body frame (eq. 11)", XYZ, default=(0, 5, 0))
+        k.add("tau_wheel_max", 1, "N m", "not in 004: per-axis share of tau sent to the wheels, the rest to the "
+              "thrusters (the sum is applied unchanged by ideal actuators)", default=1e3)
 
         x = self.xc
         x.add("m_hat_delta", 1, "kg", "mass-uncertainty estimate (eq. 27)", default=0.0)
@@ -421,7 +436,8 @@ class C004:
                                xc["rho_J_hat"], w, w_e)
         dth, drt, drJ = attitude_adaptation(k["gamma4"], k["gamma5"], k["gamma6"], Y, s2, w, w_e)
 
-        cmd = command_layout().pack({"tau_w": tau, "F": f, "tau_thr": sp.zeros(3, 1)})
+        tau_w, tau_thr = split_torque(tau, k["tau_wheel_max"])
+        cmd = command_layout().pack({"tau_w": tau_w, "F": f, "tau_thr": tau_thr})
         xc_dot = xc.pack({"m_hat_delta": dm, "rho_f_hat": drf, "rho_m_hat": drm, "theta_hat_delta": dth,
                           "rho_tau_hat": drt, "rho_J_hat": drJ})
         diag = self.diag.pack({
