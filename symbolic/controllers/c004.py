@@ -329,8 +329,10 @@ def split_torque(tau, limit):
     plant (which applies sat(tau_w + tau_thr)) is unaffected.  In the full plant this lets the
     thrusters carry what the 000 wheels (0.1 N m, about 1 N m s) cannot.
     """
-    tau_w = sp.Matrix([sp.Max(-limit, sp.Min(limit, ti, evaluate=False), evaluate=False) for ti in tau])
-    return tau_w, tau - tau_w
+    # the thruster part is formed directly (not as tau - clip(tau)) so that it is exactly 0 in floating
+    # point whenever |tau_i| <= limit
+    tau_thr = sp.Matrix([sp.Max(0, ti - limit, evaluate=False) + sp.Min(0, ti + limit, evaluate=False) for ti in tau])
+    return tau - tau_thr, tau_thr
 
 
 # --------------------------------------------------------------------------- measurement -> paper variables
