@@ -197,10 +197,9 @@ def compute_metrics(t, columns: Mapping[str, np.ndarray], thresholds: Mapping | 
     m: dict = {k: None for k in UNITS}
     unavailable: dict[str, str] = {}
     sig, _comp, sources = error_signals(columns, goal)
-    finite_rows = np.zeros(len(t), bool)
-    for s in sig.values():
-        finite_rows |= np.isfinite(s)
-    m["t_end_s"] = float(t[finite_rows][-1]) if finite_rows.any() else (float(t[-1]) if len(t) else None)
+    # the run's end (the last state); error values are taken at the last sample where they are
+    # finite (the controller's outputs have no row for the final state)
+    m["t_end_s"] = float(t[-1]) if len(t) else None
 
     for q in ERROR_QUANTITIES:
         keys = [f"{q}_err_final_{_SUFFIX[q]}", f"{q}_err_ss_rms_{_SUFFIX[q]}"]

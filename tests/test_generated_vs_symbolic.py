@@ -108,6 +108,11 @@ class Inputs:
             z = np.zeros(n)
             nx = self.m.layout_size("x")
             z[:nx] = self.x()
+            # proximity states (|r| ~ 10 m, |v| ~ 0.2 m/s): far-out states saturate the papers'
+            # laws so hard that some designs' auxiliary states overflow within one step
+            o = self.m.offsets("x")
+            z[o["r"]] = g.normal(0, 10, 3)
+            z[o["v"]] = g.normal(0, 0.2, 3)
             z[nx:nx + 16] = g.normal(0, 0.05, 16)
             z[nx + 16:nx + 32] = g.uniform(-0.1, 0.5, 16)
             z[nx + 32:nx + 48] = g.integers(0, 2, 16)

@@ -168,7 +168,7 @@ def test_diag_figures_one_per_extra_field(model, tmp_path):
     from rpo.runtime.scenario import load_scenario
     from rpo.runtime.simulate import Simulation
 
-    inputs = load_scenario(SCEN / "000_scenario_III.toml").to_run(model)
+    inputs = load_scenario(SCEN / "000_scenario_III.toml").with_overrides(controller="baseline").to_run(model)
     sim = Simulation(model, "baseline", params=inputs.params, gains=inputs.gains)
     res = sim.run(sim.initial_state(inputs.plant), 0.2)
     n = len(res.t)

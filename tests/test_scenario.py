@@ -272,3 +272,19 @@ def test_initial_wheel_speed_above_the_limit_is_refused(model):
     assert "8000.0" in text
     with pytest.raises(ScenarioError, match=r"chaser.wheel_speed_rpm = .*<= wheels.max_speed_rpm = 7000 rpm"):
         loads_scenario(text, "s.toml").to_run(model)
+
+
+def test_extends_merges_tables_and_refuses_cycles(tmp_path):
+    """A variant file names its base and gives only what differs; a cycle is a one-line error."""
+    base = load_scenario(ROOT / "scenarios" / "000_scenario_III.toml")
+    var = load_scenario(ROOT / "scenarios" / "000_III_no_acc_d.toml")
+    assert var.controller["c000"]["acc_d_on"] == 0.0 and base.controller["c000"]["acc_d_on"] == 1.0
+    # everything else, including the rest of the same table, is the base's
+    assert var.controller["c000"]["acc_d"] == base.controller["c000"]["acc_d"]
+    assert var.params().keys() == base.params().keys()
+    for k, v in base.params().items():
+        assert np.array_equal(var.params()[k], v), k
+    (tmp_path / "a.toml").write_text('extends = "b.toml"\n')
+    (tmp_path / "b.toml").write_text('extends = "a.toml"\n')
+    with pytest.raises(ScenarioError, match="cycle"):
+        load_scenario(tmp_path / "a.toml")
