@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import math
 import sys
-import time
 import warnings
 from datetime import UTC, datetime
 from importlib import metadata
@@ -73,6 +72,7 @@ def cli() -> None:
       rpo validate scenarios/000_scenario_III.toml
       rpo run scenarios/000_scenario_III.toml --out runs/iii
       rpo info
+      rpo report                       (the reproduction report: docs/reproduction.md)
     """
 
 
@@ -98,23 +98,20 @@ def run(scenario: str, out: str | None, duration: float | None, seed: int | None
     The folder gets timeseries.npz/.csv, run.json, a copy of the scenario and PNG figures.
     Exit code 3 if the simulation diverged (the results up to that point are still written).
     """
-    from .output import check_out_dir, write_run
+    from .metrics import format_table
+    from .output import check_out_dir
+    from .runner import execute_run
     from .scenario import load_scenario
-    from .simulate import Simulation
 
+    # validate the scenario and the folder before loading (maybe compiling) the model
     sc = load_scenario(scenario).with_overrides(duration=duration, seed=seed, controller=controller, plant=plant)
     out_dir = check_out_dir(out if out is not None else _default_out(scenario))
     model = _load_model(backend, quiet)
-    inputs = sc.to_run(model)
-    sim = Simulation(model, inputs.controller, params=inputs.params, gains=inputs.gains)
-    z0 = sim.initial_state(inputs.plant)
-    n_steps = int(round(inputs.duration / sim.dt))
-
+    n_steps = int(round(sc.simulation.duration / float(sc.params(model.manifest)["dt"][0])))
     expected = n_steps * STEP_COST.get(model.backend, 2e-3)
     show_bar = not quiet and expected > 1.0 and sys.stderr.isatty()
-    if not quiet:
-        _err(f"{sc.name}: {n_steps} steps of {sim.dt:g} s ({inputs.duration:g} s), controller "
-             f"{inputs.controller}, seed {inputs.seed}, backend {model.backend}")
+    log = None if quiet else _err
+    kwargs = dict(duration=duration, seed=seed, controller=controller, plant=plant, plots=not no_plots, log=log)
     if show_bar:
         with click.progressbar(length=n_steps, label="simulating", file=sys.stderr, show_eta=True) as bar:
             last = [0]
@@ -123,21 +120,10 @@ def run(scenario: str, out: str | None, duration: float | None, seed: int | None
                 bar.update(done - last[0])
                 last[0] = done
 
-            result = sim.run(z0, inputs.duration, seed=inputs.seed, record_every=inputs.record_every,
-                             progress=progress)
+            outcome = execute_run(scenario, out_dir, model, progress=progress, **kwargs)
     else:
-        result = sim.run(z0, inputs.duration, seed=inputs.seed, record_every=inputs.record_every)
-
-    if not quiet:
-        _err(f"simulated {result.steps_done} steps in {result.wall_time:.3g} s; writing {out_dir} ...")
-    t_write = time.perf_counter()
-    extra = {"scenario": sc.name, "scenario_meta": sc.meta.model_dump(),
-             "overrides": {k: v for k, v in (("duration", duration), ("seed", seed), ("controller", controller),
-                                             ("plant", plant)) if v is not None},
-             "inputs": inputs.to_json(), "z0": z0}
-    write_run(result, out_dir, model, scenario_path=scenario, scenario_text=sc.text, extra_meta=extra,
-              plots=not no_plots, params=inputs.params, gains=inputs.gains, title=sc.name)
-    t_write = time.perf_counter() - t_write
+        outcome = execute_run(scenario, out_dir, model, **kwargs)
+    result, inputs, t_write = outcome.result, outcome.inputs, outcome.write_time
 
     if result.divergence is not None:
         _err(f"diverged: {result.divergence.message()}")
@@ -145,22 +131,70 @@ def run(scenario: str, out: str | None, duration: float | None, seed: int | None
         return EXIT_DIVERGED
     if not quiet:
         _summary(result, model, inputs, out_dir, t_write)
+        click.echo("metrics (metrics.json; definitions in rpo.runtime.metrics):")
+        click.echo(format_table(outcome.metrics))
     return 0
 
 
 def _summary(result, model, inputs, out_dir: Path, t_write: float) -> None:
+    """Timing and where the results are; the errors (each controller's own) are in the metrics table."""
     z_lay = model.layouts[f"z_{inputs.controller}"]
-    y_lay = model.layouts[f"y_{inputs.controller}"]
     r = result.block("r", z_lay)[-1]
-    goal = np.ravel(inputs.gains.get("r_goal", np.zeros(3)))
-    q_e = result.block("meas_q_e", y_lay)
-    ok = np.all(np.isfinite(q_e), axis=1)
-    ang = float(np.degrees(frames.rotation_angle(q_e[ok][-1]))) if ok.any() else float("nan")
     m_prop = float(result.block("m_prop", z_lay)[-1, 0])
     click.echo(f"done: {result.steps_done} steps in {result.wall_time:.3g} s (+{t_write:.3g} s writing)")
-    click.echo(f"final: distance {np.linalg.norm(r):.4g} m, to goal {np.linalg.norm(r - goal):.4g} m, "
-               f"attitude error {ang:.4g} deg, propellant {m_prop:.4g} kg")
+    click.echo(f"final: separation {np.linalg.norm(r):.4g} m, propellant {m_prop:.4g} kg")
     click.echo(f"results: {out_dir}")
+
+
+@cli.command()
+@click.argument("run_list", default="scenarios/reproduction.toml", type=click.Path(dir_okay=False, path_type=str))
+@click.option("--out", "out_base", default="runs/report", show_default=True, type=click.Path(file_okay=False),
+              help="Base folder; each invocation writes its runs into a fresh <UTC time> folder inside.")
+@click.option("--md", "md_path", default="docs/reproduction.md", show_default=True, type=click.Path(dir_okay=False),
+              help="The markdown report to (re)write.")
+@click.option("--json", "json_path", default="docs/reproduction.json", show_default=True,
+              type=click.Path(dir_okay=False), help="Its JSON twin (all tables and metrics).")
+@click.option("--notes", "notes_path", default="docs/reproduction_notes.toml", show_default=True,
+              type=click.Path(dir_okay=False), help="Free text per paper (TOML; skipped if absent).")
+@click.option("--only", multiple=True, help="Run only this label (repeatable).")
+@click.option("--backend", type=BACKENDS, default="auto", show_default=True, help="Model backend.")
+@click.option("--no-plots", is_flag=True, help="Do not write the PNG figures of the runs.")
+@click.option("--quiet", "-q", is_flag=True, help="Print only errors.")
+def report(run_list: str, out_base: str, md_path: str, json_path: str, notes_path: str, only: tuple[str, ...],
+           backend: str, no_plots: bool, quiet: bool) -> int:
+    """Run the declared runs of RUN_LIST (TOML; default scenarios/reproduction.toml) and render the
+    reproduction report (published values against ours) as markdown and JSON.
+
+    Each run goes through the same code as `rpo run`; see rpo.runtime.report for the file formats.
+    """
+    from .report import make_report, summary_line
+
+    model = _load_model(backend, quiet)
+    state: dict = {"lines": []}
+
+    def on_plan(runs):
+        if not quiet:
+            bar = click.progressbar(length=len(runs), label=f"report: {len(runs)} runs", file=sys.stderr,
+                                    item_show_func=lambda r: r.label if r is not None else "")
+            state["bar"] = bar.__enter__()
+
+    def on_run(r):
+        state["lines"].append(summary_line(r))
+        if "bar" in state:
+            state["bar"].update(1, r)
+
+    try:
+        twin = make_report(Path(run_list), model, out_base=Path(out_base), md_path=Path(md_path),
+                           json_path=Path(json_path), notes_path=Path(notes_path), plots=not no_plots,
+                           only=list(only) or None, on_run=on_run, on_plan=on_plan)
+    finally:
+        if "bar" in state:
+            state["bar"].__exit__(None, None, None)
+    if not quiet:
+        for line in state["lines"]:
+            click.echo(line)
+        click.echo(f"runs: {twin['runs_dir']}\nreport: {md_path} (+ {json_path})")
+    return 0
 
 
 @cli.command()

@@ -12,6 +12,7 @@ Contents:
   y columns.  ``y`` at row i is the output over the step starting at ``t[i]``: the last row has
   none (``nan``);
 * ``scenario.toml``   the scenario as read (when given);
+* ``metrics.json``    the metrics of :mod:`rpo.runtime.metrics` (when given);
 * ``run.json``        status (``ok``/``diverged`` with the divergence message, step, time and
   state label), steps, wall time, backend, seed, controller, model source hash, versions;
 * the figures of :mod:`rpo.runtime.plots` (unless ``plots=False``).
@@ -112,13 +113,14 @@ def _header(result) -> list[str]:
 
 def write_run(result, out_dir: str | Path, model, scenario_path: str | Path | None = None,
               scenario_text: str | None = None, extra_meta: dict | None = None, *, plots: bool = True,
-              params: dict | None = None, gains: dict | None = None, title: str = "") -> Path:
+              params: dict | None = None, gains: dict | None = None, title: str = "",
+              metrics: dict | None = None) -> Path:
     """Write ``result`` (a :class:`~rpo.runtime.simulate.RunResult`) into the new folder ``out_dir``.
 
     ``scenario_text`` (else the file ``scenario_path``) is copied as ``scenario.toml``;
     ``extra_meta`` is merged into ``run.json``; ``params``/``gains`` give the plots their limits
-    and goal.  Raises :class:`OutputError` if ``out_dir`` exists and is not empty (nothing is
-    touched then) or cannot be written.  Returns the folder.
+    and goal; ``metrics`` is written as ``metrics.json``.  Raises :class:`OutputError` if ``out_dir``
+    exists and is not empty (nothing is touched then) or cannot be written.  Returns the folder.
     """
     out = check_out_dir(out_dir)
     parent = out.parent
@@ -160,6 +162,9 @@ def write_run(result, out_dir: str | Path, model, scenario_path: str | Path | No
         np.savetxt(tmp / "timeseries.csv", table, fmt=CSV_FORMAT, delimiter=",",
                    header=",".join(_header(result)), comments="")
         (tmp / "run.json").write_text(meta_json + "\n", encoding="utf-8")
+        if metrics is not None:
+            (tmp / "metrics.json").write_text(json.dumps(_jsonable(metrics), indent=2, allow_nan=False) + "\n",
+                                              encoding="utf-8")
         try:
             # rename(2) replaces an empty folder atomically and fails on a non-empty one: an
             # existing result is never overwritten, even if it appeared while we were writing.

@@ -12,7 +12,16 @@ layouts; all quantities are read by label from the recorded state ``z`` and outp
   commands after the transport delay (N m, with the limit; the plant blocks a wheel at its
   speed limit from being driven further);
 * ``thrusters.png`` firing raster (fraction of time each of the 16 thrusters is on, per time bin),
-  the commanded duty (PWPF input) the same way, and the propellant used (kg).
+  the commanded duty (PWPF input) the same way, and the propellant used (kg);
+* ``ctrl_errors.png`` the controller's standard errors (``ctrl_att_err`` in deg, ``ctrl_q_err``,
+  ``ctrl_pos_err`` m, ``ctrl_rate_err`` deg/s, ``ctrl_vel_err`` m/s): the panels that are logged;
+* ``commands.png``  the controller's commands (wheel torque, thruster torque, force);
+* ``actuators.png`` the torque and force the actuators applied to the chaser (body axes);
+* ``constraints.png`` 001's field-of-view and collision margins (> 0 = satisfied);
+* ``diag_<field>.png`` one per controller-specific diagnostic ``ctrl_<field>`` (sliding surfaces,
+  adaptive estimates, ESO estimates...), one line per component.
+
+A figure whose columns are all absent is not written.
 
 A diverged run is plotted up to its last good step and marked with a red line.
 """
@@ -49,6 +58,9 @@ class _Data:
     def get(self, name: str, source: str) -> np.ndarray:
         return self.r.block(name, self.z_layout if source == "z" else self.y_layout)
 
+    def field(self, name: str, source: str = "y") -> dict | None:
+        return next((f for f in (self.z_layout if source == "z" else self.y_layout) if f["name"] == name), None)
+
 
 def _finish(fig: Figure, axes, result, title: str, path: Path) -> None:
     div = result.divergence
@@ -64,8 +76,9 @@ def _finish(fig: Figure, axes, result, title: str, path: Path) -> None:
 
 
 def _lines(ax, t, data, labels, unit: str, ylabel: str) -> None:
-    for i in range(data.shape[1]):
-        ax.plot(t, data[:, i], lw=1.0, color=AXES_COLORS[i % 4], label=labels[i])
+    n = data.shape[1]
+    for i in range(n):  # x, y, z, w in the usual colours; longer fields (estimates) in the tab10 cycle
+        ax.plot(t, data[:, i], lw=1.0, color=AXES_COLORS[i] if n <= 4 else f"C{i % 10}", label=labels[i])
     ax.set_ylabel(f"{ylabel} [{unit}]")
     ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8, frameon=False)
 
@@ -183,6 +196,70 @@ def plot_thrusters(d: _Data, path: Path, title: str) -> None:
     _finish(fig, (ax1, ax2, ax3), d.r, f"{title}: thrusters", path)
 
 
+#: Standard diagnostic fields every paper controller logs first (plotted together in ctrl_errors.png).
+STANDARD_DIAG = ("ctrl_att_err", "ctrl_q_err", "ctrl_pos_err", "ctrl_rate_err", "ctrl_vel_err")
+
+
+def _components(f: dict) -> list[str]:
+    return [lbl[len(f["name"]) + 1:] or f["name"] for lbl in f["labels"]] if f["size"] > 1 else [f["name"]]
+
+
+def _panels(d: _Data, path: Path, title: str, panels: list[tuple[str, str, float, str]], height=2.2) -> bool:
+    """One panel per present y field: (field, y label, scale, unit); False (nothing written) if none.
+    The absent fields are named in the title."""
+    present = [p for p in panels if d.has(p[0], "y")]
+    if not present:
+        return False
+    absent = [p[0] for p in panels if not d.has(p[0], "y")]
+    if absent:
+        title = f"{title}\n(not logged by this controller: {', '.join(absent)})"
+    fig = Figure(figsize=(9, 1.5 + height * len(present)), layout="constrained")
+    axes = np.atleast_1d(fig.subplots(len(present), 1, sharex=True, squeeze=False)[:, 0])
+    for ax, (name, ylabel, scale, unit) in zip(axes, present, strict=True):
+        f = d.field(name)
+        data = d.get(name, "y") * scale
+        _lines(ax, d.r.t, data, _components(f), unit, ylabel)
+        if name in ("env_beta_fov", "env_beta_ca"):
+            ax.axhline(0.0, color="red", ls=":", lw=1.0)
+    _finish(fig, axes, d.r, title, path)
+    return True
+
+
+def plot_ctrl_errors(d: _Data, path: Path, title: str) -> bool:
+    return _panels(d, path, f"{title}: controller errors (to its desired state)", [
+        ("ctrl_att_err", "attitude error", RAD2DEG, "deg"), ("ctrl_q_err", "error quaternion", 1.0, "-"),
+        ("ctrl_pos_err", "position error", 1.0, "m"), ("ctrl_rate_err", "rate error", RAD2DEG, "deg/s"),
+        ("ctrl_vel_err", "velocity error", 1.0, "m/s")])
+
+
+def plot_commands(d: _Data, path: Path, title: str) -> bool:
+    return _panels(d, path, f"{title}: controller commands", [
+        ("cmd_tau_w", "wheel torque cmd", 1.0, "N m"), ("cmd_tau_thr", "thruster torque cmd", 1.0, "N m"),
+        ("cmd_F", "force cmd", 1.0, "N")])
+
+
+def plot_actuators(d: _Data, path: Path, title: str) -> bool:
+    return _panels(d, path, f"{title}: applied control torque and force (body)", [
+        ("env_tau_applied", "applied torque", 1.0, "N m"), ("env_F_applied", "applied force", 1.0, "N")])
+
+
+def plot_constraints(d: _Data, path: Path, title: str) -> bool:
+    return _panels(d, path, f"{title}: constraint margins (> 0 satisfied; 001 eqs. 41, 47)", [
+        ("env_beta_fov", "beta_FOV", 1.0, "m"), ("env_beta_ca", "beta_CA", 1.0, "m^2")])
+
+
+def diag_fields(d: _Data) -> list[dict]:
+    """The controller-specific diagnostics: ``ctrl_*`` y fields beyond :data:`STANDARD_DIAG`."""
+    return [f for f in d.y_layout if f["name"].startswith("ctrl_") and f["name"] not in STANDARD_DIAG]
+
+
+def plot_diag(d: _Data, f: dict, path: Path, title: str) -> bool:
+    unit = f.get("unit") or "-"
+    doc = f.get("doc", "")
+    return _panels(d, path, f"{title}: {f['name']}" + (f" ({doc})" if doc else ""),
+                   [(f["name"], f["name"][len("ctrl_"):], 1.0, unit)], height=4.0)
+
+
 def make_plots(result, model, out_dir: str | Path, params: dict | None = None, gains: dict | None = None,
                title: str = "") -> list[str]:
     """Write the figures of ``result`` into ``out_dir``; returns the file names written.
@@ -207,8 +284,17 @@ def make_plots(result, model, out_dir: str | Path, params: dict | None = None, g
         ("wheels.png", lambda p: plot_wheels(d, p, title, scalar("wheel_speed_max"), scalar("wheel_torque_max"))),
         ("thrusters.png", lambda p: plot_thrusters(d, p, title)),
     ]
+    optional = [
+        ("ctrl_errors.png", lambda p: plot_ctrl_errors(d, p, title)),
+        ("commands.png", lambda p: plot_commands(d, p, title)),
+        ("actuators.png", lambda p: plot_actuators(d, p, title)),
+        ("constraints.png", lambda p: plot_constraints(d, p, title)),
+    ] + [(f"diag_{f['name'][len('ctrl_'):]}.png", lambda p, f=f: plot_diag(d, f, p, title)) for f in diag_fields(d)]
     written = []
     for name, job in jobs:
         job(out / name)
         written.append(name)
+    for name, job in optional:
+        if job(out / name):
+            written.append(name)
     return written

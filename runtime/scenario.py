@@ -883,15 +883,48 @@ def validate_scenario(data: dict, source: str = "scenario", manifest: dict | Non
     return sc
 
 
-def load_scenario(path: str | Path, manifest: dict | None = None) -> Scenario:
-    """Read and validate a scenario file (TOML).  ``manifest`` defaults to the generated one."""
+def _read_toml(path: Path, chain: tuple[Path, ...] = ()) -> tuple[str, dict]:
+    """Text and table of a scenario file, with ``extends = "<base>.toml"`` resolved.
+
+    A variant names its base file (relative to itself) and gives only what differs: tables are
+    merged key by key, any other value replaces the base's.  Bases may extend further bases.
+    """
     src = str(path)
     try:
-        text = Path(path).read_text(encoding="utf-8")
+        text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
         raise ScenarioError(f"{src}: cannot read the scenario: {reason}") from None
-    return loads_scenario(text, src, manifest)
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise ScenarioError(f"{src}: invalid TOML: {' '.join(str(exc).split())}") from None
+    base_name = data.pop("extends", None)
+    if base_name is None:
+        return text, data
+    if not isinstance(base_name, str):
+        raise ScenarioError(f"{src}: extends = {base_name!r}: must be the file name of a base scenario")
+    base_path = (path.parent / base_name).resolve()
+    if base_path in chain or base_path == path.resolve():
+        raise ScenarioError(f"{src}: extends = {base_name!r}: the scenarios extend each other in a cycle")
+    _base_text, base = _read_toml(base_path, (*chain, path.resolve()))
+    return text, _merge(base, data)
+
+
+def _merge(base: dict, over: dict) -> dict:
+    out = copy.deepcopy(base)
+    for k, v in over.items():
+        out[k] = _merge(out[k], v) if isinstance(v, dict) and isinstance(out.get(k), dict) else copy.deepcopy(v)
+    return out
+
+
+def load_scenario(path: str | Path, manifest: dict | None = None) -> Scenario:
+    """Read and validate a scenario file (TOML, optionally ``extends`` a base file).  ``manifest``
+    defaults to the generated one."""
+    text, data = _read_toml(Path(path))
+    sc = validate_scenario(data, str(path), manifest)
+    sc._text = text
+    return sc
 
 
 def loads_scenario(text: str, source: str = "scenario", manifest: dict | None = None) -> Scenario:

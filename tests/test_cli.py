@@ -153,20 +153,23 @@ def test_short_run_writes_everything(tmp_path):
     assert "Traceback" not in res.stderr
     assert f"results: {out}" in res.stdout
     names = {p.name for p in out.iterdir()}
-    figures = {"attitude.png", "rates.png", "position.png", "velocity.png", "wheels.png", "thrusters.png"}
-    assert {"timeseries.npz", "timeseries.csv", "run.json", "scenario.toml"} | figures == names
+    meta = json.loads((out / "run.json").read_text())
+    figures = set(meta["figures"])
+    assert {"attitude.png", "rates.png", "position.png", "velocity.png", "wheels.png", "thrusters.png"} <= figures
+    assert {"timeseries.npz", "timeseries.csv", "run.json", "scenario.toml", "metrics.json"} | figures == names
     assert (out / "scenario.toml").read_text() == BASE
     for f in figures:
         assert (out / f).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert metrics["status"] == "ok" and metrics["t_end_s"] == pytest.approx(2.0)
+    assert "metrics" in res.stdout and "attitude" in res.stdout
 
-    meta = json.loads((out / "run.json").read_text())
     assert meta["status"] == "ok" and meta["divergence"] is None
     assert meta["steps_done"] == meta["steps_requested"] == 200
-    assert meta["seed"] == 3 and meta["controller"] == "baseline" and meta["backend"] == "compiled"
+    assert meta["seed"] == 3 and meta["controller"] == "c000" and meta["backend"] == "compiled"
     manifest = json.loads((ROOT / "generated" / "manifest.json").read_text())
     assert meta["model_source_hash"] == manifest["source_hash"]
     assert meta["overrides"] == {"duration": 2.0, "seed": 3}
-    assert sorted(meta["figures"]) == sorted(figures)
 
     data = np.load(out / "timeseries.npz")
     t, z, y = data["t"], data["z"], data["y"]

@@ -108,6 +108,11 @@ class Inputs:
             z = np.zeros(n)
             nx = self.m.layout_size("x")
             z[:nx] = self.x()
+            # proximity states (|r| ~ 10 m, |v| ~ 0.2 m/s): far-out states saturate the papers'
+            # laws so hard that some designs' auxiliary states overflow within one step
+            o = self.m.offsets("x")
+            z[o["r"]] = g.normal(0, 10, 3)
+            z[o["v"]] = g.normal(0, 0.2, 3)
             z[nx:nx + 16] = g.normal(0, 0.05, 16)
             z[nx + 16:nx + 32] = g.uniform(-0.1, 0.5, 16)
             z[nx + 32:nx + 48] = g.integers(0, 2, 16)
@@ -170,15 +175,26 @@ def test_generated_step_equals_numpy_composition(model, sources, numpy_piece, ct
     fname = f"step_{ctrl}"
     desc = model.manifest["functions"][fname]
     gen = Inputs(model, np.random.default_rng(11))
-    for _ in range(N_POINTS // 5 if ctrl != "baseline" else N_POINTS):
+    wanted = N_POINTS // 5 if ctrl != "baseline" else N_POINTS
+    compared = 0
+    for _ in range(4 * wanted):
         z = gen.value("step", "z", desc["inputs"][0]["shape"])
         t, p = gen.value("step", "t", 1), gen.p()
         k = gen.value("step", "k", desc["inputs"][3]["shape"], desc["inputs"][3]["layout"])
         w = gen.value("step", "w", desc["inputs"][4]["shape"])
         got = model.functions[fname](z, t, p, k, w)
         ref = step(z, t, p, k, w)
+        if not all(np.all(np.isfinite(r_)) for r_ in ref):
+            # random states far outside a design's region (e.g. 002's tanh auxiliary system
+            # escaping within one step) give NaN in both paths: draw another point
+            assert all(np.array_equal(np.isfinite(g_), np.isfinite(r_)) for g_, r_ in zip(got, ref, strict=True))
+            continue
         for o, g_, r_ in zip(desc["outputs"], got, ref, strict=True):
             assert_close(model, fname, o, g_, r_)
+        compared += 1
+        if compared == wanted:
+            break
+    assert compared == wanted, f"only {compared} of {wanted} random points gave a finite step"
 
 
 def test_generated_jacobian_equals_finite_differences_of_the_sympy_rhs(model, numpy_piece):

@@ -56,7 +56,7 @@ def test_scenario_maps_to_valid_z0(model, path):
     sim = Simulation(model, run.controller, params=run.params, gains=run.gains)
     z0 = sim.initial_state(run.plant)
     assert np.all(np.isfinite(z0))
-    assert run.duration == 300.0 and run.dt == pytest.approx(0.01) and run.controller == "baseline"
+    assert run.duration == 300.0 and run.dt == pytest.approx(0.01) and run.controller == "c000"
     offs = model.offsets(f"z_{run.controller}")
     for q in ("q_c", "q_t"):
         assert np.linalg.norm(z0[offs[q]]) == pytest.approx(1.0, abs=1e-12)
@@ -238,7 +238,7 @@ BAD = {
     "wheel delay": (BASE + "\n[wheels]\ndelay = 0.05\n", "wheels.delay = 0.05", "[0, 0.04)"),
     "pwpf levels": (BASE + "\n[thrusters]\npwpf = { u_on = 0.1, u_off = 0.15 }\n", "thrusters.pwpf.u_off = 0.15",
                     "u_off < u_on"),
-    "unknown controller": (replaced('controller = "baseline"', 'controller = "nope"'), "simulation.controller",
+    "unknown controller": (replaced('controller = "c000"', 'controller = "nope"'), "simulation.controller",
                            "available: baseline"),
     "bad TOML": (replaced("duration = 300.0", "duration = = 300.0"), "invalid TOML", "line 21"),
 }
@@ -272,3 +272,19 @@ def test_initial_wheel_speed_above_the_limit_is_refused(model):
     assert "8000.0" in text
     with pytest.raises(ScenarioError, match=r"chaser.wheel_speed_rpm = .*<= wheels.max_speed_rpm = 7000 rpm"):
         loads_scenario(text, "s.toml").to_run(model)
+
+
+def test_extends_merges_tables_and_refuses_cycles(tmp_path):
+    """A variant file names its base and gives only what differs; a cycle is a one-line error."""
+    base = load_scenario(ROOT / "scenarios" / "000_scenario_III.toml")
+    var = load_scenario(ROOT / "scenarios" / "000_III_no_acc_d.toml")
+    assert var.controller["c000"]["acc_d_on"] == 0.0 and base.controller["c000"]["acc_d_on"] == 1.0
+    # everything else, including the rest of the same table, is the base's
+    assert var.controller["c000"]["acc_d"] == base.controller["c000"]["acc_d"]
+    assert var.params().keys() == base.params().keys()
+    for k, v in base.params().items():
+        assert np.array_equal(var.params()[k], v), k
+    (tmp_path / "a.toml").write_text('extends = "b.toml"\n')
+    (tmp_path / "b.toml").write_text('extends = "a.toml"\n')
+    with pytest.raises(ScenarioError, match="cycle"):
+        load_scenario(tmp_path / "a.toml")

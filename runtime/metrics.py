@@ -1,0 +1,337 @@
+"""Performance metrics of one run, from its recorded columns (pure NumPy; no SymPy, no model).
+
+``compute_metrics(t, columns, thresholds)`` takes the recorded time ``t`` [s] and a mapping from
+column label (``r_x``, ``ctrl_att_err``, ``env_F_applied_y``...) to a 1-D array of the same
+length, and returns a flat, JSON-ready dict.  Keys carry their unit (``_s``, ``_m``, ``_rad``...).
+A metric whose input columns are absent is ``None``, with the reason in ``unavailable[key]``;
+``sources[quantity]`` names the columns each error was computed from.  Rows where a signal is
+not finite are ignored (the last ``y`` row of a run is NaN: no step starts at the final state).
+
+Error signals (first available source wins):
+
+* attitude ``att``  [rad]: ``ctrl_att_err`` (angle to the controller's desired attitude), else
+  the rotation angle of ``ctrl_q_err_{x,y,z,w}``, else of ``meas_q_e_*`` (000's interface frame);
+* position ``pos``  [m]: ``|ctrl_pos_err_{x,y,z}|``, else ``|r - goal|`` when ``goal`` is given;
+* rate ``rate``     [rad/s]: ``|ctrl_rate_err_*|``, else ``|meas_w_e_*|`` (000 eq. 17);
+* velocity ``vel``  [m/s]: ``|ctrl_vel_err_*|``, else ``|v|`` when ``goal`` is given (goal at rest).
+
+Definitions (``t_end`` = last time with finite data; ``T = t_end - t[0]``):
+
+* ``<q>_settling_time_s``: the first time after which the error stays below its threshold until
+  ``t_end`` (``att_deg`` = 1 deg, ``pos_m`` = 0.5 m by default).  The crossing is interpolated
+  linearly between the last sample above and the first below.  ``t[0]`` if it never exceeds the
+  threshold; ``None`` ("not settled") if the last sample is at or above it.
+* ``<q>_err_final_*``: the error at ``t_end``.
+* ``<q>_err_ss_rms_*``: steady-state error, the RMS of the error over the last 10 %
+  (``steady_fraction``) of the run, ``t >= t_end - 0.1 T``.
+* ``torque_effort_N_m_s`` = integral of ``|env_tau_applied|`` dt, ``force_effort_N_s`` = integral
+  of ``|env_F_applied|`` dt (Euclidean norms, zero-order hold: sample i holds over
+  ``[t_i, t_{i+1})``, which is what the step applies when ``record_every = 1``).
+* ``delta_v_m_s`` = integral of ``|env_F_applied| / env_m_c`` dt, the same way.
+* ``propellant_kg``: final ``m_prop`` (propellant used since t = 0).
+* ``wheel_momentum_peak_N_m_s`` = max over time and wheels of ``|h_w_i|``;
+  ``wheel_speed_peak_rad_s`` = max of ``|env_wheel_speed_i|`` (relative to the body).
+* ``beta_fov_min_m`` / ``beta_ca_min_m2``: minimum of ``env_beta_fov`` / ``env_beta_ca`` (001's
+  margins, > 0 = satisfied), with the time of the minimum in ``*_min_t_s``.
+* chattering, per command group ``g`` in ``cmd_tau_w`` (wheel torque command, body), ``cmd_F``
+  (force command) and ``cmd_tau_thr`` (thruster torque command):
+  ``chatter_<g>_tv_per_s`` = total variation ``sum_i sum_axes |u[i+1] - u[i]|`` divided by ``T``
+  (N m/s or N/s), and ``chatter_<g>_sign_changes_per_s`` = number of sign changes between
+  consecutive samples, summed over the axes, divided by ``T`` (samples with
+  ``|u| <= chatter_deadband`` x the group's max |u| are skipped, so noise around zero does not count).
+  Both depend on the recording step (``record_every``): they are per recorded sample.
+
+``errors_at(t, columns, times)`` returns the error components at given times (the latest recorded
+sample at or before each time), e.g. 001's Table 2 at 3000/4000/5000 s.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+
+import numpy as np
+
+XYZ = ("x", "y", "z")
+QUAT = ("x", "y", "z", "w")
+
+DEFAULT_THRESHOLDS = {
+    "att_deg": 1.0,          # attitude settling threshold [deg]
+    "pos_m": 0.5,            # position settling threshold [m]
+    "steady_fraction": 0.1,  # the steady state is the last 10 % of the run
+    "chatter_deadband": 1e-6,  # relative to the group's max |u|
+}
+
+#: Unit of each scalar metric (the report and the printed table use these).
+UNITS = {
+    "t_end_s": "s",
+    "att_settling_time_s": "s", "pos_settling_time_s": "s",
+    "att_err_final_rad": "rad", "att_err_ss_rms_rad": "rad",
+    "pos_err_final_m": "m", "pos_err_ss_rms_m": "m",
+    "rate_err_final_rad_s": "rad/s", "rate_err_ss_rms_rad_s": "rad/s",
+    "vel_err_final_m_s": "m/s", "vel_err_ss_rms_m_s": "m/s",
+    "torque_effort_N_m_s": "N m s", "force_effort_N_s": "N s", "delta_v_m_s": "m/s",
+    "propellant_kg": "kg", "wheel_momentum_peak_N_m_s": "N m s", "wheel_speed_peak_rad_s": "rad/s",
+    "beta_fov_min_m": "m", "beta_fov_min_t_s": "s", "beta_ca_min_m2": "m^2", "beta_ca_min_t_s": "s",
+}
+CHATTER_GROUPS = {"cmd_tau_w": "N m", "cmd_F": "N", "cmd_tau_thr": "N m"}
+for _g, _u in CHATTER_GROUPS.items():
+    UNITS[f"chatter_{_g}_tv_per_s"] = f"{_u}/s"
+    UNITS[f"chatter_{_g}_sign_changes_per_s"] = "1/s"
+
+ERROR_QUANTITIES = {"att": "rad", "pos": "m", "rate": "rad/s", "vel": "m/s"}
+_SUFFIX = {"att": "rad", "pos": "m", "rate": "rad_s", "vel": "m_s"}
+
+
+def quat_angle(q: np.ndarray) -> np.ndarray:
+    """Rotation angle [rad] in [0, pi] of quaternions (rows, scalar last; need not be unit)."""
+    q = np.atleast_2d(q)
+    return 2.0 * np.arctan2(np.linalg.norm(q[:, :3], axis=1), np.abs(q[:, 3]))
+
+
+def _block(columns: Mapping, prefix: str, comps: tuple[str, ...]) -> np.ndarray | None:
+    """The columns ``prefix_<comp>``, or ``prefix_0..n-1`` (a field declared without component names)."""
+    labels = [f"{prefix}_{c}" for c in comps]
+    if not all(lbl in columns for lbl in labels):
+        labels = [f"{prefix}_{i}" for i in range(len(comps))]
+        if not all(lbl in columns for lbl in labels):
+            return None
+    return np.column_stack([np.asarray(columns[lbl], float) for lbl in labels])
+
+
+def error_signals(columns: Mapping, goal=None) -> tuple[dict, dict, dict]:
+    """(signals, components, sources): each error as a scalar time series (angle or norm), its
+    components (or None), and a text naming the columns used; absent quantities are left out."""
+    sig, comp, src = {}, {}, {}
+    if "ctrl_att_err" in columns:
+        sig["att"], src["att"] = np.asarray(columns["ctrl_att_err"], float), "ctrl_att_err"
+    q = _block(columns, "ctrl_q_err", QUAT)
+    if q is not None:
+        comp["q"] = q
+        if "att" not in sig:
+            sig["att"], src["att"] = quat_angle(q), "rotation angle of ctrl_q_err"
+    if "att" not in sig:
+        q = _block(columns, "meas_q_e", QUAT)
+        if q is not None:
+            sig["att"], src["att"] = quat_angle(q), "rotation angle of meas_q_e (000 interface frame)"
+            comp.setdefault("q", q)
+    goal = None if goal is None else np.ravel(np.asarray(goal, float))
+    for name, prefix, fallback, fb_text in (
+            ("pos", "ctrl_pos_err", "r", "r - goal"),
+            ("rate", "ctrl_rate_err", "meas_w_e", "meas_w_e (000 eq. 17)"),
+            ("vel", "ctrl_vel_err", "v", "v (goal at rest)")):
+        b = _block(columns, prefix, XYZ)
+        if b is not None:
+            src[name] = f"|{prefix}|"
+        else:
+            b = _block(columns, fallback, XYZ)
+            if b is None or (fallback in ("r", "v") and goal is None):
+                continue
+            if fallback == "r":
+                b = b - goal
+            src[name] = f"|{fb_text}| (the controller logs no {prefix})"
+        comp[name], sig[name] = b, np.linalg.norm(b, axis=1)
+    return sig, comp, src
+
+
+def settling_time(t: np.ndarray, err: np.ndarray, threshold: float) -> float | None:
+    """First time after which ``err < threshold`` until the last finite sample (interpolated);
+    ``None`` if the last finite sample is not below it."""
+    ok = np.isfinite(err)
+    t, err = np.asarray(t, float)[ok], np.asarray(err, float)[ok]
+    if len(t) == 0 or not err[-1] < threshold:
+        return None
+    above = np.nonzero(err >= threshold)[0]
+    if len(above) == 0:
+        return float(t[0])
+    k = above[-1]  # last sample at or above; k + 1 is below and stays below
+    e0, e1 = err[k], err[k + 1]
+    frac = (e0 - threshold) / (e0 - e1) if e0 != e1 else 1.0
+    return float(t[k] + frac * (t[k + 1] - t[k]))
+
+
+def _finite(t, x):
+    x = np.asarray(x, float)
+    ok = np.isfinite(x) if x.ndim == 1 else np.all(np.isfinite(x), axis=1)
+    return np.asarray(t, float)[ok], x[ok]
+
+
+def _rms_tail(t, x, fraction):
+    t, x = _finite(t, x)
+    if len(t) == 0:
+        return None
+    tail = x[t >= t[-1] - fraction * (t[-1] - t[0])]
+    return float(np.sqrt(np.mean(tail ** 2)))
+
+
+def _zoh_integral(t, x) -> float | None:
+    """Integral of the sample-and-hold signal x (sample i over [t_i, t_{i+1}); NaN samples hold 0)."""
+    t = np.asarray(t, float)
+    if len(t) < 2:
+        return None
+    x = np.nan_to_num(np.asarray(x, float)[:-1], nan=0.0)
+    return float(np.sum(x * np.diff(t)))
+
+
+def chatter(t: np.ndarray, u: np.ndarray, deadband: float = 0.0) -> tuple[float, float]:
+    """(total variation per second, sign changes per second) of the command block ``u`` (rows =
+    samples, columns = axes), summed over axes; see the module docstring."""
+    t, u = _finite(t, np.atleast_2d(np.asarray(u, float).T).T)
+    span = t[-1] - t[0] if len(t) > 1 else 0.0
+    if span <= 0:
+        return 0.0, 0.0
+    tv = float(np.sum(np.abs(np.diff(u, axis=0))))
+    tol = deadband * float(np.max(np.abs(u))) if u.size else 0.0
+    changes = 0
+    for col in u.T:
+        s = np.sign(col[np.abs(col) > tol])
+        changes += int(np.count_nonzero(s[1:] != s[:-1]))
+    return tv / span, changes / span
+
+
+def compute_metrics(t, columns: Mapping[str, np.ndarray], thresholds: Mapping | None = None, *, goal=None,
+                    error_times: Iterable[float] = ()) -> dict:
+    """All metrics of one run (see the module docstring); ``goal`` is the goal position [m] used
+    when the controller logs no ``ctrl_pos_err``; ``error_times`` adds ``errors_at``."""
+    th = {**DEFAULT_THRESHOLDS, **(thresholds or {})}
+    t = np.asarray(t, float)
+    m: dict = {k: None for k in UNITS}
+    unavailable: dict[str, str] = {}
+    sig, _comp, sources = error_signals(columns, goal)
+    # the run's end (the last state); error values are taken at the last sample where they are
+    # finite (the controller's outputs have no row for the final state)
+    m["t_end_s"] = float(t[-1]) if len(t) else None
+
+    for q in ERROR_QUANTITIES:
+        keys = [f"{q}_err_final_{_SUFFIX[q]}", f"{q}_err_ss_rms_{_SUFFIX[q]}"]
+        if q in ("att", "pos"):
+            keys.append(f"{q}_settling_time_s")
+        if q not in sig:
+            for k in keys:
+                unavailable[k] = f"no {q} error columns (ctrl_{q}_err*) in this run"
+            continue
+        tf, xf = _finite(t, sig[q])
+        if len(tf) == 0:
+            continue
+        m[keys[0]] = float(xf[-1])
+        m[keys[1]] = _rms_tail(t, sig[q], th["steady_fraction"])
+    if "att" in sig:
+        m["att_settling_time_s"] = settling_time(t, sig["att"], np.radians(th["att_deg"]))
+    if "pos" in sig:
+        m["pos_settling_time_s"] = settling_time(t, sig["pos"], th["pos_m"])
+
+    def need(key, *blocks):
+        out = []
+        for prefix, comps in blocks:
+            b = _block(columns, prefix, comps) if comps else (
+                np.asarray(columns[prefix], float)[:, None] if prefix in columns else None)
+            if b is None:
+                unavailable[key] = f"column(s) {prefix}{'_*' if comps else ''} not recorded"
+                return None
+            out.append(b)
+        return out
+
+    if (b := need("torque_effort_N_m_s", ("env_tau_applied", XYZ))) is not None:
+        m["torque_effort_N_m_s"] = _zoh_integral(t, np.linalg.norm(b[0], axis=1))
+    if (b := need("force_effort_N_s", ("env_F_applied", XYZ))) is not None:
+        m["force_effort_N_s"] = _zoh_integral(t, np.linalg.norm(b[0], axis=1))
+    if (b := need("delta_v_m_s", ("env_F_applied", XYZ), ("env_m_c", ()))) is not None:
+        m["delta_v_m_s"] = _zoh_integral(t, np.linalg.norm(b[0], axis=1) / b[1][:, 0])
+    if (b := need("propellant_kg", ("m_prop", ()))) is not None:
+        _, mp = _finite(t, b[0][:, 0])
+        m["propellant_kg"] = float(mp[-1]) if len(mp) else None
+    if (b := need("wheel_momentum_peak_N_m_s", ("h_w", ("1", "2", "3", "4")))) is not None:
+        m["wheel_momentum_peak_N_m_s"] = float(np.nanmax(np.abs(b[0])))
+    if (b := need("wheel_speed_peak_rad_s", ("env_wheel_speed", ("1", "2", "3", "4")))) is not None:
+        m["wheel_speed_peak_rad_s"] = float(np.nanmax(np.abs(b[0])))
+    for col, key in (("env_beta_fov", "beta_fov_min_m"), ("env_beta_ca", "beta_ca_min_m2")):
+        if (b := need(key, (col, ()))) is not None:
+            tf, x = _finite(t, b[0][:, 0])
+            if len(x):
+                i = int(np.argmin(x))
+                m[key], m[key.rsplit("_", 1)[0] + "_t_s"] = float(x[i]), float(tf[i])
+    for g in CHATTER_GROUPS:
+        if (b := need(f"chatter_{g}_tv_per_s", (g, XYZ))) is not None:
+            tv, sc = chatter(t, b[0], th["chatter_deadband"])
+            m[f"chatter_{g}_tv_per_s"], m[f"chatter_{g}_sign_changes_per_s"] = tv, sc
+        else:
+            unavailable[f"chatter_{g}_sign_changes_per_s"] = unavailable[f"chatter_{g}_tv_per_s"]
+
+    settled = [m[f"{q}_settling_time_s"] for q in ("att", "pos") if q in sig]
+    m["converged"] = bool(settled) and all(s is not None for s in settled)
+    m["thresholds"] = dict(th)
+    m["sources"] = sources
+    m["unavailable"] = unavailable
+    m["units"] = dict(UNITS)
+    if error_times:
+        m["errors_at"] = errors_at(t, columns, error_times, goal=goal)
+    return m
+
+
+def errors_at(t, columns: Mapping[str, np.ndarray], times: Iterable[float], goal=None) -> list[dict]:
+    """Error components at each of ``times`` [s]: the latest finite sample at or before the time.
+
+    Each entry: ``t`` (requested), ``t_sample`` (used), ``att_rad``, ``q`` (``[x, y, z, w]`` of the
+    error quaternion), ``pos_m``, ``rate_rad_s``, ``vel_m_s`` (components, the same sources as
+    :func:`compute_metrics`); ``None`` where absent or when the run ended before that time.
+    """
+    t = np.asarray(t, float)
+    sig, comp, _ = error_signals(columns, goal)
+    out = []
+    for tq in times:
+        entry = {"t": float(tq), "t_sample": None, "att_rad": None, "q": None, "pos_m": None, "rate_rad_s": None,
+                 "vel_m_s": None}
+        for key, series in (("att_rad", sig.get("att")), ("q", comp.get("q")), ("pos_m", comp.get("pos")),
+                            ("rate_rad_s", comp.get("rate")), ("vel_m_s", comp.get("vel"))):
+            if series is None:
+                continue
+            tf, xf = _finite(t, series)
+            eps = 1e-9 * max(1.0, abs(tq))
+            i = int(np.searchsorted(tf, tq + eps, side="right")) - 1
+            if i < 0 or tq > tf[-1] + _gap(tf) + eps:  # before the start, or after the run ended
+                continue
+            entry[key] = float(xf[i]) if xf.ndim == 1 else [float(v) for v in xf[i]]
+            entry["t_sample"] = float(tf[i])
+        out.append(entry)
+    return out
+
+
+def _gap(tf: np.ndarray) -> float:
+    """One sample interval (a query up to one step after the last finite sample still uses it)."""
+    return float(tf[-1] - tf[-2]) if len(tf) > 1 else 0.0
+
+
+def result_columns(result) -> dict[str, np.ndarray]:
+    """The columns of a :class:`~rpo.runtime.simulate.RunResult` (or a loaded npz) by label."""
+    cols = {lbl: result.z[:, i] for i, lbl in enumerate(result.z_labels)}
+    cols.update({lbl: result.y[:, i] for i, lbl in enumerate(result.y_labels)})
+    return cols
+
+
+def format_table(m: dict) -> str:
+    """A short human table of the main metrics (degrees for angles)."""
+    def f(v, scale=1.0, fmt=".4g", none="-"):
+        return none if v is None else format(v * scale, fmt)
+
+    deg = 180.0 / np.pi
+    settle = lambda v: "not settled" if v is None else f"settled at {v:.4g} s"  # noqa: E731
+    rows = [
+        ("attitude", f"{settle(m['att_settling_time_s']) if m['att_err_final_rad'] is not None else '-'}"
+                     f" (< {m['thresholds']['att_deg']:g} deg), final {f(m['att_err_final_rad'], deg)} deg, "
+                     f"steady RMS {f(m['att_err_ss_rms_rad'], deg)} deg"),
+        ("position", f"{settle(m['pos_settling_time_s']) if m['pos_err_final_m'] is not None else '-'}"
+                     f" (< {m['thresholds']['pos_m']:g} m), final {f(m['pos_err_final_m'])} m, "
+                     f"steady RMS {f(m['pos_err_ss_rms_m'])} m"),
+        ("rate, velocity", f"final {f(m['rate_err_final_rad_s'], deg)} deg/s, {f(m['vel_err_final_m_s'])} m/s"),
+        ("effort", f"torque {f(m['torque_effort_N_m_s'])} N m s, force {f(m['force_effort_N_s'])} N s, "
+                   f"delta-v {f(m['delta_v_m_s'])} m/s, propellant {f(m['propellant_kg'])} kg"),
+        ("wheels", f"peak |h_w| {f(m['wheel_momentum_peak_N_m_s'])} N m s, peak speed "
+                   f"{f(m['wheel_speed_peak_rad_s'], 60 / (2 * np.pi))} rpm"),
+        ("constraints", f"min beta_FOV {f(m['beta_fov_min_m'])} m, min beta_CA {f(m['beta_ca_min_m2'])} m^2"),
+        ("chattering", ", ".join(f"{g} {f(m[f'chatter_{g}_tv_per_s'])} {CHATTER_GROUPS[g]}/s, "
+                                 f"{f(m[f'chatter_{g}_sign_changes_per_s'])} sign changes/s" for g in CHATTER_GROUPS)),
+    ]
+    lines = [f"  {k:<15s} {v}" for k, v in rows]
+    missing = [q for q in ERROR_QUANTITIES if f"{q}_err_final_{_SUFFIX[q]}" in m["unavailable"]]
+    if missing:
+        lines.append(f"  (not logged by this controller: {', '.join(missing)} errors)")
+    return "\n".join(lines)

@@ -1,0 +1,188 @@
+"""``rpo report`` on a tiny declared run list, the metrics of a real short run, the diag figures."""
+
+from __future__ import annotations
+
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parents[1]
+SCEN = ROOT / "scenarios"
+
+RUN_LIST = f"""
+[paper."000"]
+title = "tiny"
+controller = "baseline"
+
+[[paper."000".claim]]
+case = "III"
+what = "attitude settles"
+metric = "att_settling_time_s"
+unit = "s"
+published = 60.0
+published_text = "about 60 s"
+
+[[paper."000".claim]]
+case = "III"
+what = "final attitude error"
+metric = "att_err_final_rad"
+unit = "deg"
+published = 0.0
+
+[paper."000".table2]
+case = "III"
+times = [0.5, 1.0, 5.0]
+q = [[1, 2, 3, 4], [1, 2, 3, 4], [1, 2, 3, 4]]
+pos = [[1, 2, 3], [1, 2, 3], [1, 2, 3]]
+rate_deg_s = [[1, 2, 3], [1, 2, 3], [1, 2, 3]]
+vel = [[1, 2, 3], [1, 2, 3], [1, 2, 3]]
+
+[[run]]
+label = "iii-paper"
+paper = "000"
+case = "III"
+scenario = "{SCEN / '000_scenario_III.toml'}"
+controller = "baseline"
+plant = "paper"
+duration = 1.0
+error_times = [0.25]  # the Table 2 times are added
+gains = {{ kp_att = 0.3 }}
+
+[[run]]
+label = "iii-missing-controller"
+paper = "000"
+case = "III"
+scenario = "{SCEN / '000_scenario_III.toml'}"
+controller = "c999"
+plant = "full"
+
+[[comparison]]
+case = "I"
+scenario = "{SCEN / '000_scenario_I.toml'}"
+controllers = ["baseline", "c999"]
+plants = ["paper"]
+duration = 0.5
+"""
+
+NOTES = '''
+intro = "Intro text."
+[paper]
+"000" = "Why our numbers differ: a hand-written note."
+'''
+
+
+def rpo(*args, cwd):
+    return subprocess.run([sys.executable, "-m", "rpo.runtime.cli", *map(str, args)], cwd=cwd, capture_output=True,
+                          text=True, timeout=300)
+
+
+@pytest.fixture(scope="module")
+def report(tmp_path_factory):
+    tmp = tmp_path_factory.mktemp("report")
+    (tmp / "runs.toml").write_text(RUN_LIST)
+    (tmp / "notes.toml").write_text(NOTES)
+    args = ["report", tmp / "runs.toml", "--out", tmp / "runs", "--md", tmp / "rep.md", "--json", tmp / "rep.json",
+            "--notes", tmp / "notes.toml", "--no-plots"]
+    res = rpo(*args, cwd=tmp)
+    assert res.returncode == 0, res.stderr
+    (tmp / "first.md").write_text((tmp / "rep.md").read_text())
+    (tmp / "first.json").write_text((tmp / "rep.json").read_text())
+    return tmp, res, args
+
+
+def test_report_markdown_rows(report):
+    tmp, res, _ = report
+    md = (tmp / "first.md").read_text()
+    assert "| case | claim | published | ours (paper plant) | ours (full plant) |" in md
+    row = next(line for line in md.splitlines() if line.startswith("| III | attitude settles |"))
+    cells = [c.strip() for c in row.strip("|").split("|")]
+    assert cells[2] == "about 60 s"
+    assert cells[3] == "not settled"                      # 1 s is far too short
+    assert cells[4] == "not run (no run declared)"        # the paper's controller has no full-plant run
+    row = next(line for line in md.splitlines() if line.startswith("| III | final attitude error |"))
+    assert row.split("|")[4].strip().endswith(" deg")
+    # the Table 2 layout: a row per quantity and time, vectors of finite numbers up to the end of the run
+    t2 = [line for line in md.splitlines() if line.startswith("| position [m] |")]
+    assert len(t2) == 3
+    assert t2[0].split("|")[3].strip() == "(1, 2, 3)"
+    assert t2[0].split("|")[4].strip().startswith("(")
+    assert "n/a" in t2[2].split("|")[4]                   # 5 s is after the end of the 1 s run
+    assert any(line.startswith("| min beta_FOV [m] |") for line in md.splitlines())
+    # the comparison table and the notes
+    assert "| I | paper | baseline | ok |" in md
+    assert "| I | paper | c999 | not run (controller c999 not generated yet) |" in md
+    assert "Intro text." in md and "a hand-written note." in md
+    assert "iii-paper" in res.stdout
+
+
+def test_report_json_twin_and_run_folders(report):
+    tmp, _, args = report
+    twin = json.loads((tmp / "first.json").read_text())
+    runs = {r["label"]: r for r in twin["runs"]}
+    assert set(runs) == {"iii-paper", "iii-missing-controller", "cmp-I-baseline-paper", "cmp-I-c999-paper"}
+    ok = runs["iii-paper"]
+    assert ok["status"] == "ok" and Path(ok["folder"]).parent == Path(twin["runs_dir"])
+    assert (Path(ok["folder"]) / "metrics.json").exists()
+    meta = json.loads((Path(ok["folder"]) / "run.json").read_text())
+    assert meta["overrides"]["gains"] == {"kp_att": [0.3]}
+    assert runs["iii-missing-controller"]["status"] == "not run"
+    assert twin["tables"]["papers"]["000"]["claims"][0]["published_value"] == 60.0
+    # a second invocation writes a fresh folder and keeps the first
+    res = rpo(*args, "--only", "cmp-I-baseline-paper", cwd=tmp)
+    assert res.returncode == 0, res.stderr
+    twin2 = json.loads((tmp / "rep.json").read_text())
+    assert twin2["runs_dir"] != twin["runs_dir"] and Path(ok["folder"]).is_dir()
+
+
+def test_bad_run_list_is_one_line_error(tmp_path):
+    (tmp_path / "runs.toml").write_text('[[run]]\nlabel = "x"\nscenario = "a.toml"\nplant = "moon"\n')
+    res = rpo("report", tmp_path / "runs.toml", "--out", tmp_path / "runs", "--md", tmp_path / "r.md",
+              "--json", tmp_path / "r.json", cwd=tmp_path)
+    assert res.returncode == 2
+    assert res.stderr.strip().startswith("error: ") and "run.0.plant" in res.stderr
+    assert not (tmp_path / "r.md").exists()
+
+
+def test_metrics_of_a_real_short_run_are_finite(report):
+    tmp, _, _ = report
+    twin = json.loads((tmp / "first.json").read_text())
+    m = next(r for r in twin["runs"] if r["label"] == "iii-paper")["metrics"]
+    for key in ("t_end_s", "att_err_final_rad", "att_err_ss_rms_rad", "pos_err_final_m", "rate_err_final_rad_s",
+                "vel_err_final_m_s", "torque_effort_N_m_s", "force_effort_N_s", "delta_v_m_s", "propellant_kg",
+                "wheel_momentum_peak_N_m_s", "wheel_speed_peak_rad_s", "beta_fov_min_m", "beta_ca_min_m2",
+                "chatter_cmd_tau_w_tv_per_s", "chatter_cmd_F_sign_changes_per_s"):
+        assert isinstance(m[key], float) and math.isfinite(m[key]), key
+    assert m["t_end_s"] == pytest.approx(1.0)
+    assert [e["t"] for e in m["errors_at"]] == [0.25, 0.5, 1.0, 5.0]
+    assert m["errors_at"][1]["t_sample"] == pytest.approx(0.5)
+
+
+def test_diag_figures_one_per_extra_field(model, tmp_path):
+    """Controller-specific ctrl_* fields get one figure each; absent standard fields are skipped."""
+    from rpo.runtime.plots import make_plots
+    from rpo.runtime.scenario import load_scenario
+    from rpo.runtime.simulate import Simulation
+
+    inputs = load_scenario(SCEN / "000_scenario_III.toml").with_overrides(controller="baseline").to_run(model)
+    sim = Simulation(model, "baseline", params=inputs.params, gains=inputs.gains)
+    res = sim.run(sim.initial_state(inputs.plant), 0.2)
+    n = len(res.t)
+    res.y = np.column_stack([res.y, np.ones((n, 2)), np.zeros(n)])
+    res.y_labels = [*res.y_labels, "ctrl_s_att_x", "ctrl_s_att_y", "ctrl_theta_hat"]
+    res.y_units = [*res.y_units, "-", "-", "kg"]
+
+    class Fake:
+        layouts = {**model.layouts, "y_baseline": [
+            *model.layouts["y_baseline"],
+            {"name": "ctrl_s_att", "size": 2, "unit": "-", "labels": ["ctrl_s_att_x", "ctrl_s_att_y"]},
+            {"name": "ctrl_theta_hat", "size": 1, "unit": "kg", "labels": ["ctrl_theta_hat"]}]}
+
+    written = make_plots(res, Fake(), tmp_path)
+    assert {"diag_s_att.png", "diag_theta_hat.png", "ctrl_errors.png", "constraints.png"} <= set(written)
+    for name in written:
+        assert (tmp_path / name).read_bytes()[:4] == b"\x89PNG"
