@@ -23,6 +23,7 @@ Inputs are data, not code:
       controllers = ["baseline", "c000", "c001", "c002", "c004"]
       plants = ["paper", "full"]
       duration = 300.0                  # optional, as above; also seed, thresholds
+      gains = { c002 = { k1 = 0.5 } }   # optional gain overrides per controller
 
       [paper."000"]
       title = "..."                     # the section heading
@@ -104,6 +105,8 @@ class Comparison(_Strict):
     duration: float | None = None
     seed: int | None = None
     thresholds: dict[str, float] | None = None
+    #: per controller, gain overrides for every run of this comparison
+    gains: dict[str, dict[str, float | list[float]]] = {}
 
 
 class Claim(_Strict):
@@ -210,7 +213,8 @@ def plan(run_list: RunList, base: Path) -> list[PlannedRun]:
         for ctrl in c.controllers:
             for plant in c.plants:
                 p = PlannedRun(label=f"cmp-{c.case}-{ctrl}-{plant}", scenario=base / c.scenario, controller=ctrl,
-                               plant=plant, paper=None, case=c.case, duration=c.duration, seed=c.seed, gains=None,
+                               plant=plant, paper=None, case=c.case, duration=c.duration, seed=c.seed,
+                               gains=c.gains.get(ctrl) or None,
                                thresholds=c.thresholds, error_times=[], compare=True)
                 same = by_key.get(p.key())
                 if same is not None:
