@@ -272,7 +272,9 @@ def errors_at(t, columns: Mapping[str, np.ndarray], times: Iterable[float], goal
 
     Each entry: ``t`` (requested), ``t_sample`` (used), ``att_rad``, ``q`` (``[x, y, z, w]`` of the
     error quaternion), ``pos_m``, ``rate_rad_s``, ``vel_m_s`` (components, the same sources as
-    :func:`compute_metrics`); ``None`` where absent or when the run ended before that time.
+    :func:`compute_metrics`); ``None`` where absent or when the run ended before that time; and
+    ``diag``: every ``ctrl_*`` column at that sample (a paper's table may need a logged variable
+    other than the standard errors, e.g. 001's q_S/T).
     """
     t = np.asarray(t, float)
     sig, comp, _ = error_signals(columns, goal)
@@ -291,6 +293,9 @@ def errors_at(t, columns: Mapping[str, np.ndarray], times: Iterable[float], goal
                 continue
             entry[key] = float(xf[i]) if xf.ndim == 1 else [float(v) for v in xf[i]]
             entry["t_sample"] = float(tf[i])
+        if entry["t_sample"] is not None:
+            row = int(np.flatnonzero(t == entry["t_sample"])[0])
+            entry["diag"] = {k: float(np.asarray(v)[row]) for k, v in columns.items() if k.startswith("ctrl_")}
         out.append(entry)
     return out
 

@@ -68,6 +68,7 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Literal
 
+import numpy as np
 from pydantic import BaseModel, ConfigDict, ValidationError
 
 from .errors import RpoError
@@ -126,6 +127,10 @@ class Table2(_Strict):
     rate_deg_s: list[list[float]]
     vel: list[list[float]]
     constraints_text: str = "> 0 throughout"
+    #: the paper's attitude error as a difference q - q_ref of logged columns, in the published
+    #: order (instead of the error quaternion): column labels and the reference, same order
+    q_columns: list[str] | None = None
+    q_reference: list[float] | None = None
 
 
 class Paper(_Strict):
@@ -369,11 +374,20 @@ def table2_rows(runs: list[PlannedRun], pid: str, paper: Paper) -> list[dict]:
         v = e.get(key)
         if v is None:
             return "n/a (not logged or run ended)"
+        if key == "q" and t2.q_columns:  # the paper's difference of quaternions, sign-aligned to the reference
+            d = e.get("diag") or {}
+            if not all(c in d for c in t2.q_columns):
+                return "n/a (not logged)"
+            q = np.array([d[c] for c in t2.q_columns])
+            ref = np.array(t2.q_reference)
+            q = q if q @ ref >= 0 else -q
+            return _vec(list(q - ref), scale)
         if key == "q":  # ours as (scalar, x, y, z), the published order
             v = [v[3], v[0], v[1], v[2]]
         return _vec(v, scale)
 
-    for name, key, pub, scale, unit in (("attitude quaternion (scalar, x, y, z)", "q", t2.q, 1.0, "-"),
+    q_name = "attitude quaternion " + ("q - q_D " if t2.q_columns else "") + "(scalar, x, y, z)"
+    for name, key, pub, scale, unit in ((q_name, "q", t2.q, 1.0, "-"),
                                         ("position", "pos_m", t2.pos, 1.0, "m"),
                                         ("angular rate", "rate_rad_s", t2.rate_deg_s, RAD2DEG, "deg/s"),
                                         ("velocity", "vel_m_s", t2.vel, 1.0, "m/s")):
