@@ -282,23 +282,10 @@ def test_eso_gains_stable_at_the_plant_step():
 
 
 # --------------------------------------------------------------------------- the law against NumPy
-MEAS_FIELDS = [("q_c", 4), ("w_c", 3), ("q_t", 4), ("w_t", 3), ("r", 3), ("v", 3), ("q_L", 4), ("n", 1),
-               ("n_dot", 1), ("r_t", 1), ("r_t_dot", 1), ("nu", 1), ("h_rw", 3), ("q_e", 4), ("w_e", 3),
-               ("q_cL", 4)]
-
-
 def _meas_layout():
-    try:
-        from rpo.symbolic.plant import make_plant
-        lay = make_plant().meas
-        if "q_L" in {f.name for f in lay.fields}:
-            return lay
-    except Exception:  # pragma: no cover - older plant
-        pass
-    lay = Layout("meas")
-    for nm, n in MEAS_FIELDS:
-        lay.add(nm, n, "-", nm)
-    return lay
+    from rpo.symbolic.plant import make_plant
+
+    return make_plant().meas
 
 
 @pytest.fixture(scope="module")

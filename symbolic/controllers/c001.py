@@ -159,7 +159,11 @@ def J_E_times(J: sp.Matrix, a: sp.Matrix) -> sp.Matrix:
 
 def J_E_inv_times(J: sp.Matrix, f: sp.Matrix) -> sp.Matrix:
     """``J_E^-1 f = E J^-1 f``: dual force -> dual acceleration (angular real, linear dual)."""
-    return dq_swap(sp.diag(*[1 / J[i, i] for i in range(8)]) * f)
+    # element-wise: a SymPy product with the diagonal matrix spends minutes on the zero entries'
+    # canonicalisation when f is the full closed-loop expression
+    if not J.is_diagonal():
+        raise ValueError("J_E^-1 f is written for the diagonal J_E of 001 sec. 3.4")
+    return dq_swap(sp.Matrix([f[i] / J[i, i] for i in range(8)]))
 
 
 def gyroscopic_dual_force(J: sp.Matrix, w: sp.Matrix) -> sp.Matrix:
