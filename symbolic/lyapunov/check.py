@@ -1,0 +1,323 @@
+"""The checker: symbolic proof where SymPy can decide, adversarial numeric search everywhere.
+
+For every statement the numeric search runs first (it is cheap and it is what finds counterexamples):
+``trials`` random points of the domain's box, then L-BFGS-B from the worst points, maximising the
+relative violation inside the box (every box point satisfies the stated assumptions by construction of
+the domain).  A violation above the tolerance is a counterexample and the statement fails.  Otherwise a
+symbolic proof is attempted under a time limit:
+
+* ``==``: the residual lhs - rhs, with ``Abs(x)`` written ``x sign(x)`` and every non-polynomial function
+  application replaced by a fresh symbol (after expanding its argument, so equal arguments become the
+  same symbol), is brought over a common denominator; the numerator is reduced modulo a Groebner basis
+  of the statement's equality constraints (unit quaternions ...).  Remainder zero: proved.
+* ``<=``/``>=``: after the stated assumption substitutions (``D = dbar + delta``), SymPy's assumption
+  system must find rhs - lhs (resp. lhs - rhs) nonnegative with the listed symbols positive.
+* ``>`` (definiteness in ``zero_at``): lhs - rhs expanded must be a sum of terms each a positive
+  coefficient times even powers, with a pure square of every ``zero_at`` coordinate among them.
+
+No symbolic proof means "not-disproved in N trials", never "proved".
+"""
+
+from __future__ import annotations
+
+import contextlib
+import signal
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+import sympy as sp
+from scipy.optimize import minimize
+
+from .core import Claim, Statement
+
+TOL = {"==": 1e-8, "<=": 1e-9, ">=": 1e-9, ">": 1e-9}
+ATOL = 1e-12
+
+
+@dataclass
+class Outcome:
+    """What the checker found for one statement."""
+
+    holds: bool                    # False: a counterexample was found
+    proved: bool                   # True: symbolic proof (only when holds)
+    trials: int                    # numeric points evaluated (random + optimiser evaluations)
+    max_violation: float           # largest relative violation found (<= tolerance when holds)
+    counterexample: dict[str, float] | None = None
+    residual: str = ""             # readable lhs - rhs (fails) or the proof's note
+    lhs_value: float | None = None
+    rhs_value: float | None = None
+    symbolic_note: str = ""        # why no symbolic proof, when there is none
+    seconds: float = 0.0
+
+    def to_json(self) -> dict:
+        return {k: v for k, v in self.__dict__.items()}
+
+
+@dataclass
+class ClaimResult:
+    claim: Claim
+    status: str
+    implementation_ok: bool        # the statement describing rpo's code did not fail
+    paper: Outcome | None
+    corrected: Outcome | None
+    seconds: float
+    errors: list[str] = field(default_factory=list)
+
+
+class _Timeout(Exception):
+    pass
+
+
+@contextlib.contextmanager
+def time_limit(seconds: float):
+    """Raise _Timeout after ``seconds`` (SIGALRM; main thread only, else no limit)."""
+    try:
+        old = signal.signal(signal.SIGALRM, lambda *a: (_ for _ in ()).throw(_Timeout()))
+    except ValueError:        # not the main thread
+        yield
+        return
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, old)
+
+
+# --------------------------------------------------------------------------- numeric search
+
+def _flatten(e) -> list:
+    return list(e) if isinstance(e, sp.MatrixBase) else [e]
+
+
+class _Evaluator:
+    """Box coordinates z -> symbol values -> (lhs, rhs) arrays, vectorised."""
+
+    def __init__(self, st: Statement):
+        self.st = st
+        self.vars = st.domain
+        self.symbols = [s for v in self.vars for s in v.symbols]
+        missing = st.free_symbols() - set(self.symbols)
+        if missing:
+            raise ValueError(f"the domain does not draw {sorted(map(str, missing))}")
+        self.dim = sum(v.dim for v in self.vars)
+        lhs, rhs = _flatten(st.lhs), _flatten(st.rhs)
+        if len(rhs) == 1 and len(lhs) > 1:
+            rhs = rhs * len(lhs)
+        self.n_out = len(lhs)
+        self.f = sp.lambdify(self.symbols, lhs + rhs, modules="numpy", cse=True)
+
+    def values(self, z: np.ndarray) -> dict:
+        env, k = {}, 0
+        for v in self.vars:
+            cols = v.draw(z[:, k:k + v.dim], env)
+            k += v.dim
+            for j, s in enumerate(v.symbols):
+                env[s] = cols[:, j]
+        return env
+
+    def lhs_rhs(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        env = self.values(z)
+        with np.errstate(all="ignore"):
+            out = self.f(*[env[s] for s in self.symbols])
+        out = np.array([np.broadcast_to(np.asarray(o, dtype=float), (len(z),)) for o in out])
+        return out[:self.n_out], out[self.n_out:]
+
+    def violation(self, z: np.ndarray) -> np.ndarray:
+        """Relative violation per point (> tolerance: counterexample); NaN where undefined."""
+        lhs, rhs = self.lhs_rhs(z)
+        scale = np.abs(lhs) + np.abs(rhs) + ATOL
+        rel = self.st.relation
+        if rel == "==":
+            v = np.abs(lhs - rhs) / scale
+        elif rel == "<=":
+            v = (lhs - rhs) / scale
+        else:       # ">=" and ">" (strictness is the symbolic part's business)
+            v = (rhs - lhs) / scale
+        return np.max(v, axis=0)
+
+
+def numeric_search(st: Statement, seed: int = 0, trials: int | None = None, starts: int = 6):
+    """Maximise the violation: random points, then L-BFGS-B from the worst ``starts`` of them."""
+    ev = _Evaluator(st)
+    rng = np.random.default_rng(seed)
+    n = trials or st.trials
+    z = rng.uniform(-1.0, 1.0, size=(n, ev.dim))
+    v = ev.violation(z)
+    evaluated = n
+    v = np.where(np.isfinite(v), v, -np.inf)
+    best_i = int(np.argmax(v))
+    best_z, best_v = z[best_i], float(v[best_i])
+    if ev.dim and best_v <= TOL[st.relation]:
+        def neg(zz):
+            val = ev.violation(zz[None, :])[0]
+            return -val if np.isfinite(val) else 1.0
+
+        for i in np.argsort(v)[::-1][:starts]:
+            res = minimize(neg, z[i], method="L-BFGS-B", bounds=[(-1.0, 1.0)] * ev.dim,
+                           options={"maxiter": 150, "maxfun": 1500})
+            evaluated += int(res.nfev)
+            if -res.fun > best_v:
+                best_z, best_v = res.x, float(-res.fun)
+            if best_v > TOL[st.relation]:
+                break
+    return ev, best_z, best_v, evaluated
+
+
+# --------------------------------------------------------------------------- symbolic proof
+
+def _canonical(expr: sp.Expr) -> tuple[sp.Expr, dict]:
+    """Abs(x) -> x sign(x); each non-polynomial application f(arg) -> a fresh symbol (args expanded)."""
+    expr = expr.replace(lambda e: isinstance(e, sp.Abs), lambda e: e.args[0] * sp.sign(e.args[0]))
+    table: dict = {}
+
+    def is_opaque(e):
+        if isinstance(e, sp.Function) and not isinstance(e, sp.Piecewise):
+            return True
+        return isinstance(e, sp.Pow) and not (e.exp.is_Integer)
+
+    def key(e):
+        if isinstance(e, sp.Pow):
+            return sp.Pow(sp.expand(e.base), e.exp)
+        return e.func(*[sp.expand(a) for a in e.args])
+
+    def sub(e):
+        k = key(e)
+        if k not in table:
+            table[k] = sp.Dummy(f"f{len(table)}", real=True)
+        return table[k]
+
+    # innermost first: replace() walks bottom-up
+    return expr.replace(is_opaque, sub), table
+
+
+def prove_zero(expr: sp.Expr, constraints: list[sp.Expr]) -> bool:
+    e, _ = _canonical(sp.sympify(expr))
+    num = sp.expand(sp.numer(sp.together(e)))
+    if num == 0:
+        return True
+    if not constraints:
+        return False
+    cons = [sp.expand(_canonical(c)[0]) for c in constraints]
+    gens = sorted(num.free_symbols | set().union(*[c.free_symbols for c in cons]), key=str)
+    G = sp.groebner(cons, *gens, order="grevlex")
+    _, rem = G.reduce(num)
+    return sp.expand(rem) == 0
+
+
+def _positive_version(expr, positive):
+    rep = {s: sp.Symbol(s.name, positive=True) for s in positive if isinstance(s, sp.Symbol)}
+    return expr.xreplace(rep)
+
+
+def _real_version(expr):
+    rep = {s: sp.Symbol(s.name, real=True) for s in expr.free_symbols
+           if isinstance(s, sp.Symbol) and s.is_real is None}
+    return expr.xreplace(rep)
+
+
+def prove_nonnegative(expr: sp.Expr, positive) -> bool:
+    e = _real_version(_positive_version(sp.sympify(expr), positive))
+    if e.is_nonnegative:
+        return True
+    ee = sp.expand(e)
+    if ee.is_nonnegative or all(t.is_nonnegative for t in sp.Add.make_args(ee)):
+        return True
+    f = sp.factor(ee)
+    return bool(f.is_nonnegative)
+
+
+def prove_positive_definite(expr: sp.Expr, zero_at, positive) -> bool:
+    """Sum of (positive coefficient) x (even powers of zero_at), with a pure square of each coordinate."""
+    e = sp.expand(_real_version(_positive_version(sp.sympify(expr), positive)))
+    coords = [_positive_version(c, positive) for c in zero_at]
+    pure = set()
+    for t in sp.Add.make_args(e):
+        coeff, rest = sp.S.One, sp.S.One
+        for f, p in t.as_powers_dict().items():
+            if any(f.has(c) for c in coords):
+                if f not in coords or not (p.is_Integer and p % 2 == 0):
+                    return False
+                rest *= f**p
+            else:
+                coeff *= f**p
+        if rest == 1:
+            if not coeff.is_nonnegative:
+                return False
+            continue
+        if not coeff.is_positive:
+            return False
+        if rest.is_Pow and rest.exp == 2:
+            pure.add(rest.base)
+    return all(c in pure for c in coords)
+
+
+def symbolic_proof(st: Statement, seconds: float) -> tuple[bool, str]:
+    """(proved, note)."""
+    t0 = time.perf_counter()
+    try:
+        with time_limit(seconds):
+            lhs, rhs = _flatten(st.lhs), _flatten(st.rhs)
+            if len(rhs) == 1 and len(lhs) > 1:
+                rhs = rhs * len(lhs)
+            if st.relation == "==":
+                ok = all(prove_zero(a - b, st.constraints) for a, b in zip(lhs, rhs, strict=True))
+                return ok, ("" if ok else "residual does not reduce to 0 modulo the constraints")
+            diffs = [sp.sympify(b - a if st.relation == "<=" else a - b).subs(st.substitutions)
+                     for a, b in zip(lhs, rhs, strict=True)]
+            if st.relation == ">":
+                ok = all(prove_positive_definite(d, st.zero_at, st.positive) for d in diffs)
+                return ok, ("" if ok else "not recognised as a positive sum of squares")
+            ok = all(prove_nonnegative(d, st.positive) for d in diffs)
+            return ok, ("" if ok else "SymPy cannot decide the sign")
+    except _Timeout:
+        return False, f"symbolic proof gave up after {time.perf_counter() - t0:.0f} s"
+
+
+def readable_residual(st: Statement, seconds: float = 10.0, limit: int = 600) -> str:
+    lhs, rhs = _flatten(st.lhs), _flatten(st.rhs)
+    if len(rhs) == 1 and len(lhs) > 1:
+        rhs = rhs * len(lhs)
+    res = [a - b for a, b in zip(lhs, rhs, strict=True)]
+    try:
+        with time_limit(seconds):
+            res = [sp.factor(sp.simplify(r)) for r in res]
+    except _Timeout:
+        pass
+    txt = sp.sstr(res[0] if len(res) == 1 else sp.Matrix(res))
+    return txt if len(txt) <= limit else txt[:limit] + f" ... ({len(txt)} characters)"
+
+
+# --------------------------------------------------------------------------- statements and claims
+
+def check_statement(st: Statement, seed: int = 0, symbolic: bool = True, trials: int | None = None,
+                    symbolic_seconds: float = 60.0) -> Outcome:
+    t0 = time.perf_counter()
+    ev, z, v, n = numeric_search(st, seed=seed, trials=trials)
+    lhs, rhs = ev.lhs_rhs(z[None, :])
+    k = int(np.argmax(np.abs(lhs - rhs)[:, 0])) if st.relation == "==" else 0
+    if v > TOL[st.relation]:
+        env = ev.values(z[None, :])
+        cx = {str(s): float(env[s][0]) for s in ev.symbols}
+        return Outcome(False, False, n, v, cx, readable_residual(st) if symbolic else "",
+                       float(lhs[k, 0]), float(rhs[k, 0]), seconds=time.perf_counter() - t0)
+    proved, note = (False, "numeric only")
+    if symbolic and st.symbolic:
+        proved, note = symbolic_proof(st, symbolic_seconds)
+    return Outcome(True, proved, n, max(v, 0.0), symbolic_note=note, seconds=time.perf_counter() - t0)
+
+
+def check_claim(claim: Claim, seed: int = 0, symbolic: bool = True, trials: int | None = None) -> ClaimResult:
+    t0 = time.perf_counter()
+    paper = check_statement(claim.paper(), seed, symbolic, trials) if claim.paper else None
+    corr = check_statement(claim.corrected(), seed, symbolic, trials) if claim.corrected else None
+    impl = corr if corr is not None else paper
+    if corr is None:
+        status = "fails" if not paper.holds else ("proved" if paper.proved else "not-disproved")
+    elif paper is None or not paper.holds:
+        status = "holds-with-stated-correction" if corr.holds else "fails"
+    else:       # the printed step holds; the implementation's form must hold too
+        status = ("proved" if paper.proved else "not-disproved") if corr.holds else "fails"
+    impl_ok = impl.holds if claim.about == "implementation" else True
+    return ClaimResult(claim, status, impl_ok, paper, corr, time.perf_counter() - t0)
