@@ -229,26 +229,28 @@ def prove_nonnegative(expr: sp.Expr, positive) -> bool:
 
 
 def prove_positive_definite(expr: sp.Expr, zero_at, positive) -> bool:
-    """Sum of (positive coefficient) x (even powers of zero_at), with a pure square of each coordinate."""
-    e = sp.expand(_real_version(_positive_version(sp.sympify(expr), positive)))
+    """A sum of nonnegative terms (positive coefficient x even powers) with, among them, a pure square of
+    each ``zero_at`` coordinate times a positive coefficient; tried on the expression as written, then
+    expanded."""
+    e = _real_version(_positive_version(sp.sympify(expr), positive))
     coords = [_positive_version(c, positive) for c in zero_at]
+    return _sum_of_squares(e, coords) or _sum_of_squares(sp.expand(e), coords)
+
+
+def _sum_of_squares(e, coords) -> bool:
     pure = set()
     for t in sp.Add.make_args(e):
         coeff, rest = sp.S.One, sp.S.One
         for f, p in t.as_powers_dict().items():
             if any(f.has(c) for c in coords):
-                if f not in coords or not (p.is_Integer and p % 2 == 0):
+                if not (p.is_Integer and p % 2 == 0 and f.is_real):
                     return False
                 rest *= f**p
             else:
                 coeff *= f**p
-        if rest == 1:
-            if not coeff.is_nonnegative:
-                return False
-            continue
-        if not coeff.is_positive:
+        if not coeff.is_nonnegative:
             return False
-        if rest.is_Pow and rest.exp == 2:
+        if rest != 1 and coeff.is_positive and rest.is_Pow and rest.exp == 2 and rest.base in coords:
             pure.add(rest.base)
     return all(c in pure for c in coords)
 

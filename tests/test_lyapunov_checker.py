@@ -1,0 +1,162 @@
+"""The Lyapunov checker itself (symbolic/lyapunov/check.py, core.py) on planted true and false statements:
+it proves what is true, fails what is false with a counterexample that really violates the statement,
+uses the constraints it is given and only those, and never calls a numeric result a proof."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import sympy as sp
+from scipy.spatial.transform import Rotation
+
+from rpo.symbolic import rotations as rot
+from rpo.symbolic.lyapunov import core
+from rpo.symbolic.lyapunov.check import check_claim, check_statement, numeric_search
+from rpo.symbolic.lyapunov.core import Claim, Statement, ball, box, unit_quaternion
+
+a, b, x, y, z = sp.symbols("a b x y z", real=True)
+k, d = sp.symbols("k delta", positive=True)
+
+
+def test_true_polynomial_identity_is_proved():
+    o = check_statement(Statement((a + b) ** 2, "==", a**2 + 2 * a * b + b**2, [box([a, b], -3, 3)]))
+    assert o.holds and o.proved
+
+
+def test_false_identity_fails_with_a_counterexample_that_violates_it():
+    o = check_statement(Statement((a + b) ** 2, "==", a**2 + b**2, [box([a, b], -3, 3)]))
+    assert not o.holds and not o.proved
+    va, vb = o.counterexample["a"], o.counterexample["b"]
+    assert abs((va + vb) ** 2 - (va**2 + vb**2)) > 1e-3          # it really is a counterexample
+    assert o.residual == "2*a*b"                                 # readable residual
+
+
+def test_unit_quaternion_identity_needs_its_constraint():
+    """|p (x) q|^2 = 1 holds on unit quaternions only: proved with the constraints, numeric-only without."""
+    p, q = core.symbols_vec("p", 4), core.symbols_vec("q", 4)
+    lhs = rot.dot(rot.quat_mul(p, q), rot.quat_mul(p, q))
+    dom = [unit_quaternion(p), unit_quaternion(q)]
+    with_c = check_statement(Statement(lhs, "==", 1, dom, constraints=[core.quat_norm_constraint(p),
+                                                                       core.quat_norm_constraint(q)]))
+    without = check_statement(Statement(lhs, "==", 1, dom))
+    assert with_c.holds and with_c.proved
+    assert without.holds and not without.proved                  # not-disproved, never "proved"
+    off_sphere = check_statement(Statement(lhs, "==", 1, [box(p, -1, 1), box(q, -1, 1)]))
+    assert not off_sphere.holds
+
+
+def test_sign_and_abs_identity():
+    """s sign(s) = |s| (the form in which V-dots meet the switching terms)."""
+    s = sp.Symbol("s", real=True)
+    o = check_statement(Statement(-k * s * sp.sign(s), "==", -k * sp.Abs(s), [box(s, -2, 2), box(k, 0.1, 2)]))
+    assert o.holds and o.proved
+
+
+def test_inequality_proved_from_positive_gains_and_a_stated_bound():
+    """-k s^2 + s d - D|s| <= 0 with |d| <= D: proved after writing D = |d| + delta (delta > 0)."""
+    s, dd, D = sp.symbols("s d D", real=True)
+    st = Statement(-k * s**2 + s * dd - D * sp.Abs(s), "<=", 0,
+                   [box(s, -2, 2), box(k, 0.1, 2), box(D, 0, 1), ball([dd], D), box(d, 0, 1)],
+                   positive=[k, d], substitutions={D: sp.Abs(dd) + d})
+    # the numeric part cannot know delta is tied to D; the symbolic part uses the substitution
+    o = check_statement(st)
+    assert o.holds
+    assert not o.proved        # s d - |d||s| has no sign SymPy can see term by term: honest "not proved"
+    st2 = Statement(-k * s**2 - d * sp.Abs(s), "<=", 0, [box(s, -2, 2), box([k, d], 0.1, 2)], positive=[k, d])
+    assert check_statement(st2).proved
+
+
+def test_local_optimisation_finds_what_random_sampling_misses():
+    """x + y <= 1.9 on [-1, 1]^2 fails only near the corner; 8 random points miss it, L-BFGS-B does not."""
+    st = Statement(x + y, "<=", 1.9, [box([x, y], -1, 1)], symbolic=False)
+    _, _, v_random, _ = numeric_search(st, seed=1, trials=8, starts=0)
+    assert v_random <= 0
+    o = check_statement(st, seed=1, trials=8)
+    assert not o.holds
+    assert o.counterexample["x"] + o.counterexample["y"] > 1.9
+
+
+@pytest.mark.parametrize(("V", "expect"), [
+    (k * x**2 + 3 * y**2 + k * (x - y) ** 2, "proved"),
+    (x**2 - y**2, "fails"),
+    (x**2 * y**2 + z**2, "not-disproved"),   # >= 0 but zero on the x = z = 0 line: not definite in x
+])
+def test_definiteness(V, expect):
+    zero_at = [x, y, z] if V.has(z) else [x, y]
+    st = Statement(V, ">", 0, [box([x, y, z], -2, 2), box(k, 0.1, 3)], positive=[k], zero_at=zero_at)
+    o = check_statement(st)
+    got = "fails" if not o.holds else ("proved" if o.proved else "not-disproved")
+    assert got == expect
+
+
+def test_ball_and_unit_quaternion_domains_satisfy_their_constraints():
+    rng = np.random.default_rng(0)
+    v, r = core.symbols_vec("v"), sp.Symbol("r", positive=True)
+    q = core.symbols_vec("q", 4)
+    st = Statement(0, "==", 0, [box(r, 0, 2), ball(v, r), unit_quaternion(q)])
+    from rpo.symbolic.lyapunov.check import _Evaluator
+    ev = _Evaluator(st)
+    env = ev.values(rng.uniform(-1, 1, size=(500, ev.dim)))
+    norms = np.linalg.norm(np.column_stack([env[s] for s in v]), axis=1)
+    assert np.all(norms <= env[r] + 1e-12)
+    qn = np.linalg.norm(np.column_stack([env[s] for s in q]), axis=1)
+    assert np.allclose(qn, 1.0)
+
+
+def test_domain_must_draw_every_symbol():
+    with pytest.raises(ValueError, match="b"):
+        check_statement(Statement(a + b, "==", b + a, [box(a, 0, 1)]))
+
+
+def test_lie_derivative_along_a_known_flow():
+    """V = x^2 + y^2 along the rotation x' = -y, y' = x is constant; along x' = -x it decays as -2x^2."""
+    V = x**2 + y**2
+    assert sp.simplify(core.lie_derivative(V, [x, y], [-y, x])) == 0
+    assert sp.expand(core.lie_derivative(V, [x, y], [-x, 0])) == -2 * x**2
+    with pytest.raises(ValueError):
+        core.lie_derivative(V, [x, y], [-x])
+
+
+def _stmt(lhs, rhs):
+    return lambda: Statement(lhs, "==", rhs, [box([a, b], -2, 2)])
+
+
+@pytest.mark.parametrize(("paper", "corrected", "about", "status", "impl_ok"), [
+    (_stmt(a * b, b * a), None, "implementation", "proved", True),
+    (_stmt(a * b, -b * a), _stmt(a * b, b * a), "implementation", "holds-with-stated-correction", True),
+    (_stmt(a * b, -b * a), _stmt(a * b, 2 * b * a), "implementation", "fails", False),
+    (_stmt(a * b, -b * a), None, "implementation", "fails", False),
+    (_stmt(a * b, -b * a), None, "paper", "fails", True),       # a finding about the paper, not a defect
+    (None, _stmt(a * b, b * a), "implementation", "holds-with-stated-correction", True),
+])
+def test_claim_status_logic(paper, corrected, about, status, impl_ok):
+    cl = Claim("t.x", "t", "p", "abstract", "1", "t", paper, corrected, about=about)
+    r = check_claim(cl)
+    assert (r.status, r.implementation_ok) == (status, impl_ok)
+
+
+def test_mutation_patches_and_restores_even_on_error():
+    import types
+    mod = types.SimpleNamespace(f=lambda g, s: g * s)
+    m = core.Mutation("flip", mod, "f", core.scale_argument("g", -1), ())
+    orig = mod.f
+    with pytest.raises(RuntimeError), m:
+        assert mod.f(2, x) == -2 * x
+        raise RuntimeError
+    assert mod.f is orig
+    with core.Mutation("neg", mod, "f", core.negate_output(), ()):
+        assert mod.f(2, x) == -2 * x
+    with core.Mutation("drop", mod, "f", core.drop_terms(y), ()):
+        assert mod.f(1, x + y) == x
+
+
+def test_rotation_domain_used_by_claims_is_a_rotation():
+    """The MRP -> matrix map the 004 claims draw R from is scipy's (independent of the model's eq. 9)."""
+    from rpo.symbolic.lyapunov.c004 import _rotation_from_mrp_box
+
+    z = np.random.default_rng(2).uniform(-1, 1, size=(50, 3))
+    R = _rotation_from_mrp_box(z, {}).reshape(-1, 3, 3)
+    assert np.allclose(np.einsum("nij,nkj->nik", R, R), np.eye(3), atol=1e-12)
+    assert np.allclose(np.linalg.det(R), 1.0)
+    sig = z / np.maximum(np.linalg.norm(z, axis=1, keepdims=True), 1.0)
+    assert np.allclose(R[0], Rotation.from_mrp(sig[0]).as_matrix())

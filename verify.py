@@ -1,0 +1,93 @@
+#!/usr/bin/env python3
+"""Check the controllers' Lyapunov claims on the SymPy model in ``symbolic/`` and write the report.
+
+    python verify.py                     # check every claim and mutation, write docs/verification.{md,json}
+    python verify.py --check             # check every claim; exit 1 if a status differs from the committed
+                                         # docs/verification.json or a claim about rpo's code fails
+    python verify.py --controller c004   # check one controller's claims and print them (writes nothing)
+
+Claims live in ``symbolic/lyapunov/<controller>.py``; the method is in ``docs/verification_method.md``.
+Like build.py, this uses *this checkout's* symbolic/ (never an installed copy).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import sys
+import time
+from pathlib import Path
+
+from build import _bootstrap
+
+ROOT = Path(__file__).resolve().parent
+MD, JSON = ROOT / "docs" / "verification.md", ROOT / "docs" / "verification.json"
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--check", action="store_true",
+                    help="compare statuses with docs/verification.json; exit 1 on any change")
+    ap.add_argument("--against", type=Path, default=JSON,
+                    help="the report --check compares with (default: %(default)s)")
+    ap.add_argument("--controller", choices=("c000", "c001", "c002", "c004"),
+                    help="only this controller's claims (prints; writes nothing)")
+    ap.add_argument("--jobs", type=int, default=min(2, os.cpu_count() or 1),
+                    help="claims checked in parallel (default: min(2, cores))")
+    ap.add_argument("--no-mutations", action="store_true", help="skip the mutation check when writing")
+    args = ap.parse_args(argv)
+    if args.jobs < 1:
+        print(f"verify.py: --jobs must be >= 1 (got {args.jobs})", file=sys.stderr)
+        return 2
+
+    _bootstrap()
+    from rpo.symbolic.lyapunov import report
+
+    t0 = time.perf_counter()
+    print(f"checking claims ({args.jobs} process{'es' if args.jobs > 1 else ''}) ...")
+    records = report.run_claims(args.controller, jobs=args.jobs)
+    elapsed = time.perf_counter() - t0
+    bad = [r for r in records if not r["implementation_ok"]]
+    for r in bad:
+        print(f"IMPLEMENTATION CLAIM FAILS: {r['id']} (eq. {r['equations']}): {report._why(r)}")
+
+    if args.check:
+        if not args.against.exists():
+            print(f"verify.py --check: {args.against} is missing; run `python verify.py` and commit it")
+            return 1
+        try:
+            committed = json.loads(args.against.read_text())
+        except (json.JSONDecodeError, UnicodeDecodeError) as exc:
+            print(f"verify.py --check: {args.against} is not a report written by verify.py ({exc})")
+            return 1
+        if args.controller:
+            committed = {"claims": [c for c in committed["claims"] if c["controller"] == args.controller]}
+        changes = report.compare(records, committed)
+        for msg in changes:
+            print(f"STATUS CHANGE: {msg}")
+        if changes or bad:
+            print(f"verify.py --check: FAILED ({len(changes)} status changes, {len(bad)} implementation claims "
+                  f"failing). If the change is intended, run `python verify.py` and commit docs/verification.*")
+            return 1
+        print(f"verify.py --check: {len(records)} claims, statuses as committed ({elapsed:.0f} s)")
+        return 0
+
+    if args.controller:
+        print(f"{len(records)} claims in {elapsed:.0f} s (nothing written: --controller)")
+        return 1 if bad else 0
+
+    muts = None
+    if not args.no_mutations:
+        print("checking mutations ...")
+        muts = report.run_mutations()
+    data = report.to_json(records, muts)
+    report.write(data, MD, JSON)
+    missed = [m for m in (muts or []) if not m["caught"]]
+    print(f"wrote {MD.relative_to(ROOT)} and {JSON.relative_to(ROOT)}: {len(records)} claims "
+          f"({elapsed:.0f} s), {len(muts or [])} mutations, {len(missed)} not caught")
+    return 1 if (bad or missed) else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
