@@ -127,7 +127,7 @@ def _stmt(lhs, rhs):
     (_stmt(a * b, -b * a), _stmt(a * b, 2 * b * a), "implementation", "fails", False),
     (_stmt(a * b, -b * a), None, "implementation", "fails", False),
     (_stmt(a * b, -b * a), None, "paper", "fails", True),       # a finding about the paper, not a defect
-    (None, _stmt(a * b, b * a), "implementation", "holds-with-stated-correction", True),
+    (None, _stmt(a * b, b * a), "implementation", "proved", True),    # a step of ours, not the paper's
 ])
 def test_claim_status_logic(paper, corrected, about, status, impl_ok):
     cl = Claim("t.x", "t", "p", "abstract", "1", "t", paper, corrected, about=about)

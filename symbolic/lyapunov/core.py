@@ -138,6 +138,7 @@ class Statement:
     zero_at: Sequence[sp.Symbol] = ()    # ">" (definiteness): the state coordinates; lhs - rhs = 0 only there
     symbolic: bool = True                # try a symbolic proof (False: numeric only, too large)
     trials: int = 2000                   # random points before local optimisation
+    residual_seconds: float = 10.0       # time allowed to simplify a counterexample's residual for the report
 
     def free_symbols(self) -> set[sp.Symbol]:
         out = set()
