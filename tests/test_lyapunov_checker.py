@@ -160,3 +160,12 @@ def test_rotation_domain_used_by_claims_is_a_rotation():
     assert np.allclose(np.linalg.det(R), 1.0)
     sig = z / np.maximum(np.linalg.norm(z, axis=1, keepdims=True), 1.0)
     assert np.allclose(R[0], Rotation.from_mrp(sig[0]).as_matrix())
+
+
+def test_identity_whose_value_is_zero_is_not_failed_for_round_off():
+    """(a + b)^2 - a^2 - 2ab - b^2 == 0 at large a, b: float noise is judged against the terms' size."""
+    st = Statement((a + b) ** 2 - a**2 - 2 * a * b - b**2, "==", 0, [box([a, b], 1e3, 1e5)], symbolic=False)
+    assert check_statement(st).holds
+    st_false = Statement((a + b) ** 2 - a**2 - 2 * a * b - b**2 + 1e-3 * a, "==", 0, [box([a, b], 1e3, 1e5)],
+                         symbolic=False)
+    assert not check_statement(st_false).holds

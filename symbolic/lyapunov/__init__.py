@@ -14,9 +14,9 @@ from .core import Claim, Mutation
 CONTROLLERS = ("c000", "c001", "c002", "c004")
 
 
-def _modules():
+def _modules(only: str | None = None):
     out = []
-    for name in CONTROLLERS:
+    for name in (CONTROLLERS if only is None else (only,)):
         try:
             out.append(importlib.import_module(f"{__name__}.{name}"))
         except ModuleNotFoundError as exc:
@@ -26,9 +26,8 @@ def _modules():
 
 
 def claims(controller: str | None = None) -> list[Claim]:
-    return [c for m in _modules() for c in m.CLAIMS if controller in (None, c.controller)]
+    return [c for m in _modules(controller) for c in m.CLAIMS]
 
 
 def mutations(controller: str | None = None) -> list[Mutation]:
-    return [x for m in _modules() for x in m.MUTATIONS
-            if controller in (None, m.__name__.rsplit(".", 1)[1])]
+    return [x for m in _modules(controller) for x in m.MUTATIONS]

@@ -106,7 +106,11 @@ class _Evaluator:
         if len(rhs) == 1 and len(lhs) > 1:
             rhs = rhs * len(lhs)
         self.n_out = len(lhs)
-        self.f = sp.lambdify(self.symbols, lhs + rhs, modules="numpy", cse=True)
+        # round-off scale of each component: the sum of |top-level terms| of both sides, so that an
+        # identity whose exact value is 0 (or tiny against its terms) is not failed for float noise
+        terms = [sum((sp.Abs(t) for side in (a, b) for t in sp.Add.make_args(sp.sympify(side))), sp.S.Zero)
+                 for a, b in zip(lhs, rhs, strict=True)]
+        self.f = sp.lambdify(self.symbols, lhs + rhs + terms, modules="numpy", cse=True)
 
     def values(self, z: np.ndarray) -> dict:
         env, k = {}, 0
@@ -117,17 +121,22 @@ class _Evaluator:
                 env[s] = cols[:, j]
         return env
 
-    def lhs_rhs(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def _evaluate(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         env = self.values(z)
         with np.errstate(all="ignore"):
             out = self.f(*[env[s] for s in self.symbols])
         out = np.array([np.broadcast_to(np.asarray(o, dtype=float), (len(z),)) for o in out])
-        return out[:self.n_out], out[self.n_out:]
+        return out[:self.n_out], out[self.n_out:2 * self.n_out], out[2 * self.n_out:]
+
+    def lhs_rhs(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        lhs, rhs, _ = self._evaluate(z)
+        return lhs, rhs
 
     def violation(self, z: np.ndarray) -> np.ndarray:
-        """Relative violation per point (> tolerance: counterexample); NaN where undefined."""
-        lhs, rhs = self.lhs_rhs(z)
-        scale = np.abs(lhs) + np.abs(rhs) + ATOL
+        """Violation relative to the size of the terms per point (> tolerance: counterexample); NaN where
+        undefined."""
+        lhs, rhs, terms = self._evaluate(z)
+        scale = np.abs(lhs) + np.abs(rhs) + terms + ATOL
         rel = self.st.relation
         if rel == "==":
             v = np.abs(lhs - rhs) / scale
@@ -282,12 +291,17 @@ def readable_residual(st: Statement, seconds: float = 10.0, limit: int = 600) ->
     if len(rhs) == 1 and len(lhs) > 1:
         rhs = rhs * len(lhs)
     res = [a - b for a, b in zip(lhs, rhs, strict=True)]
+    if seconds <= 0:        # no simplification (and no unlimited SIGALRM)
+        return _clip(sp.sstr(res[0] if len(res) == 1 else sp.Matrix(res)), limit)
     try:
         with time_limit(seconds):
             res = [sp.factor(sp.simplify(r)) for r in res]
     except _Timeout:
         pass
-    txt = sp.sstr(res[0] if len(res) == 1 else sp.Matrix(res))
+    return _clip(sp.sstr(res[0] if len(res) == 1 else sp.Matrix(res)), limit)
+
+
+def _clip(txt: str, limit: int) -> str:
     return txt if len(txt) <= limit else txt[:limit] + f" ... ({len(txt)} characters)"
 
 
