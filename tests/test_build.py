@@ -167,3 +167,19 @@ def test_build_check_detects_a_stale_generated_folder(tmp_path):
     assert "nothing to regenerate" in res.stdout
     res = subprocess.run([sys.executable, "build.py", "--check"], cwd=repo, capture_output=True, text=True)
     assert res.returncode == 0, res.stdout[-2000:]
+
+
+def test_source_hash_ignores_the_lyapunov_claims(tmp_path):
+    """Editing a claim (symbolic/lyapunov/) must not make generated/ stale; editing the model must."""
+    import shutil
+
+    from rpo.symbolic import codegen
+
+    src = Path(codegen.SYMBOLIC_DIR)
+    dst = tmp_path / "symbolic"
+    shutil.copytree(src, dst, ignore=shutil.ignore_patterns("__pycache__"))
+    h0 = codegen.source_hash(dst)
+    (dst / "lyapunov" / "c004.py").write_text((dst / "lyapunov" / "c004.py").read_text() + "\n# edit\n")
+    assert codegen.source_hash(dst) == h0
+    (dst / "plant.py").write_text((dst / "plant.py").read_text() + "\n# edit\n")
+    assert codegen.source_hash(dst) != h0

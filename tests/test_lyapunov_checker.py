@@ -169,3 +169,13 @@ def test_identity_whose_value_is_zero_is_not_failed_for_round_off():
     st_false = Statement((a + b) ** 2 - a**2 - 2 * a * b - b**2 + 1e-3 * a, "==", 0, [box([a, b], 1e3, 1e5)],
                          symbolic=False)
     assert not check_statement(st_false).holds
+
+
+def test_roots_and_function_constraints_share_their_symbols():
+    """x / sqrt(x) = sqrt(x) needs t**2 = x for t = sqrt(x); a constraint on sign(s) reaches the residual."""
+    xp = sp.Symbol("xp", positive=True)
+    o = check_statement(Statement(xp / sp.sqrt(xp), "==", sp.sqrt(xp), [box(xp, 0.1, 4)]))
+    assert o.holds and o.proved
+    s = sp.Symbol("s", real=True)
+    st = Statement(sp.sign(s) ** 2 * a, "==", a, [box([s, a], 0.1, 2)], constraints=[sp.sign(s) ** 2 - 1])
+    assert check_statement(st).proved

@@ -248,11 +248,16 @@ def translation_model(r_e, v_e, n, n_dot, r_c, mu, a_ctrl, a_d):
     x, y, z = r_e
     xd, yd, _ = v_e
     k3 = mu / r_c**3
-    return sp.Matrix([
-        2 * n * yd + (n**2 - k3) * x + n_dot * y - mu / r_c**2 + mu * f_xx2(r_c, r_e) + k3 * f_xx1(r_e),
-        -2 * n * xd + (n**2 - k3) * y - n_dot * x,
-        -k3 * z,
-    ]) + a_ctrl + a_d
+    theta = ([2 * n, n**2 - k3, n_dot, k3, mu], [-2 * n, n**2 - k3, n_dot], [-k3])
+    phi = ([yd, x, y, f_xx1(r_e), f_xx2(r_c, r_e)], [xd, y, -x], [z])
+    known = (-mu / r_c**2, 0, 0)
+    return sp.Matrix([known[j] + translation_model_axis(theta[j], phi[j], 1, a_ctrl[j], a_d[j]) for j in AXES])
+
+
+def translation_model_axis(theta, phi, b, u, d):
+    """r_e_ddot_j = sum_i theta_ji phi_ji + b u_j + d_j [m/s^2] (000 eqs. 81, 105, 30-z: the abstract
+    per-axis form of the translation proof; ``b u`` = C_c^LVLH F_c / m_c, eq. 87)."""
+    return sum(ti * pi for ti, pi in zip(theta, phi, strict=True)) + b * u + d
 
 
 def translation_regressors(r_e, v_e, n, n_dot, r_c, mu):
@@ -299,6 +304,15 @@ def translation_param_rate(phi, S_aug, gamma):
     With phi_yy3 = -x, eq. 115's printed -x S_aug is this same law (its V term was positive).
     """
     return gamma * phi * S_aug
+
+
+def lvlh_to_body_force(q_cL, F_L):
+    """F_body = (C_c^LVLH)^T F_LVLH [N] (000 eq. 87's b = C_c^LVLH / m_c, inverted for the thrusters).
+
+    ``q_cL`` = q_{c/L}, so quat_to_dcm(q_cL) = C_{L<-c} = C_c^LVLH and the plant's LVLH acceleration
+    is C_c^LVLH F_body / m_c = F_L / m_c.
+    """
+    return quat_to_dcm(q_cL).T * F_L
 
 
 # ============================================================== the design
@@ -456,7 +470,7 @@ class C000:
         F_L = sp.Matrix(F_L)
         # b = C_c^LVLH / m_c (eq. 87): the rotation is known, the force is commanded in LVLH and
         # rotated into the chaser body for the thrusters.
-        F_body = quat_to_dcm(meas["q_cL"]).T * F_L
+        F_body = lvlh_to_body_force(meas["q_cL"], F_L)
 
         cmd = command_layout().pack({"tau_w": tau, "F": F_body, "tau_thr": sp.zeros(3, 1)})
         xc_dot = xc.pack({**xdot_a, **xdot_p})

@@ -176,39 +176,48 @@ def numeric_search(st: Statement, seed: int = 0, trials: int | None = None, star
 
 # --------------------------------------------------------------------------- symbolic proof
 
-def _canonical(expr: sp.Expr) -> tuple[sp.Expr, dict]:
-    """Abs(x) -> x sign(x); each non-polynomial application f(arg) -> a fresh symbol (args expanded)."""
+def _canonical(expr: sp.Expr, table: dict | None = None) -> tuple[sp.Expr, dict]:
+    """Abs(x) -> x sign(x); each non-polynomial application f(arg) -> a fresh symbol (args expanded);
+    a rational power b**(p/q) -> t**p with one symbol t = b**(1/q) per (b, q), so sqrt(b) and 1/sqrt(b)
+    share t.  ``table`` (key -> symbol) may be shared between expressions."""
     expr = expr.replace(lambda e: isinstance(e, sp.Abs), lambda e: e.args[0] * sp.sign(e.args[0]))
-    table: dict = {}
+    table = {} if table is None else table
 
     def is_opaque(e):
-        if isinstance(e, sp.Function) and not isinstance(e, sp.Piecewise):
+        if isinstance(e, (sp.Function, sp.Max, sp.Min)) and not isinstance(e, sp.Piecewise):
             return True
         return isinstance(e, sp.Pow) and not (e.exp.is_Integer)
 
-    def key(e):
-        if isinstance(e, sp.Pow):
-            return sp.Pow(sp.expand(e.base), e.exp)
-        return e.func(*[sp.expand(a) for a in e.args])
-
-    def sub(e):
-        k = key(e)
+    def symbol_for(k):
         if k not in table:
             table[k] = sp.Dummy(f"f{len(table)}", real=True)
         return table[k]
+
+    def sub(e):
+        if isinstance(e, sp.Pow):
+            if e.exp.is_Rational:
+                return symbol_for(sp.Pow(sp.expand(e.base), sp.Rational(1, e.exp.q))) ** e.exp.p
+            return symbol_for(sp.Pow(sp.expand(e.base), e.exp))
+        return symbol_for(e.func(*[sp.expand(a) for a in e.args]))
 
     # innermost first: replace() walks bottom-up
     return expr.replace(is_opaque, sub), table
 
 
 def prove_zero(expr: sp.Expr, constraints: list[sp.Expr]) -> bool:
-    e, _ = _canonical(sp.sympify(expr))
+    """The residual's numerator is 0 after canonicalisation, or reduces to 0 modulo the constraints and
+    the root relations t**q = b of the rational powers."""
+    table: dict = {}
+    e, _ = _canonical(sp.sympify(expr), table)
     num = sp.expand(sp.numer(sp.together(e)))
     if num == 0:
         return True
-    if not constraints:
+    cons = [sp.expand(_canonical(sp.sympify(c), table)[0]) for c in constraints]
+    cons += [t**k.exp.q - k.base for k, t in list(table.items())
+             if isinstance(k, sp.Pow) and k.exp.is_Rational and k.exp.p == 1 and not k.base.has(*table.values())]
+    cons = [c for c in cons if c != 0]
+    if not cons:
         return False
-    cons = [sp.expand(_canonical(c)[0]) for c in constraints]
     gens = sorted(num.free_symbols | set().union(*[c.free_symbols for c in cons]), key=str)
     G = sp.groebner(cons, *gens, order="grevlex")
     _, rem = G.reduce(num)
@@ -316,8 +325,9 @@ def check_statement(st: Statement, seed: int = 0, symbolic: bool = True, trials:
     if v > TOL[st.relation]:
         env = ev.values(z[None, :])
         cx = {str(s): float(env[s][0]) for s in ev.symbols}
-        return Outcome(False, False, n, v, cx, readable_residual(st, st.residual_seconds) if symbolic else "",
-                       float(lhs[k, 0]), float(rhs[k, 0]), seconds=time.perf_counter() - t0)
+        residual = readable_residual(st, st.residual_seconds if (symbolic and st.symbolic) else 0)
+        return Outcome(False, False, n, v, cx, residual, float(lhs[k, 0]), float(rhs[k, 0]),
+                       seconds=time.perf_counter() - t0)
     proved, note = (False, "numeric only")
     if symbolic and st.symbolic:
         proved, note = symbolic_proof(st, symbolic_seconds)
