@@ -15,14 +15,7 @@ CONTROLLERS = ("c000", "c001", "c002", "c004")
 
 
 def _modules(only: str | None = None):
-    out = []
-    for name in (CONTROLLERS if only is None else (only,)):
-        try:
-            out.append(importlib.import_module(f"{__name__}.{name}"))
-        except ModuleNotFoundError as exc:
-            if exc.name != f"{__name__}.{name}":
-                raise
-    return out
+    return [importlib.import_module(f"{__name__}.{name}") for name in (CONTROLLERS if only is None else (only,))]
 
 
 def claims(controller: str | None = None) -> list[Claim]:
