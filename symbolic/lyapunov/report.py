@@ -151,6 +151,11 @@ def _cx(o: dict, n: int = 14) -> str:
     return txt + (f", ... ({len(items)} values in the JSON)" if len(items) > n else "")
 
 
+def _cell(text: str) -> str:
+    """Table-cell text: a literal '|' would end the cell."""
+    return str(text).replace("|", "\\|").replace("\n", " ")
+
+
 def markdown(data: dict) -> str:
     recs, muts = data["claims"], data.get("mutations")
     L = ["# Verification: the papers' Lyapunov arguments, checked on rpo's equations", "",
@@ -184,7 +189,7 @@ def markdown(data: dict) -> str:
         rs = [r for r in recs if r["controller"] == ctrl]
         for r in rs:
             impl = r["corrected"] if r["corrected"] is not None else r["paper"]
-            L.append(f"| `{r['id']}`: {r['title']} | {r['equations']} | {r['layer']} | {r['about']} | "
+            L.append(f"| `{r['id']}`: {_cell(r['title'])} | {r['equations']} | {r['layer']} | {r['about']} | "
                      f"**{r['status']}** | {_evidence(impl)} | {r['seconds']:.1f} s |")
         L.append("")
         for r in rs:
@@ -212,7 +217,7 @@ def markdown(data: dict) -> str:
     for r in errata:
         rpo = {"holds-with-stated-correction": "implements the correction",
                "fails": "finding (paper data)" if r["about"] == "paper" else "FAILS"}.get(r["status"], r["status"])
-        L.append(f"| `{r['id']}` | {r['equations']} | {r['title']} | {r['correction'] or '-'} | {rpo} |")
+        L.append(f"| `{r['id']}` | {r['equations']} | {_cell(r['title'])} | {_cell(r['correction'] or '-')} | {rpo} |")
     L.append("")
     if muts is not None:
         L += ["## Mutations", "",
@@ -220,7 +225,7 @@ def markdown(data: dict) -> str:
               "names (numeric search); every one must fail.", "",
               "| mutation | function | claims that fail | caught |", "| --- | --- | --- | --- |"]
         for m in muts:
-            L.append(f"| {m['name']} | `{m['target']}` | {', '.join(f'`{x}`' for x in m['failed']) or '-'} | "
+            L.append(f"| {_cell(m['name'])} | `{m['target']}` | {', '.join(f'`{x}`' for x in m['failed']) or '-'} | "
                      f"{'yes' if m['caught'] else '**no**: ' + ', '.join(m['held'])} |")
         L.append("")
     return "\n".join(L)
