@@ -125,3 +125,25 @@ def test_antipodal_critical_point_is_the_same_physical_pose():
     f = sp.lambdify(list(q), [c.circle(dq_err, dq_err)] + list(crit))
     vals = np.array(f(*pts[1]), dtype=float)
     assert abs(vals[0] - 4.0) < 1e-9 and np.max(np.abs(vals[1:])) < 1e-10
+
+
+def test_constants_are_the_controller_defaults():
+    k = {f.name: f.default for f in c.C001().k.fields}
+    assert (L.K_P, L.K_D, L.K_A, L.K_R) == (k["k_p"][0], k["k_d"][0], k["k_a"][0], k["k_r"][0])
+    assert L.ESO_GAINS["reconstructed"] == (k["K1"][0], k["K2"][0]) and L.FOV_EPS == k["fov_eps"][0]
+    assert (L.F_MAX, L.TAU_MAX) == (k["F_max"][0], k["tau_max"][0])
+
+
+def test_orbit_states_make_the_law_force_small():
+    """On consistent orbit states f_G (~500 N) cancels against omega_T/I x (J_E omega_T/I) and J_E d_hat: the
+    unsaturated force of eq. 57 is of the size of its PD and J_E Delta d terms (a few N), not ~1e4 N as with
+    independent draws.  (The torque is not small: k_p vec(q* (E grad V_p)) couples the position error of the
+    APF into the torque channel, ~1e2 N m at 100 m for arbitrary admissible attitudes.)"""
+    st = L._saturated_identity()
+    lp = L._Loop()
+    env = _draw(st.domain, 300)
+    byname = {s.name: s for s in env}
+    syms = sorted(lp.fC.free_symbols, key=str)
+    f = sp.lambdify(syms, list(lp.fC), "numpy")
+    out = np.array([np.broadcast_to(np.asarray(o, float), (300,)) for o in f(*[env[byname[s.name]] for s in syms])])
+    assert np.max(np.abs(out[[0, 1, 2]])) < 10.0

@@ -219,6 +219,18 @@ def relative_dual_acceleration_lumped(J, f_G, f_C, w_SI, w_ST, d) -> sp.Matrix:
             + dq_cross(w_ST, w_SI) + d)
 
 
+def target_inertial_dual_velocity(w_SI: sp.Matrix, w_ST: sp.Matrix) -> sp.Matrix:
+    """``omega_T/I^S = omega_S/I^S - omega_S/T^S`` (001 eq. 14 rearranged): the target's inertial dual
+    velocity in chaser axes, the argument of the law's gyroscopic term (eq. 57)."""
+    return w_SI - w_ST
+
+
+def eso_model_acceleration(J, f_G, f_applied, w_SI, w_ST) -> sp.Matrix:
+    """Known part of eq. 21 that drives the ESO (001 eq. 23): ``J_E^-1 (f_G + f - omega_S/I x (J_E omega_S/I))
+    + omega_S/T x omega_S/I`` with f the dual force actually applied (the saturated command)."""
+    return J_E_inv_times(J, f_G + f_applied - gyroscopic_dual_force(J, w_SI)) + dq_cross(w_ST, w_SI)
+
+
 # =========================================================================== ESO (001 eqs. 23-24)
 
 def sig_pow(x, k):
@@ -406,6 +418,31 @@ def saturate(x: sp.Matrix, limit) -> sp.Matrix:
     return x.applyfunc(sat)
 
 
+def applied_dual_force(f_C: sp.Matrix, F_max, tau_max) -> sp.Matrix:
+    """The dual force rpo applies: eq. 57's force and torque clipped per axis (001 sec. 7 limits)."""
+    F_raw, tau_raw = dq_parts3(f_C)
+    return dual_force(saturate(F_raw, F_max), saturate(tau_raw, tau_max))
+
+
+def apf_terms(q, q_D, r_D, k_a, k_r, theta, z_N, R_S, R_T, fov_eps) -> dict:
+    """Constraints, APF and its gradient at the pose q_S/T (001 eqs. 40, 44-55), camera along +z_S.
+
+    Returns ``q_E``, ``dq_err``, ``b_fov``, ``b_ca``, ``V_p``, ``grad`` (the gradient of eq. 54 with
+    rpo's eq. 55, regularised by ``fov_eps``)."""
+    K_u = camera_axis_matrix(sp.Matrix([0, 0, 1]))
+    z_Np = fov_vertex_offset(z_N, R_T, theta)
+    b_fov = beta_fov_dq(q, K_u, theta, z_Np)
+    b_ca = beta_ca_dq(q, R_S, R_T)
+    g_fov = grad_beta_fov(q, K_u, theta, fov_eps)
+    g_ca = grad_beta_ca(q)
+    qd = desired_pose(q_D, r_D)
+    q_E = pose_error(qd, q)
+    dq_err = pose_error_offset(q_E)
+    return {"q_E": q_E, "dq_err": dq_err, "b_fov": b_fov, "b_ca": b_ca,
+            "V_p": apf(dq_err, k_a, k_r, b_fov, b_ca),
+            "grad": apf_gradient(dq_err, qd, k_a, k_r, b_fov, b_ca, g_fov, g_ca)}
+
+
 # =========================================================================== measurement -> paper variables
 
 def target_relative_velocity(C_TL, v_L, r_T, w_t, n):
@@ -507,7 +544,7 @@ class C001:
         R_L, V_L = chaser_inertial_in_lvlh(meas["r_t"], meas["r_t_dot"], n, r_L, v_L)
         w_SI = dual_velocity_body(w_c, C_SL * V_L)                 # eq. 11
         w_ST = pure_dq(w_c - C_ST * w_t, C_ST * rdot_T)            # eq. 14 (closed form)
-        w_TI_S = w_SI - w_ST                                       # omega_T/I^S
+        w_TI_S = target_inertial_dual_velocity(w_SI, w_ST)        # omega_T/I^S
         return {"q_ST": unit_dq(q_ST, r_T), "q_ST_att": q_ST, "r_T": r_T, "rdot_T": rdot_T,
                 "C_ST": C_ST, "r_SI_S": C_SL * R_L, "w_SI": w_SI, "w_ST": w_ST, "w_TI_S": w_TI_S}
 
@@ -519,32 +556,21 @@ class C001:
         J = dual_inertia(k["m"], k["M"])
         f_G = gravity_dual_force(p["mu"], k["m"], sp.diag(*k["M"]), s["r_SI_S"])  # eq. 18
 
-        # constraints (eqs. 40, 44, 46, 48, 55)
-        K_u = camera_axis_matrix(sp.Matrix([0, 0, 1]))
-        z_Np = fov_vertex_offset(k["z_N"], k["R_T"], k["theta"])
-        b_fov = beta_fov_dq(q, K_u, k["theta"], z_Np)
-        b_ca = beta_ca_dq(q, k["R_S"], k["R_T"])
-        g_fov = grad_beta_fov(q, K_u, k["theta"], k["fov_eps"])
-        g_ca = grad_beta_ca(q)
-
-        # APF (eqs. 49-54)
-        qd = desired_pose(k["q_D"], k["r_D"])
-        q_E = pose_error(qd, q)
-        dq_err = pose_error_offset(q_E)
-        V_p = apf(dq_err, k["k_a"], k["k_r"], b_fov, b_ca)
-        grad = apf_gradient(dq_err, qd, k["k_a"], k["k_r"], b_fov, b_ca, g_fov, g_ca)
+        # constraints, APF and its gradient (eqs. 40, 44-55)
+        a = apf_terms(q, k["q_D"], k["r_D"], k["k_a"], k["k_r"], k["theta"], k["z_N"], k["R_S"], k["R_T"],
+                      k["fov_eps"])
+        q_E, b_fov, b_ca, V_p, grad = a["q_E"], a["b_fov"], a["b_ca"], a["V_p"], a["grad"]
 
         # ESO estimate of d (state) and the law (eq. 57), then the actuator limits
         w_hat = pure_dq(xc["w_hat"], xc["v_hat"])
         d_hat = pure_dq(xc["dw_hat"], xc["dv_hat"])
         f_C = control_dual_force(q, grad, w_ST, w_TI_S, J, f_G, d_hat, k["k_p"], k["k_d"])
         F_raw, tau_raw = dq_parts3(f_C)
-        F = saturate(F_raw, k["F_max"])
-        tau = saturate(tau_raw, k["tau_max"])
+        f_app = applied_dual_force(f_C, k["F_max"], k["tau_max"])
+        F, tau = dq_parts3(f_app)
 
         # ESO (eq. 23) driven by the force and torque actually commanded
-        model_acc = (J_E_inv_times(J, f_G + dual_force(F, tau) - gyroscopic_dual_force(J, w_SI))
-                     + dq_cross(w_ST, w_SI))
+        model_acc = eso_model_acceleration(J, f_G, f_app, w_SI, w_ST)
         idx = [0, 1, 2, 4, 5, 6]  # vector slots; the scalar slots of pure dual quaternions stay 0
         K1, K2 = k["K1"], k["K2"]
         wh_dot, dh_dot = eso_rates(sp.Matrix([model_acc[i] for i in idx]), sp.Matrix([w_ST[i] for i in idx]),
