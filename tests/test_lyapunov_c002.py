@@ -118,3 +118,42 @@ def test_eq38_fails_only_through_unequal_weights():
     assert f(*z[0]) >= 0
     chi = [o.counterexample[f"chi1_{i}"] for i in (1, 2, 3)] + [o.counterexample[f"chi2_{i}"] for i in (1, 2, 3)]
     assert np.ptp(np.abs(chi[:3])) > 0.1 or np.ptp(np.abs(chi[3:])) > 0.1
+
+
+def test_time_varying_inertia_leaves_exactly_the_jdot_mdot_terms():
+    """With J(t), m(t), V1_dot - eq. 27 = 1/2 s1^T J_dot s1 + 1/2 m_dot ||s2||^2 exactly."""
+    st = L._v1_time_varying()
+    S = L._S()
+    Jdot, mdot = L._sym_matrix("Jdot"), sp.Symbol("mdot", real=True)
+    extra = dot(S.s1, Jdot * S.s1) / 2 + mdot * dot(S.s2, S.s2) / 2
+    assert sp.expand(st.lhs - st.rhs - extra) == 0
+
+
+def test_eq29_with_11_eps_fails_for_large_k3_k7_at_s_near_eps():
+    """The reviewer's hand point: k3 = k7 = 20, |s1| = |s2| = 0.786 eps along x, alpha^ = 0, Phi aligned with s at
+    full radius: V1_dot > rhs with 11 eps, < rhs with (9 + k3 + k7) eps."""
+    A = L._Abstract()
+    S = A.S
+    e, x = 1e-3, 0.7862e-3
+    vals = {S.eps: e, S.k3: 20, S.k7: 20, S.k4: 1, S.k8: 1, S.m: 95}
+    vals.update(dict(zip(S.Jd.diagonal(), [21, 18, 16], strict=True)))
+    u = [1, 0, 0]
+    for i in range(3):
+        vals.update({S.s1[i]: x * u[i], S.s2[i]: x * u[i], S.w[i]: 0.5 * u[i], S.v[i]: u[i], S.r[i]: 2 * u[i]})
+    for i in range(9):
+        vals.update({S.ahat[i]: 0, S.alpha[i]: 1, S.beta[i]: 1, S.gamma[i]: 1})
+    r1, r2 = 0.25 + 0.5 + 1, 0.5 + 1 + 0.5 + 1 + 2 + 1
+    for i in range(3):
+        vals.update({A.Phi1[i]: r1 * u[i], A.Phi2[i]: r2 * u[i]})
+    lhs = float(A.V1dot.subs(vals))
+    assert lhs > float((A.nominal + A.young + 11 * S.eps).subs(vals))
+    assert lhs < float((A.nominal + A.young + (9 + S.k3 + S.k7) * S.eps).subs(vals))
+
+
+def test_law_sat_is_opaque_clip():
+    """_opaque_sat rewrites the law's Max(-u, Min(u, e)) and evaluates as a clip."""
+    e, u = sp.symbols("e u", real=True)
+    expr = L._opaque_sat(C.saturation(sp.Matrix([e]), u)[0])
+    assert not expr.has(sp.Max, sp.Min)
+    f = sp.lambdify([e, u], expr, "numpy")
+    assert np.allclose(f(np.array([-3.0, 0.5, 3.0]), 1.0), [-1.0, 0.5, 1.0])

@@ -25,9 +25,11 @@ from __future__ import annotations
 
 import numpy as np
 import sympy as sp
+from sympy.utilities.lambdify import implemented_function
 
 from ..controllers import c002 as c
-from ..rotations import dot, skew
+from ..layout import XYZ, XYZW, Layout
+from ..rotations import dot, quat_conj, quat_mul, quat_to_dcm, skew
 from .core import (
     Claim,
     Mutation,
@@ -236,15 +238,6 @@ def _loop_domain(S: _S, J_aux=None, m_aux=None):
 
 # --------------------------------------------------------------------------- eqs. 19-20 (spacecraft)
 
-def _s1dot_printed() -> Statement:
-    """Eq. 19 as printed: 'J_dot s1' = ... (J_dot: any symmetric matrix, Assumption 2 lets J vary)."""
-    S = _S()
-    Jdot = _sym_matrix("Jdot")
-    return _statement(Jdot * c.sliding_surface_attitude(S.w, S.qv, S.chi1, S.k1, S.k2), "==", _eq19_rhs(S),
-                     [*_loop_domain(S), _spd(Jdot, -1, 1)], assumptions=["J_dot any (Assumption 2)"],
-                     residual_seconds=3)
-
-
 def _s1dot_corrected() -> Statement:
     S = _S()
     L = _Loop(S, adaptation=False)
@@ -280,10 +273,11 @@ class _Bounds:
         self.w_t, self.wd_t = symbols_vec("omega_t"), symbols_vec("omegadot_t")
         self.v_t, self.vd_t = symbols_vec("v_t"), symbols_vec("vdot_t")
         self.sig, self.g_p = symbols_vec("sigma_t"), symbols_vec("g_p")
-        self.a = sp.symbols("a_1:6", positive=True)       # Assumption 1 bounds (+ a5 >= |g_p|)
+        self.a = sp.symbols("a_1:6", positive=True)       # Assumption 1 bounds (a5 unused)
+        self.dg = symbols_vec("Deltag")                   # R v_t_dot - g_p: differential gravity, ||.|| <= a4
         self.b1, self.b3, self.D1, self.D2 = sp.symbols("b_1 b_3 D_1 D_2", positive=True)
         self.sig_n = sp.Symbol("sigmanorm", positive=True)
-        R = c.dcm_pursuer_from_target(S.q)
+        R = self.R = c.dcm_pursuer_from_target(S.q)
         self.C_r = c.attitude_coriolis_matrix(S.J, R, self.w_t, S.w)
         n_r = c.attitude_nonlinear_term(S.J, R, self.w_t, self.wd_t)
         qv_dot = c.relative_quaternion_rate(S.q, S.w)[:3, :]
@@ -294,11 +288,16 @@ class _Bounds:
         self.Phi2 = (-S.m * C_t * S.v - S.m * self.n_t + S.d_t + S.k5 * S.m * r_dot
                      + S.kappa2 * c.tanh_vec(S.chi2))
 
+    def gravity(self, expr):
+        """g_p = R v_t_dot - Deltag: with gravity, Assumption 1's a4 bounds ||R v_t_dot - g_p|| (differential
+        gravity ~ 3 n^2 ||r||, plus the target's non-gravitational acceleration), not ||v_t_dot||."""
+        return expr.xreplace(dict(zip(self.g_p, self.R * self.vd_t - self.dg, strict=True)))
+
     def domain(self, near: bool, gravity: bool = False):
         """``near``: close to docking (small w~, v~, r~, kappa, D, a2) with a tumbling target in free
         space, seen from an inertial frame moving with the target's centre (v_t = v_t_dot = 0): where
         the printed bounds are tightest.  Otherwise ranges covering the paper's run and beyond."""
-        S, (a1, a2, a3, a4, a5) = self.S, self.a
+        S, (a1, a2, a3, a4, _) = self.S, self.a
         if near:
             dom = [box(S.w, -0.01, 0.01), box(S.v, -0.05, 0.05), box(S.r, -0.5, 0.5),
                    box([S.kappa1, S.kappa2, self.D1, self.D2], 0.0001, 0.01), box(a1, 0.05, 0.5),
@@ -307,14 +306,14 @@ class _Bounds:
             dom = [box(S.w, -1, 1), box(S.v, -2, 2), box(S.r, -20, 20), box([S.kappa1, S.kappa2], 0.01, 2),
                    box([self.D1, self.D2], 0, 0.01), box([a1, a2], 0.001, 0.5), box([a3, a4], 0.01, 10)]
         dom += [unit_quaternion(S.q), box(S.chi1, -3, 3), box(S.chi2, -3, 3), box([S.k1, S.k5], 0.5, 3),
-                ball(self.w_t, a1), ball(self.wd_t, a2), ball(self.v_t, a3), ball(self.vd_t, a4),
+                ball(self.w_t, a1), ball(self.wd_t, a2), ball(self.v_t, a3),
                 ball(S.d_r, self.D1), ball(S.d_t, self.D2), _spd(S.J, 5, 40, self.b1), box(S.m, 20, 200),
                 custom([self.b3], 0, lambda z, env: env[S.m][:, None], "b3 = m"),
                 box(self.sig_n, 0.1, 10), ball(self.sig, self.sig_n)]
-        if gravity:
-            dom += [box(a5, 0, 10), ball(self.g_p, a5)]
+        if gravity:     # v_t_dot up to LEO gravity; a4 bounds R v_t_dot - g_p = Deltag
+            dom += [ball(self.vd_t, 10.0), ball(self.dg, a4)]
         else:       # the printed model holds only in free space: no pursuer gravity
-            dom += [fixed(a5, [0.0]), fixed(self.g_p, [0.0, 0.0, 0.0])]
+            dom += [ball(self.vd_t, a4), fixed(self.g_p, [0.0, 0.0, 0.0])]
         return dom
 
     def remark4_Cr(self, factor) -> Statement:
@@ -327,15 +326,18 @@ class _Bounds:
 
     def remark5_nt(self, corrected: bool) -> Statement:
         """Remark 5: ||m n_t|| <= b3 a1 a3 + b3 a4 + b3 ||sigma_t|| a1 ||w~|| + b3 ||sigma_t|| a2."""
-        S, (a1, a2, a3, a4, a5) = self.S, self.a
+        S, (a1, a2, a3, a4, _) = self.S, self.a
         b3, sn = self.b3, self.sig_n
         rhs = b3 * a1 * a3 + b3 * a4 + b3 * sn * a1 * _nrm(S.w) + b3 * sn * a2
+        lhs = _nrm(S.m * self.n_t)
         if corrected:
-            rhs += b3 * a1**2 * sn + b3 * a5
-        return _statement(_nrm(S.m * self.n_t), "<=", rhs, self.domain(near=not corrected, gravity=corrected),
+            rhs += b3 * a1**2 * sn
+            lhs = self.gravity(lhs)
+        return _statement(lhs, "<=", rhs, self.domain(near=not corrected, gravity=corrected),
                          symbolic=False, residual_seconds=1,
-                         assumptions=["Assumption 1 (a1..a4)", "m <= b3", "||sigma_t|| = sigmanorm",
-                                      "||g_p|| <= a5" if corrected else "free space (g_p = 0), v_t = 0"])
+                         assumptions=["Assumption 1 (a1..a3)", "m <= b3", "||sigma_t|| = sigmanorm",
+                                      "||R v_t_dot - g_p|| <= a4 (differential gravity)" if corrected
+                                      else "free space (g_p = 0), ||v_t_dot|| <= a4"])
 
     def attitude(self) -> Statement:
         """Eq. 21 with the paper's alpha1..3 (Remark 4) and the code's C_r, n_r (corrected n_r)."""
@@ -351,18 +353,20 @@ class _Bounds:
 
     def position(self, corrected: bool) -> Statement:
         """Eq. 22 with the paper's alpha4..9 (Remark 5) or alpha9 corrected, the code's C_t, n_t."""
-        S, (a1, a2, a3, a4, a5) = self.S, self.a
+        S, (a1, a2, a3, a4, _) = self.S, self.a
         b3, sn = self.b3, self.sig_n
         w, v, r = _nrm(S.w), _nrm(S.v), _nrm(S.r)
         al = [b3, S.k5 * b3, b3 * sn * a1, S.k5 * b3 + b3 * a1, S.k5 * b3 * a1,
               b3 * sn * a2 + b3 * a1 * a3 + b3 * a4 + self.D2 + sp.sqrt(3) * S.kappa2]
+        lhs = _nrm(self.Phi2)
         if corrected:
-            al[5] += b3 * a1**2 * sn + b3 * a5        # centripetal term of sigma_t; pursuer gravity
+            al[5] += b3 * a1**2 * sn        # centripetal term of sigma_t
+            lhs = self.gravity(lhs)
         rhs = al[0] * w * v + al[1] * w * r + al[2] * w + al[3] * v + al[4] * r + al[5]
-        return _statement(_nrm(self.Phi2), "<=", rhs, self.domain(near=not corrected, gravity=corrected),
+        return _statement(lhs, "<=", rhs, self.domain(near=not corrected, gravity=corrected),
                          symbolic=False, residual_seconds=1,
-                         assumptions=["Assumption 1 (a1..a4)", "m <= b3", "||d_t|| <= D2",
-                                      "||sigma_t|| = sigmanorm", "||g_p|| <= a5" if corrected else "g_p = 0"])
+                         assumptions=["Assumption 1 (a1..a3)", "m <= b3", "||d_t|| <= D2", "||sigma_t|| = sigmanorm",
+                                      "||R v_t_dot - g_p|| <= a4" if corrected else "g_p = 0, ||v_t_dot|| <= a4"])
 
 
 def _ct_skew() -> Statement:
@@ -414,6 +418,23 @@ def _v1_chain(half_beta: bool):
     return build
 
 
+def _v1_time_varying() -> Statement:
+    """Eq. 27 (first line) when J and m vary (Assumption 2: 'unknown time-varying'): V1_dot gains
+    1/2 s1^T J_dot s1 + 1/2 m_dot ||s2||^2 that eq. 27 (and the proof) drop."""
+    S = _S()
+    s1d, s2d, ad = symbols_vec("s1dot"), symbols_vec("s2dot"), symbols_vec("alphahatdot", 9)
+    Jdot, mdot = _sym_matrix("Jdot"), sp.Symbol("mdot", real=True)
+    V = _V1(S, S.s1, S.s2, S.J, True)
+    lhs = lie_derivative(V, [S.s1, S.s2, S.ahat, _upper(S.J), S.m], [s1d, s2d, ad, _upper(Jdot), mdot])
+    rhs = (dot(S.s1, S.J * s1d) + S.m * dot(S.s2, s2d) - sum(S.atilde[i] * ad[i] / S.beta[i] for i in range(9)))
+    return _statement(lhs, "==", rhs, [box(S.s1, -1, 1), box(S.s2, -5, 5), box(S.ahat, -1, 5), box(S.alpha, 0, 5),
+                                      box(S.beta, 0.001, 10), box(S.m, 20, 200), _spd(S.J, 5, 40),
+                                      _spd(Jdot, -0.01, 0.01), box(mdot, -0.05, 0), box(s1d, -1, 1), box(s2d, -1, 1),
+                                      box(ad, -1, 1)],
+                      assumptions=["J(t), m(t) (Assumption 2)", "J_dot symmetric, m_dot <= 0 (fuel use)"],
+                      residual_seconds=3)
+
+
 def _v1_closed_loop(k_rdot: str):
     """Eq. 27 (second line) along the full closed loop, V1 with 1/(2 beta_i)."""
     def build() -> Statement:
@@ -461,10 +482,23 @@ def _lemma2_unit(corrected: bool):
         x, k, e = sp.symbols("snorm k varepsilon", positive=True)
         rhs = -k * x + (k * e if corrected else e)
         return _statement(-k * x**2 / sp.sqrt(x**2 + e**2), "<=", rhs,
-                         [box(e, 0.001, 0.1), custom([x], 1, lambda z, env: (z + 1) * env[e][:, None], "0..2 eps"),
+                         [box(e, 0.001, 0.1),
+                          custom([x], 1, lambda z, env: (10.0 ** (3 * (z + 1)) - 1) * env[e][:, None],
+                                 "0..1e6 eps, log-spaced"),
                           box(k, 0.01, 10)], symbolic=False, residual_seconds=1,
                          assumptions=["k > 0, eps > 0, ||s|| >= 0"])
     return build
+
+
+def _near_eps(s, eps, hi: float):
+    """A vector s = direction x magnitude, ||s|| log-uniform in [eps/20, hi] (eps drawn before)."""
+    def draw(z, env):
+        u = z[:, :3]
+        d = u / np.maximum(np.linalg.norm(u, axis=1, keepdims=True), 1e-12)
+        lo = 0.05 * env[eps]
+        mag = lo * (hi / lo) ** ((z[:, 3] + 1.0) * 0.5)
+        return d * mag[:, None]
+    return custom(s, 4, draw, f"||.|| log-uniform in [eps/20, {hi:g}]")
 
 
 class _Abstract:
@@ -481,7 +515,7 @@ class _Abstract:
         self.eps_t = c.position_control(S.s2, S.w, S.v, S.r, a[3], a[4], a[5], a[6], a[7], a[8],
                                         S.k7, S.k8, S.eps)                                    # eq. 24
         self.ahat_dot = c.adaptive_rates(S.s1, S.s2, S.w, S.v, S.r, S.ahat, S.beta, S.gamma)  # eq. 25
-        rates = [S.Jd.inv() * (self.eps_r + self.Phi1), (self.eps_t + self.Phi2) / S.m, self.ahat_dot]
+        rates = self.rates = [S.Jd.inv() * (self.eps_r + self.Phi1), (self.eps_t + self.Phi2) / S.m, self.ahat_dot]
         self.V1 = _V1(S, S.s1, S.s2, S.Jd, True)
         self.V1att = _V1(S, S.s1, S.s2, S.Jd, True, "att")
         self.V1pos = _V1(S, S.s1, S.s2, S.Jd, True, "pos")
@@ -491,7 +525,7 @@ class _Abstract:
         self.nominal = -S.k3 * n1 - S.k4 * n1**2 - S.k7 * n2 - S.k8 * n2**2
         self.young = sum(S.gamma[i] * S.atilde[i] * S.ahat[i] for i in range(9))
 
-    def domain(self, l_: bool = False):
+    def domain(self, l_: bool = False, gains: dict | None = None):
         S = self.S
         al = S.alpha
         w, v, r = (lambda env, x=x: np.sqrt(sum(env[s] ** 2 for s in x)) for x in (S.w, S.v, S.r))
@@ -505,10 +539,17 @@ class _Abstract:
             return (env[al[3]] * ww * vv + env[al[4]] * ww * rr + env[al[5]] * ww + env[al[6]] * vv
                     + env[al[7]] * rr + env[al[8]])
 
-        dom = [box(S.s1, -1, 1), box(S.s2, -5, 5), box(S.w, -1, 1), box(S.v, -2, 2), box(S.r, -20, 20),
-               box(S.ahat, -1, 5), box(al, 0, 5), box(S.beta, 0.001, 10), box(S.gamma, 0.1, 2),
-               box([S.k3, S.k4, S.k7], 0.01, 10), box(S.k8, 0.1, 50), box(S.eps, 0.0001, 0.1),
-               box(list(S.Jd.diagonal()), 5, 40), box(S.m, 20, 200), ball(self.Phi1, r1), ball(self.Phi2, r2)]
+        if gains is None:
+            dom = [box([S.k3, S.k7], 0.01, 40), box(S.k4, 0.01, 10), box(S.k8, 0.1, 50), box(S.eps, 0.0001, 0.1),
+                   box(list(S.Jd.diagonal()), 5, 40), box(S.m, 20, 200)]
+        else:       # the paper's data: its gains, Table 1's J and m
+            dom = [fixed([S.k3, S.k4, S.k7, S.k8, S.eps], [gains[n] for n in ("k3", "k4", "k7", "k8", "eps")]),
+                   fixed([*S.Jd.diagonal(), S.m], [21.0, 18.0, 16.0, 95.0])]
+        # ||s_j|| log-uniform from eps/20 up: Lemma 2's gap peaks at ||s|| ~ 0.79 eps, which a uniform box
+        # over [-1, 1] practically never draws
+        dom += [_near_eps(S.s1, S.eps, 2.0), _near_eps(S.s2, S.eps, 5.0), box(S.w, -1, 1), box(S.v, -2, 2),
+                box(S.r, -20, 20), box(S.ahat, -1, 5), box(al, 0, 5), box(S.beta, 0.001, 10), box(S.gamma, 0.1, 2),
+                ball(self.Phi1, r1), ball(self.Phi2, r2)]
         if l_:
             dom.append(box(S.l, 0.5, 5))
         return dom
@@ -517,16 +558,19 @@ class _Abstract:
                    "J = diag(J1, J2, J3) > 0, m > 0", "alpha^ of any sign"]
 
 
-def _v1_bound(printed: bool):
-    """Eq. 29: V1_dot <= -k3|s1| - k4|s1|^2 - k7|s2| - k8|s2|^2 + sum gamma_i alpha~_i alpha^_i + c eps."""
+def _v1_bound(printed: bool, gains: dict | None = None):
+    """Eq. 29: V1_dot <= -k3|s1| - k4|s1|^2 - k7|s2| - k8|s2|^2 + sum gamma_i alpha~_i alpha^_i + c eps.
+
+    Printed: c = 11, and the sum read with alpha^_i (eq. 29 prints alpha~_i alpha~_i_dot, but eq. 30's
+    identity gamma(-alpha~^2 + alpha alpha~) = gamma alpha~ alpha^ shows alpha^ is meant: a hat/dot slip).
+    ``gains``: hold the paper's gains and Table 1's J, m."""
     def build() -> Statement:
         A = _Abstract()
         S = A.S
-        if printed:     # as printed: gamma_i alpha~_i alpha~_i_dot (alpha~_dot = -alpha^_dot) and 11 eps
-            rhs = A.nominal - sum(S.gamma[i] * S.atilde[i] * A.ahat_dot[i] for i in range(9)) + 11 * S.eps
-        else:
-            rhs = A.nominal + A.young + (9 + S.k3 + S.k7) * S.eps
-        return _statement(A.V1dot, "<=", rhs, A.domain(), symbolic=False, residual_seconds=1, assumptions=A.assumptions)
+        c_eps = 11 if printed else 9 + S.k3 + S.k7
+        rhs = A.nominal + A.young + c_eps * S.eps
+        return _statement(A.V1dot, "<=", rhs, A.domain(gains=gains), symbolic=False, residual_seconds=1,
+                          assumptions=[*A.assumptions, *(["the paper's gains, Table 1's J, m"] if gains else [])])
     return build
 
 
@@ -568,6 +612,39 @@ def _v1_exponential(corrected: bool):
         return _statement(A.V1dot, "<=", rhs, A.domain(l_=True), symbolic=False, residual_seconds=1,
                          assumptions=[*A.assumptions, "l_i > 1/2", "||J||_max = max(J1, J2, J3)"])
     return build
+
+
+def _v1_split(part: str):
+    """Eqs. 31-33 per subsystem (they decouple): V1att_dot <= -rho1 V1att + Delta1, V1pos_dot <= -rho2 V1pos
+    + Delta2 (V1att = 1/2 s1^T J s1 + sum_{i<=3} alpha~_i^2/(2 beta_i), V1pos the rest)."""
+    def build() -> Statement:
+        A = _Abstract()
+        S = A.S
+        rho1, rho2, d1, d2 = _rho_delta(A, True)
+        V, rho, d = (A.V1att, rho1, d1) if part == "att" else (A.V1pos, rho2, d2)
+        Vdot = lie_derivative(V, [S.s1, S.s2, S.ahat], A.rates)
+        return _statement(Vdot, "<=", -rho * V + d, A.domain(l_=True), symbolic=False, residual_seconds=1,
+                          assumptions=[*A.assumptions, "l_i > 1/2", "||J||_max = max(J1, J2, J3)"])
+    return build
+
+
+def _informative_pos() -> Statement:
+    """Theorem 1 i at the paper's data: the residual set's ||s2|| <= o2 = sqrt(2 Delta2/(rho2 m)) allows
+    ||r~|| up to about o2/k5 once v~ ~ 0; the paper reports 0.3 m.  Most favourable alphas: alpha4..8 = 0,
+    alpha9 = sqrt(3) kappa2 + D2 (its tanh and disturbance parts, eq. 22 / Remark 5); l_i free."""
+    A = _Abstract()
+    S = A.S
+    rho1, rho2, d1, d2 = _rho_delta(A, True)
+    o2 = sp.sqrt(2 * d2 / (rho2 * S.m))
+    g = PAPER_GAINS
+    beta = (10, 5, 0.1, 0.01, 0.01, 0.01, 0.001, 0.001, 0.001)
+    D2 = 0.002 * (0.5 + np.sqrt(2)) * np.sqrt(3)
+    dom = [fixed([S.k5, S.k7, S.k8, S.eps, S.m], [g["k5"], g["k7"], g["k8"], g["eps"], 95.0]),
+           fixed(S.beta, beta), fixed(S.gamma, [1.0] * 9),
+           fixed(S.alpha, [0.0] * 8 + [np.sqrt(3) * g["kappa2"] + D2]), box(S.l, 0.5001, 10)]
+    return _statement(o2 / S.k5, "<=", sp.Rational(3, 10), dom, symbolic=False, residual_seconds=0,
+                      assumptions=["paper gains, beta, gamma = 1 (scenario)",
+                                   "alpha4..8 = 0, alpha9 = sqrt(3) kappa2 + D2", "l_i in (1/2, 10]"])
 
 
 def _residual_set(corrected: bool):
@@ -699,6 +776,31 @@ def _invariant_set() -> Statement:
                      assumptions=["kappa_j > varpi_j >= ||sat(eps) - eps||", "J diagonal (Table 1)"])
 
 
+def _invariant_set_printed() -> Statement:
+    """Theorem 1 ii as printed: Omega_2 = {||chi_j|| <= kappa_j delta/(kappa_j - varpi_j)} (2-norm) is forward
+    invariant, i.e. chi_j^T chi_j_dot <= 0 on (and outside) its boundary sphere."""
+    X = _Aux()
+    S = X.S
+
+    def outside(chi, kap, vp):
+        def draw(z, env):
+            c0 = env[kap] * float(DELTA) / (env[kap] - env[vp])
+            u = z[:, :3] / np.maximum(np.linalg.norm(z[:, :3], axis=1, keepdims=True), 1e-12)
+            return u * (c0 * (1.0 + 0.5 * (z[:, 3] + 1.0) ** 2))[:, None]
+        return custom(chi, 4, draw, "||chi|| >= kappa delta/(kappa - varpi)")
+
+    dom = [box([S.kappa1, S.kappa2], 0.1, 5),
+           custom([X.w1, X.w2], 2, lambda z, env: np.column_stack(
+               [(z[:, 0] + 1) * 0.475 * env[S.kappa1], (z[:, 1] + 1) * 0.475 * env[S.kappa2]]),
+               "varpi_j in [0, 0.95 kappa_j]"),
+           outside(S.chi1, S.kappa1, X.w1), outside(S.chi2, S.kappa2, X.w2),
+           ball(X.e1, X.w1), ball(X.e2, X.w2), box(S.eps_r, -10, 10), box(S.eps_t, -100, 100),
+           box([S.k2, S.k6], 0.001, 1), box(list(S.Jd.diagonal()), 5, 40), box(S.m, 20, 200)]
+    lhs = sp.Matrix([dot(S.chi1, X.chi1_dot), dot(S.chi2, X.chi2_dot)])
+    return _statement(lhs, "<=", 0, dom, symbolic=False, residual_seconds=0,
+                      assumptions=["kappa_j > varpi_j >= ||sat(eps) - eps||", "J diagonal (Table 1)"])
+
+
 # =========================================================================== V3 (eqs. 39-43)
 
 def _V3(S: _S):
@@ -788,10 +890,8 @@ def _v3_exponential(corrected: bool):
     """Eq. 41 (last line): V3_dot <= -(k1 + 2 k5 + 2||C_t|| - 3/2) V2 + o1^2 + k2^2 + 2(k1 - 1/2) + o2^2 + k6^2."""
     def build() -> Statement:
         T = _Tracking()
-        S = T.S
         rate, const = _v3_constants(T, corrected)
-        V = T.V3 if corrected else _V2(S)
-        return _statement(T.V3dot, "<=", -rate * V + const, T.domain(), symbolic=False, residual_seconds=1,
+        return _statement(T.V3dot, "<=", -rate * T.V3 + const, T.domain(), symbolic=False, residual_seconds=1,
                          assumptions=T.assumptions)
     return build
 
@@ -849,6 +949,22 @@ def _varpi0(S: _S, which: str, u_max):
     return _nrm(d), fixed(sym, vals)
 
 
+def _k_condition(printed: bool) -> Statement:
+    """Eq. 41's rates at the paper's gains: printed k1 > 1/2 and k5 > 1/2 - ||C_t|| (||C_t|| ~ nu_dot of the
+    target orbit, up to 1.5e-3 rad/s); corrected k1 > 1/2, k5 > 1/2 (r~^T C_t r~ = 0), written
+    k - 1/2 >= 1e-6 so that the strict inequality is tested numerically."""
+    S = _S()
+    W = symbols_vec("W")
+    g = PAPER_GAINS
+    dom = [fixed([S.k1, S.k5], [g["k1"], g["k5"]]), box(W, -0.0015, 0.0015)]
+    if printed:
+        return _statement(sp.Matrix([S.k1, S.k5]), ">", sp.Matrix([sp.S.Half, sp.S.Half - _nrm(W)]), dom,
+                          symbolic=False, residual_seconds=0, assumptions=["||C_t|| = ||W|| <= 2.6e-3 rad/s"])
+    eta = sp.Rational(1, 10**6)
+    return _statement(sp.Matrix([S.k1 - sp.S.Half, S.k5 - sp.S.Half]), ">=", sp.Matrix([eta, eta]), dom[:1],
+                      symbolic=False, residual_seconds=0, assumptions=["strict: margin 1e-6"])
+
+
 def _kappa_condition(which: str, kappa: float, u_max_value: float, note: str):
     def build() -> Statement:
         S = _S()
@@ -865,6 +981,107 @@ def _kappa_condition(which: str, kappa: float, u_max_value: float, note: str):
     return build
 
 
+# =========================================================================== the law itself (provenance)
+
+_SAT = implemented_function(sp.Function("sat", real=True), lambda e, u: np.clip(e, -u, u))
+
+
+def _opaque_sat(expr):
+    """Max(-u, Min(u, e)) -> sat(e, u), a function NumPy evaluates as clip: SymPy's Abs (the checker's round-off
+    scale) otherwise spends minutes asking the sign of the unevaluated Max/Min."""
+    def is_sat(x):
+        return isinstance(x, sp.Max) and len(x.args) == 2 and any(isinstance(a, sp.Min) for a in x.args)
+
+    def to_sat(x):
+        mn = next(a for a in x.args if isinstance(a, sp.Min))
+        u = -next(a for a in x.args if a is not mn)
+        e = next(a for a in mn.args if a != u)
+        return _SAT(e, u)
+
+    return expr.replace(is_sat, to_sat)
+
+
+def _law_identity(part: str) -> Statement:
+    """C002.law (what generates the C code) against eqs. 1, 5-6, 13, 15-18, 23-25 typed here from the paper.
+
+    ``part="kinematics"``: diag q_err, rate_err, pos_err, vel_err against eqs. 1, 5-6 of the measurements.
+    ``part="law"``: the surfaces (diag s1, s2), the commands (diag eps_r, eps_t), the saturated outputs (cmd),
+    the auxiliary and adaptive rates (xc_dot) against eqs. 13, 15-18, 23-25; to keep the expressions small the
+    target frame is the inertial/LVLH one here (q_t = q_cL = identity, w_t = 0, n = 0, sigma_t = 0), so the
+    relative signals are q_c, w_c, r, v themselves (the general frame chain is the kinematics part)."""
+    ctrl = c.C002()
+    k, xc = ctrl.k, ctrl.xc
+    M = Layout("meas")
+    for n, size in (("q_t", 4), ("q_c", 4), ("q_cL", 4), ("w_c", 3), ("w_t", 3), ("r", 3), ("v", 3), ("n", 1)):
+        M.add(n, size, "-", n, XYZW if size == 4 else (XYZ if size == 3 else ()))
+    cmd, xc_dot, diag = ctrl.law(M, sp.Symbol("t", real=True), {})
+
+    def block(layout, vec, name):
+        a, b = layout.offsets()[name]
+        return vec[a:b, 0]
+
+    # ---- typed from the paper (rotations only from rpo.symbolic.rotations)
+    q = quat_mul(quat_conj(M["q_t"]), M["q_c"])                                   # eq. 1
+    R = quat_to_dcm(q).T
+    C_pL = quat_to_dcm(M["q_cL"]).T
+    sig = k["sigma_t"]
+    w = M["w_c"] - R * M["w_t"]
+    r = C_pL * M["r"] - R * sig                                                    # eq. 5
+    v = C_pL * (M["v"] + skew(sp.Matrix([0, 0, M["n"]])) * M["r"]) - R * skew(M["w_t"]) * sig     # eq. 6
+    chi1, chi2, a = xc["chi1"], xc["chi2"], xc["alpha_hat"]
+    th1, th2 = chi1.applyfunc(sp.tanh), chi2.applyfunc(sp.tanh)
+    s1 = w + k["k1"] * q[:3, :] - k["k2"] * th1                                   # eq. 15
+    s2 = v + k["k5"] * r - k["k6"] * th2                                           # eq. 16
+    eps = k["eps"]
+    w2, v2, r2 = dot(w, w), dot(v, v), dot(r, r)
+
+    def lemma2(s_, ai, y2):
+        return -s_ * ai**2 * y2 / sp.sqrt(dot(s_, s_) * ai**2 * y2 + eps**2)
+
+    eps_r = (lemma2(s1, a[0], w2**2) + lemma2(s1, a[1], w2) + lemma2(s1, a[2], 1)
+             - k["k3"] * s1 / sp.sqrt(dot(s1, s1) + eps**2) - k["k4"] * s1)                   # eq. 23
+    eps_t = sum((lemma2(s2, a[3 + i], y) for i, y in enumerate([w2 * v2, w2 * r2, w2, v2, r2, 1])), sp.zeros(3, 1))
+    eps_t += -k["k7"] * s2 / sp.sqrt(dot(s2, s2) + eps**2) - k["k8"] * s2                    # eq. 24
+    def sat(e, u):      # unevaluated, as in the code: SymPy would try to order u against e
+        return sp.Max(-u, sp.Min(u, e, evaluate=False), evaluate=False)
+
+    u_r = eps_r.applyfunc(lambda e: sat(e, k["tau_max"]))                                   # eq. 13
+    u_t = eps_t.applyfunc(lambda e: sat(e, k["f_max"]))
+    Jn = k["J_nom"]
+    chi1_dot = sp.Matrix([(-k["kappa1"] * th1[i] + u_r[i] - eps_r[i]) / ((1 - th1[i] ** 2) * Jn[i] * k["k2"])
+                          for i in range(3)])                                                   # eq. 17
+    chi2_dot = sp.Matrix([(-k["kappa2"] * th2[i] + u_t[i] - eps_t[i]) / ((1 - th2[i] ** 2) * k["m_nom"] * k["k6"])
+                          for i in range(3)])                                                   # eq. 18
+    n1, n2, nw, nv, nr = (sp.sqrt(dot(x, x)) for x in (s1, s2, w, v, r))
+    y = [n1 * nw**2, n1 * nw, n1, n2 * nw * nv, n2 * nw * nr, n2 * nw, n2 * nv, n2 * nr, n2]
+    a_dot = sp.Matrix([k["beta"][i] * (y[i] - k["gamma"][i] * a[i]) for i in range(9)])       # eq. 25
+
+    cl = c.command_layout()
+    if part == "kinematics":
+        lhs = sp.Matrix.vstack(*[block(ctrl.diag, diag, n) for n in ("q_err", "rate_err", "pos_err", "vel_err")])
+        rhs = sp.Matrix.vstack(q, w, r, v)
+        dom = [unit_quaternion(M["q_t"]), unit_quaternion(M["q_c"]), unit_quaternion(M["q_cL"]),
+               box(M["w_c"], -0.5, 0.5), box(M["w_t"], -0.1, 0.1), box(M["r"], -20, 20), box(M["v"], -2, 2),
+               box(M["n"], 0.0005, 0.002), box(sig, -5, 5)]
+        return _statement(lhs, "==", rhs, dom, assumptions=["C002.law as generated"])
+    lhs = sp.Matrix.vstack(block(ctrl.diag, diag, "s1"), block(ctrl.diag, diag, "s2"),
+                           block(ctrl.diag, diag, "eps_r"), block(ctrl.diag, diag, "eps_t"),
+                           block(cl, cmd, "tau_w"), block(cl, cmd, "F"),
+                           block(xc, xc_dot, "chi1"), block(xc, xc_dot, "chi2"), block(xc, xc_dot, "alpha_hat"))
+    rhs = sp.Matrix.vstack(s1, s2, eps_r, eps_t, u_r, u_t, chi1_dot, chi2_dot, a_dot)
+    frame = {**dict(zip(M["q_t"], (0, 0, 0, 1), strict=True)), **dict(zip(M["q_cL"], (0, 0, 0, 1), strict=True)),
+             **dict.fromkeys([*M["w_t"], M["n"], *sig], 0)}
+    lhs, rhs = (_opaque_sat(_tanh_form(x.xreplace(frame))) for x in (lhs, rhs))
+    dom = [unit_quaternion(M["q_c"]), box(M["w_c"], -0.5, 0.5), box(M["r"], -20, 20), box(M["v"], -2, 2),
+           box([k[n] for n in ("k1", "k2", "kappa1", "k3", "k4", "k5", "k6", "kappa2",
+                                                          "k7")], 0.001, 5),
+           box(k["k8"], 0.1, 50), box(eps, 0.0001, 0.1), box(k["beta"], 0.001, 10), box(k["gamma"], 0.1, 2),
+           box(Jn, 5, 40), box(k["m_nom"], 20, 200), box(k["tau_max"], 0.2, 2),
+           box(k["f_max"], 1, 200), box(chi1, -2, 2), box(chi2, -2, 2), box(a, -1, 5)]
+    return _statement(lhs, "==", rhs, dom, symbolic=False, residual_seconds=0,
+                      assumptions=["C002.law as generated (J_nom diagonal)", "cosh^2 = 1/(1 - tanh^2)"])
+
+
 # =========================================================================== claims
 
 C, P = "c002", "paper"
@@ -872,9 +1089,9 @@ CLAIMS = [
     # ---- spacecraft layer: the model has the form the proof uses
     Claim("c002.model.s1dot_identity", C, "attitude", "spacecraft", "2-4, 11, 15, 17, 19",
           "J s1_dot along the code's model, eq. 15 and eq. 17 equals eq. 19's right-hand side",
-          _s1dot_printed, _s1dot_corrected,
-          correction="left side J s1_dot (printed 'J_dot s1', an extraction slip)",
-          note="As printed the left side is J_dot s1; every term of the right side is J times a term of s1_dot."),
+          None, _s1dot_corrected,
+          note="Eq. 19 prints the left side 'J_dot s1', a typesetting slip (the same line's right side is J times "
+               "s1_dot term by term); checked as J s1_dot."),
     Claim("c002.model.s2dot_identity", C, "position", "spacecraft", "7, 9, 12, 16, 18, 20",
           "m s2_dot along the code's model, eq. 16 and eq. 18 equals eq. 20's right-hand side", _s2dot),
     Claim("c002.model.known_inertia_needed", C, "attitude + position", "spacecraft", "17-20, Assumption 2",
@@ -899,18 +1116,28 @@ CLAIMS = [
     Claim("c002.model.remark5_nt", C, "position", "spacecraft", "9, Remark 5",
           "||m n_t|| <= b3 a1 a3 + b3 a4 + b3 ||sigma_t|| a1 ||w~|| + b3 ||sigma_t|| a2 for the code's n_t",
           lambda: _Bounds().remark5_nt(False), lambda: _Bounds().remark5_nt(True),
-          correction="+ b3 a1^2 ||sigma_t|| + b3 a5 (||g_p|| <= a5)",
+          correction="+ b3 a1^2 ||sigma_t||, with a4 >= ||R v_t_dot - g_p|| (differential gravity ~ 3 n^2 ||r||)",
           note="Remark 5 bounds the printed n_t (eq. 9 erratum); the physical one has the centripetal "
                "acceleration (R w_t)^x (R w_t)^x R sigma_t of the rendezvous point, present even in free space "
                "at rest relative to a tumbling target."),
     Claim("c002.model.lumped_bound_position", C, "position", "spacecraft", "7, 9, 22, Remark 5",
           "||-m C_t v~ - m n_t + d_t + k5 m r~_dot + kappa2 tanh chi2|| <= eq. 22's bound",
           lambda: _Bounds().position(False), lambda: _Bounds().position(True),
-          correction="alpha9 + b3 a1^2 ||sigma_t|| + b3 a5 (the physical n_t's centripetal term; pursuer gravity)",
+          correction="alpha9 + b3 a1^2 ||sigma_t|| (centripetal term), a4 >= ||R v_t_dot - g_p||",
           note="Paper statement near docking in free space (v_t = 0): the centripetal term, constant in w~, "
-               "exceeds the printed alphas; the corrected alpha9 is checked on the wide domain with gravity."),
+               "exceeds the printed alphas; the corrected alpha9 is checked on the wide domain with gravity, where a4 "
+               "bounds the differential gravity R v_t_dot - g_p (not each gravity: b3 ||g_p|| ~ 830 N >> f_max)."),
     Claim("c002.model.Ct_skew", C, "position", "spacecraft", "7, 41",
           "r~^T C_t r~ = 0: C_t = (w~ + R w_t)^x of the code is skew-symmetric", _ct_skew),
+    Claim("c002.model.law_composition", C, "attitude + position", "spacecraft", "1, 5-6, 13, 15-18, 23-25",
+          "C002.law's s1, s2, eps_r, eps_t, sat outputs and xc_dot equal eqs. 1, 5-6, 13, 15-18, 23-25 of its "
+          "own inputs",
+          None, lambda: _law_identity("law"),
+          note="Provenance: the other claims call the equation functions; this one checks that the law that generates "
+               "the C code composes them as the paper's equations (typed here) with its own signals."),
+    Claim("c002.model.law_kinematics", C, "attitude + position", "spacecraft", "1, 3, 5-6",
+          "C002.law's diag q_err, rate_err, pos_err, vel_err equal eqs. 1, 5-6 (and omega~ under eq. 3) of its inputs",
+          None, lambda: _law_identity("kinematics")),
     # ---- V1 (Theorem 1 i)
     Claim("c002.V1.definite", C, "sliding surfaces", "abstract", "26",
           "V1 is positive definite in (s1, s2, alpha~) (printed 1/beta_i and corrected 1/(2 beta_i))",
@@ -921,12 +1148,20 @@ CLAIMS = [
           correction="V1 = 1/2 s1^T J s1 + 1/2 m s2^T s2 + sum alpha~_i^2 / (2 beta_i)",
           note="With the printed sum alpha~_i^2/beta_i the derivative is -2 sum alpha~_i alpha^_i_dot/beta_i; eqs. "
                "31-32's rho (beta_i gamma_i (2l_i - 1)/l_i) also match the 1/(2 beta_i) form."),
+    Claim("c002.V1.time_varying_inertia", C, "sliding surfaces", "abstract", "26, 27, Assumption 2",
+          "eq. 27's V1_dot = s1^T J s1_dot + s2^T m s2_dot - ... when J(t), m(t) vary (Assumption 2)",
+          _v1_time_varying, about=P,
+          correction="V1_dot gains 1/2 s1^T J_dot s1 + 1/2 m_dot ||s2||^2; eq. 19 gains -J_dot (w~ + R w_t) "
+                     "(Euler with varying J), neither bounded in eqs. 21-22",
+          note="The paper's contribution ii (time-varying J, m) is not covered by its proof: its derivatives treat J, "
+               "m as constants.  rpo's model and law take J, m constant (J_nom, m_nom)."),
     Claim("c002.V1.closed_loop_identity", C, "sliding surfaces", "spacecraft", "15-20, 25-27",
           "V1_dot along the full closed loop equals eq. 27's second line",
           _v1_closed_loop("k2"), _v1_closed_loop("k5"),
           correction="m k5 r~_dot in the position bracket (printed m k2 r~_dot)",
           note="Both statements use V1 with 1/(2 beta_i) (the eq. 26 slip is c002.V1.derivative_chain); the "
-               "printed k2 in place of k5 leaves m (k5 - k2) s2^T r~_dot."),
+               "printed k2 in place of k5 leaves m (k5 - k2) s2^T r~_dot.  The adaptation part is the same on both "
+               "sides (c002.V1.adaptation_cancels checks it): only the s-part is tested here."),
     Claim("c002.V1.adaptation_cancels", C, "sliding surfaces", "abstract", "25, 29",
           "eq. 25 turns -sum alpha~_i alpha^_i_dot/beta_i into -sum alpha~_i ||s|| y_i + sum gamma_i alpha~_i alpha^_i",
           _adaptation(True), _adaptation(False),
@@ -937,13 +1172,20 @@ CLAIMS = [
           "-k ||s||^2/sqrt(||s||^2 + eps^2) <= -k ||s|| + eps (the k3, k7 terms of eqs. 23-24)",
           _lemma2_unit(False), _lemma2_unit(True),
           correction="<= -k ||s|| + k eps (Lemma 2 times k); eq. 29's 11 eps becomes (9 + k3 + k7) eps",
-          note="The gap -k||s||^2/sqrt(.) + k||s|| reaches 0.30 k eps, > eps when k > 3.33: the paper's k3 = 4."),
+          note="The gap -k||s||^2/sqrt(.) + k||s|| reaches 0.30 k eps, > eps when k > 3.33 (the paper's k3 = 4).  "
+               "Corrected form: gap = k x eps^2/(sqrt(x^2+eps^2)(sqrt(x^2+eps^2)+x)) <= k eps/2 for all x; searched "
+               "over ||s|| in [0, 1e6 eps]."),
     Claim("c002.V1.bound", C, "sliding surfaces", "abstract", "21-25, 27-29",
           "V1_dot <= -k3||s1|| - k4||s1||^2 - k7||s2|| - k8||s2||^2 + sum gamma_i alpha~_i alpha^_i + c eps",
           _v1_bound(True), _v1_bound(False),
-          correction="sum gamma_i alpha~_i alpha^_i (printed alpha~_i alpha~_i_dot) and c = 9 + k3 + k7 (printed 11)",
-          note="As printed the last sum is gamma_i alpha~_i alpha~_i_dot (eq. 30 then uses alpha^_i) and the "
-               "constant 11 eps misses the k3, k7 factors of Lemma 2."),
+          correction="c = 9 + k3 + k7 (printed 11; the exact worst case is 0.3003 (9 + k3 + k7))",
+          note="Typed with alpha^_i (eq. 29 prints alpha~_i alpha~_i_dot, a hat/dot slip: eq. 30 uses alpha^_i).  "
+               "11 eps misses the k3, k7 factors of Lemma 2; it fails only for k3 + k7 > 27.6 at ||s_j|| ~ 0.79 eps "
+               "(k3, k7 searched in [0.01, 40]); the paper's k3 + k7 = 4.5 passes (c002.gains.eq29_constant)."),
+    Claim("c002.gains.eq29_constant", C, "sliding surfaces", "abstract", "29, 46",
+          "eq. 29 with the printed 11 eps at the paper's gains (k3 = 4, k4 = 0.5, k7 = 0.5, k8 = 20, eps = 1e-3)",
+          _v1_bound(True, PAPER_GAINS), about=P,
+          note="At k3 + k7 = 4.5 the true constant 0.3003 (9 + k3 + k7) eps = 4.1 eps is below 11 eps."),
     Claim("c002.V1.young", C, "sliding surfaces", "abstract", "30",
           "gamma alpha~ alpha^ <= -gamma (2l - 1)/(2l) alpha~^2 + gamma l alpha^2 / 2", _young),
     Claim("c002.V1.exponential", C, "sliding surfaces", "abstract", "29-33",
@@ -952,13 +1194,28 @@ CLAIMS = [
           correction="-rho1 V1_att - rho2 V1_pos + Delta1 + Delta2 (each rho on its own subsystem; or -min(rho1, "
                      "rho2) V1), Delta1 = ... + (3 + k3) eps, Delta2 = ... + (6 + k7) eps",
           note="-rho1 V1 - rho2 V1 claims the sum of the two rates on all of V1; each rho only bounds its own "
-               "subsystem's part."),
+               "subsystem's part (checked separately: c002.V1.exponential_att, c002.V1.exponential_pos)."),
+    Claim("c002.V1.exponential_att", C, "attitude", "abstract", "29-34",
+          "V1att_dot <= -rho1 V1att + Delta1 (V1att = 1/2 s1^T J s1 + sum_{i<=3} alpha~_i^2/(2 beta_i))",
+          None, _v1_split("att"),
+          note="The attitude and position parts of V1 decouple (s1 and alpha^_1..3 only in V1att); eq. 34 per "
+               "subsystem rests on this and c002.V1.exponential_pos.  Delta1 = ... + (3 + k3) eps."),
+    Claim("c002.V1.exponential_pos", C, "position", "abstract", "29-34",
+          "V1pos_dot <= -rho2 V1pos + Delta2 (V1pos = 1/2 m ||s2||^2 + sum_{i>=4} alpha~_i^2/(2 beta_i))",
+          None, _v1_split("pos"), note="Delta2 = ... + (6 + k7) eps."),
     Claim("c002.V1.residual_set", C, "sliding surfaces", "abstract", "34",
           "V1's parts <= Delta_j/rho_j imply ||s_j|| <= o_j = sqrt(2 Delta_j/rho_j)",
           _residual_set(False), _residual_set(True),
           correction="o1 = sqrt(2 Delta1 / (rho1 lambda_min(J))), o2 = sqrt(2 Delta2 / (rho2 m))",
-          note="The printed o_j forgets J and m; it holds only when lambda_min(J) >= 1 and m >= 1 in the chosen "
-               "units (true for Table 1's J and m in SI)."),
+          note="Dimensional: the printed o_j forgets J and m, so it fails only when lambda_min(J) < 1 or m < 1 in "
+               "the chosen units (the search draws J, m from 0.1).  For Table 1's J, m in SI the printed o_j is a "
+               "valid, looser bound."),
+    Claim("c002.V1.informative", C, "position", "abstract", "22, 31-34, 46, Theorem 1 i",
+          "at the paper's data, Theorem 1 i's residual set allows ||r~|| ~ o2/k5 below the published 0.3 m",
+          _informative_pos, about=P,
+          note="Even with alpha4..8 = 0 and alpha9 only sqrt(3) kappa2 + D2, rho2 <= beta9 gamma9 (2 l9 - 1)/l9 <= "
+               "0.002 gives Delta2/rho2 >= 6000, ||s2|| <= 11 m/s, ||r~|| ~ 22 m: the bound says nothing at the 0.3 m "
+               "scale (beta7..9 = 0.001 make rho2 tiny)."),
     # ---- V2 (Theorem 1 ii)
     Claim("c002.V2.definite", C, "auxiliary system", "abstract", "35",
           "V2 = k2/2 chi1^T chi1 + k6/2 chi2^T chi2 is positive definite", _v2_definite),
@@ -973,12 +1230,13 @@ CLAIMS = [
           note="-kappa chi^T M tanh(chi) <= -kappa ||M|| (||chi|| - delta) takes the largest weight M_ii = "
                "cosh^2(chi_i)/J_i for the negative term; with unequal chi_i it fails (also for Table 1's J)."),
     Claim("c002.V2.invariant_set", C, "auxiliary system", "abstract", "17-18, 38, Theorem 1 ii",
-          "kappa_j > varpi_j: each |chi_ji| decreases outside kappa_j delta/(kappa_j - varpi_j)",
-          None, _invariant_set,
+          "kappa_j > varpi_j: Omega_2 = {||chi_j|| <= kappa_j delta/(kappa_j - varpi_j)} is forward invariant",
+          _invariant_set_printed, _invariant_set,
           correction="Omega_2 per axis: ||chi_j||_inf <= kappa_j delta/(kappa_j - varpi_j) (printed with ||chi_j||, "
                      "and Theorem 1 ii prints omega_j for varpi_j)",
-          note="With J diagonal each axis of eqs. 17-18 is scalar; the per-axis bound also gives "
-               "||chi_j|| <= sqrt(3) kappa_j delta/(kappa_j - varpi_j)."),
+          note="As printed (2-norm) chi^T chi_dot > 0 on the sphere when the weights cosh^2(chi_i)/J_i differ: "
+               "eq. 38's max-weight slip (c002.V2.bound).  With J diagonal each axis of eqs. 17-18 is scalar; the "
+               "per-axis bound gives ||chi_j|| <= sqrt(3) kappa_j delta/(kappa_j - varpi_j)."),
     # ---- V3 (Theorem 1 iii)
     Claim("c002.V3.definite", C, "tracking errors", "abstract", "39",
           "V3 = q~_v^T q~_v + (1 - q~0)^2 + 1/2 r~^T r~ is positive definite", _v3_definite),
@@ -996,11 +1254,11 @@ CLAIMS = [
                "becomes k5 > 1/2); adding and removing (k1 - 1/2)(.. + 4) needs 4(k1 - 1/2), not 2; "
                "||tanh chi||^2 <= 3 gives 3 k2^2."),
     Claim("c002.V3.exponential", C, "tracking errors", "abstract", "41",
-          "V3_dot <= -(k1 + 2 k5 + 2||C_t|| - 3/2) V2 + o1^2 + k2^2 + 2(k1 - 1/2) + o2^2 + k6^2",
+          "V3_dot <= -(k1 + 2 k5 + 2||C_t|| - 3/2) V3 + o1^2 + k2^2 + 2(k1 - 1/2) + o2^2 + k6^2",
           _v3_exponential(False), _v3_exponential(True),
           correction="V3_dot <= -min(k1 - 1/2, 2(k5 - 1/2)) V3 + 4(k1 - 1/2) + o1^2 + 3 k2^2 + o2^2 + 3 k6^2",
-          note="Printed with V2 (V3 meant) and the sum of the two rates; at the paper's k5 = 0.5 the corrected rate "
-               "is 0."),
+          note="Printed with V2, typed with V3 (meant); it still fails: the sum of the two rates, the constant "
+               "2(k1 - 1/2) and the -||C_t|| term.  At the paper's k5 = 0.5 the corrected rate is 0 (c002.gains.k5)."),
     Claim("c002.V3.informative", C, "tracking errors", "abstract", "40-41, Theorem 1 iii",
           "eq. 41's ultimate bound on V3 (>= ||q~_v||^2) is below 1, so it bounds q~_v",
           _informative(False), _informative(True), about=P,
@@ -1010,19 +1268,26 @@ CLAIMS = [
     Claim("c002.V3.rate_bounds", C, "tracking errors", "abstract", "15-16, 42-43",
           "|w~_i| <= o1 + k1 o3 + k2 tanh(c1), |v~_i| <= o2 + k5 o4 + k6 tanh(c2)", _rate_bounds),
     # ---- the paper's gains against condition ii
+    Claim("c002.gains.k5", C, "tracking errors", "abstract", "41, 46, Theorem 1 iii",
+          "the paper's k1 = 2, k5 = 0.5 give eq. 41 positive rates (printed: k1 > 1/2, k5 > 1/2 - ||C_t||)",
+          lambda: _k_condition(True), lambda: _k_condition(False), about=P,
+          correction="k5 > 1/2 (C_t is skew, r~^T C_t r~ = 0)",
+          note="The printed k5 > 1/2 - ||C_t|| holds at k5 = 0.5 only through ||C_t|| > 0, a term that does not exist; "
+               "k5 = 0.5 makes the position rate 2(k5 - 1/2) of V3 zero.  k1 = 2 > 1/2 passes."),
     Claim("c002.gains.kappa1_varpi1", C, "auxiliary system", "abstract", "13, 15, 23, 46, Theorem 1 ii",
-          "kappa1 > varpi1 at t = 0 with the paper's gains, torque limit 1 N m (rpo's reading)",
-          _kappa_condition("att", 2.0, 1.0, "kappa1 = 2 (paper)"),
-          _kappa_condition("att", 3.0, 1.0, "kappa1 = 3 (scenarios/002_scenario_kappa3.toml)"), about=P,
-          correction="kappa1 = 3 (scenarios/002_scenario_kappa3.toml; varpi1 peaks at ~2.9 N m along that run)",
-          note="||sat(eps_r(0)) - eps_r(0)|| = 2.67 N m > kappa1 = 2: chi1 escapes at t = 1.705 s in the paper plant."),
+          "necessary: kappa1 > varpi1(0) with the paper's gains, torque limit 1 N m (rpo's reading)",
+          _kappa_condition("att", 2.0, 1.0, "kappa1 = 2 (paper)"), about=P,
+          correction="none checkable at design time: varpi1 = sup_t ||sat(eps_r) - eps_r|| has no a-priori bound",
+          note="varpi1 >= ||sat(eps_r(0)) - eps_r(0)|| = 2.67 N m > kappa1 = 2, so condition ii fails (chi1 escapes at "
+               "t = 1.705 s in the paper plant).  rpo's kappa1 = 3 (scenarios/002_scenario_kappa3.toml) passes this "
+               "t = 0 test, which is necessary only (varpi1 peaks at ~2.9 N m along that run)."),
     Claim("c002.gains.kappa2_varpi2", C, "auxiliary system", "abstract", "13, 16, 24, 46, Theorem 1 ii",
-          "kappa2 > varpi2 at t = 0 with the paper's gains and the printed force limit (1)",
-          _kappa_condition("pos", 2.0, 1.0, "force limit 1 N as printed ('position subsystem +-1')"),
-          _kappa_condition("pos", 2.0, 100.0, "force limit 100 N (rpo's reading: labels swapped)"), about=P,
-          correction="force limit 100 N (labels swapped, docs/controllers/c002.md): varpi2(0) = 0.5 N < 2",
-          note="With the printed labels ||sat(eps_t(0)) - eps_t(0)|| = 172 N >> kappa2 = 2; with the swapped "
-               "labels kappa1 fails instead (c002.gains.kappa1_varpi1): no reading satisfies condition ii."),
+          "necessary: kappa2 > varpi2(0) with the paper's gains and the printed force limit (1)",
+          _kappa_condition("pos", 2.0, 1.0, "force limit 1 N as printed ('position subsystem +-1')"), about=P,
+          correction="none checkable at design time: varpi2 = sup_t ||sat(eps_t) - eps_t|| has no a-priori bound",
+          note="With the printed labels varpi2(0) = 172 N >> kappa2 = 2.  With rpo's reading (labels swapped, force "
+               "limit 100 N, docs/controllers/c002.md) varpi2(0) = 0.5 N < 2 passes this necessary test, but kappa1 "
+               "then fails (c002.gains.kappa1_varpi1): no reading satisfies condition ii."),
 ]
 
 
@@ -1034,15 +1299,15 @@ def _drop_alpha7(out, *a, **kw):
 
 MUTATIONS = [
     Mutation("c002: k4 -> -k4 in eq. 23", c, "attitude_control", scale_argument("k4", -1),
-             ("c002.V1.bound", "c002.V1.exponential")),
+             ("c002.V1.bound", "c002.V1.exponential_att", "c002.model.law_composition")),
     Mutation("c002: sign of eps_r (eq. 23)", c, "attitude_control", negate_output(),
-             ("c002.V1.bound", "c002.V1.exponential")),
+             ("c002.V1.bound", "c002.V1.exponential", "c002.V1.exponential_att", "c002.model.law_composition")),
     Mutation("c002: alpha^_3 term dropped from eq. 23", c, "attitude_control", drop_terms(AHAT[2]),
              ("c002.V1.bound",)),
     Mutation("c002: k3 -> -k3 in eq. 23", c, "attitude_control", scale_argument("k3", -1),
              ("c002.V1.bound",)),
     Mutation("c002: k8 -> -k8 in eq. 24", c, "position_control", scale_argument("k8", -1),
-             ("c002.V1.bound", "c002.V1.exponential")),
+             ("c002.V1.bound", "c002.V1.exponential", "c002.V1.exponential_pos", "c002.model.law_composition")),
     Mutation("c002: k7 -> -k7 in eq. 24", c, "position_control", scale_argument("k7", -1),
              ("c002.V1.bound",)),
     Mutation("c002: alpha^_9 term dropped from eq. 24", c, "position_control", drop_terms(AHAT[8]),
@@ -1050,7 +1315,7 @@ MUTATIONS = [
     Mutation("c002: sign of eq. 25", c, "adaptive_rates", negate_output(),
              ("c002.V1.adaptation_cancels", "c002.V1.bound")),
     Mutation("c002: gamma -> -gamma in eq. 25", c, "adaptive_rates", scale_argument("gamma", -1),
-             ("c002.V1.adaptation_cancels", "c002.V1.bound")),
+             ("c002.V1.adaptation_cancels", "c002.V1.bound", "c002.model.law_composition")),
     Mutation("c002: beta -> -beta in eq. 25", c, "adaptive_rates", scale_argument("beta", -1),
              ("c002.V1.adaptation_cancels",)),
     Mutation("c002: alpha^_7 law dropped (as printed, eq. 25)", c, "adaptive_rates", replace_output(_drop_alpha7),
@@ -1061,5 +1326,18 @@ MUTATIONS = [
     Mutation("c002: sat(eps_r) dropped from eq. 17", c, "aux_attitude_rate", drop_terms(U_R),
              ("c002.model.s1dot_identity", "c002.V2.derivative_identity")),
     Mutation("c002: kappa2 -> -kappa2 in eq. 18", c, "aux_position_rate", scale_argument("kappa2", -1),
-             ("c002.model.s2dot_identity", "c002.V2.derivative_identity", "c002.V2.invariant_set")),
+             ("c002.model.s2dot_identity", "c002.V2.derivative_identity", "c002.V2.invariant_set",
+              "c002.model.law_composition")),
+    Mutation("c002: k1 -> -k1 in the attitude surface (eq. 15)", c, "sliding_surface_attitude",
+             scale_argument("k1", -1), ("c002.model.s1dot_identity", "c002.model.law_composition")),
+    Mutation("c002: k6 -> -k6 in the position surface (eq. 16)", c, "sliding_surface_position",
+             scale_argument("k6", -1), ("c002.model.s2dot_identity", "c002.model.law_composition")),
+    Mutation("c002: saturation sign flipped (eq. 13)", c, "saturation", negate_output(),
+             ("c002.model.law_composition",)),
+    Mutation("c002: sigma_t term of v~ sign flipped (eq. 6)", c, "relative_velocity", scale_argument("sigma_t", -1),
+             ("c002.model.law_kinematics",)),
+    Mutation("c002: omega~ = omega_p + R omega_t (under eq. 3)", c, "relative_angular_velocity",
+             scale_argument("w_t", -1), ("c002.model.law_kinematics",)),
+    Mutation("c002: sign of r~_dot (eq. 7)", c, "relative_position_rate", negate_output(),
+             ("c002.model.s2dot_identity", "c002.V3.derivative_identity")),
 ]
