@@ -1,9 +1,16 @@
 #!/usr/bin/env python3
 """Regenerate ``generated/`` from the SymPy model in ``symbolic/`` and compile it.
 
-    python build.py            # regenerate if symbolic/ changed, then compile into the cache
-    python build.py --check    # regenerate into a temporary folder; exit 1 with a diff if stale
-    python build.py --force    # regenerate even if the source hash is unchanged
+    python build.py            # regenerate the families whose sources changed, then compile into the cache
+    python build.py --check    # regenerate everything from scratch in memory; exit 1 with a diff if stale
+    python build.py --force    # re-derive every family even if its hash is unchanged
+    python build.py --no-compile
+
+Generated code is organised in families (the plant; one per controller module; see
+``symbolic/functions.py``).  A family is re-derived only when a module it imports changed, and a
+controller family reuses the plant's CasADi functions from ``generated/`` instead of deriving the
+plant again.  Compilation is one object file per generated function, compiled in parallel on
+every core and cached by content hash; the library is linked from the cached objects.
 
 The build always uses *this checkout's* symbolic/, runtime/ and generated/ (never an installed
 copy of rpo), so it works before ``pip install`` and cannot pick up the wrong model.
@@ -15,10 +22,7 @@ import argparse
 import difflib
 import gzip
 import importlib.util
-import json
-import os
 import sys
-import tempfile
 import time
 import types
 from pathlib import Path
@@ -29,36 +33,44 @@ GEN = ROOT / "generated"
 
 def _bootstrap() -> None:
     """Import rpo.symbolic / rpo.runtime / rpo.generated from this checkout."""
+    if getattr(sys.modules.get("rpo"), "__rpo_checkout__", None) == str(ROOT):
+        return
     pkg = types.ModuleType("rpo")
     pkg.__path__ = []
+    pkg.__rpo_checkout__ = str(ROOT)  # type: ignore[attr-defined]
     sys.modules["rpo"] = pkg
     for sub in ("symbolic", "runtime", "generated"):
         spec = importlib.util.spec_from_file_location(
             f"rpo.{sub}", ROOT / sub / "__init__.py", submodule_search_locations=[str(ROOT / sub)])
+        assert spec is not None and spec.loader is not None
         mod = importlib.util.module_from_spec(spec)
         sys.modules[f"rpo.{sub}"] = mod
         setattr(pkg, sub, mod)
         spec.loader.exec_module(mod)
 
 
-def _read(path: Path) -> list[str]:
-    data = gzip.decompress(path.read_bytes()) if path.suffix == ".gz" else path.read_bytes()
+def _text(name: str, data: bytes) -> list[str]:
+    data = gzip.decompress(data) if name.endswith(".gz") else data
     return data.decode().splitlines(keepends=True)
 
 
-def _compare(new_dir: Path, old_dir: Path) -> list[str]:
-    """Readable differences between a fresh generation and generated/ (empty when equal)."""
+def compare(new: dict[str, bytes], gen_dir: Path) -> list[str]:
+    """Readable differences between a fresh generation (name -> bytes) and ``gen_dir`` (empty when equal).
+
+    Serialised functions are compared decompressed, so a different zlib cannot cause a false alarm.
+    """
+    from rpo.symbolic.codegen import is_generated_name
+
     out = []
-    new_files = {p.name for p in new_dir.iterdir()}
-    old_files = {p.name for p in old_dir.iterdir() if p.name not in ("__init__.py", "__pycache__", ".lock")}
-    for name in sorted(new_files | old_files):
-        if name not in old_files:
+    old = {p.name for p in gen_dir.iterdir() if p.is_file() and is_generated_name(p.name)}
+    for name in sorted(set(new) | old):
+        if name not in old:
             out.append(f"generated/{name}: missing (would be created)\n")
             continue
-        if name not in new_files:
+        if name not in new:
             out.append(f"generated/{name}: not produced by the current model (would be removed)\n")
             continue
-        a, b = _read(old_dir / name), _read(new_dir / name)
+        a, b = _text(name, (gen_dir / name).read_bytes()), _text(name, new[name])
         if a != b:
             diff = list(difflib.unified_diff(a, b, f"generated/{name} (committed)",
                                              f"generated/{name} (from symbolic/)", n=1))
@@ -69,78 +81,94 @@ def _compare(new_dir: Path, old_dir: Path) -> list[str]:
     return out
 
 
-def _up_to_date(codegen) -> tuple[bool, str]:
-    from rpo.runtime.compiled import read_manifest
-    from rpo.runtime.errors import ModelError
+def stale_families(gen_dir: Path = GEN, families=None, root: Path | None = None) -> tuple[list[str], list[str]]:
+    """(families to re-derive, families generated/ has that the model no longer defines).
 
-    try:
-        manifest = read_manifest(GEN)
-    except (ModelError, json.JSONDecodeError, KeyError) as exc:
-        return False, str(exc)
-    if manifest.get("source_hash") != codegen.source_hash():
-        return False, "symbolic/ changed since generated/ was written"
-    if manifest.get("tools") != codegen.tool_versions():
-        return False, f"tool versions changed: {manifest.get('tools')} -> {codegen.tool_versions()}"
-    if manifest.get("format_version") != codegen.FORMAT_VERSION:
-        return False, "manifest format changed"
-    return True, f"source hash {manifest['source_hash'][:12]}"
+    ``families``/``root`` default to rpo's model (``symbolic/functions.py``); tests pass a fixture model.
+    """
+    from rpo.symbolic import codegen, functions
+
+    fams = functions.families() if families is None else families
+    hashes = codegen.family_hashes(fams, functions.SYMBOLIC_DIR if root is None else root)
+    prev = codegen.read_previous(gen_dir)
+    stale = [f.name for f in fams if not codegen._reusable(prev, gen_dir, f.name, hashes[f.name]["hash"])]
+    gone = sorted(set((prev or {}).get("families", {})) - set(hashes))
+    return stale, gone
 
 
-def _generate_into_generated(codegen) -> None:
-    """Generate into a temporary folder next to generated/, then move files in (manifest last)."""
-    from rpo.runtime.compiled import _file_lock
+def regenerate(gen_dir: Path = GEN, force: bool = False, log=print, families=None,
+               root: Path | None = None) -> list[str]:
+    """Bring ``gen_dir`` up to date under its lock; return the families re-derived ([] if none)."""
+    from rpo.runtime.compiled import file_lock
+    from rpo.symbolic import codegen, functions
 
-    with _file_lock(GEN / ".lock"), tempfile.TemporaryDirectory(dir=ROOT, prefix=".gen-") as tmp:
-        codegen.generate(Path(tmp))
-        names = sorted(p.name for p in Path(tmp).iterdir())
-        for name in [n for n in names if n != "manifest.json"] + ["manifest.json"]:
-            os.replace(Path(tmp) / name, GEN / name)
-        for stale in GEN.iterdir():
-            if stale.is_file() and stale.name not in names and stale.name not in ("__init__.py", ".lock"):
-                stale.unlink()
+    root = functions.SYMBOLIC_DIR if root is None else root
+    with file_lock(gen_dir / ".lock"):  # a second build waits here, then finds nothing to do
+        fams = functions.families() if families is None else families
+        stale, gone = stale_families(gen_dir, fams, root)
+        if not (stale or gone or force):
+            return []
+        if gone:
+            log(f"removing families no longer in symbolic/: {', '.join(gone)}")
+        result = codegen.generate(fams, root, reuse=None if force else gen_dir, log=log)
+        written = codegen.update_folder(result, gen_dir)
+        log(f"generated/: re-derived {', '.join(result.rebuilt) or 'nothing'}; "
+            f"{len(written)} file(s) written, {len(result.files) + 1 - len(written)} unchanged")
+        return result.rebuilt or gone
 
 
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--check", action="store_true", help="fail (exit 1) if generated/ does not match symbolic/")
-    ap.add_argument("--force", action="store_true", help="regenerate even if nothing changed")
+    ap.add_argument("--force", action="store_true", help="re-derive every family even if nothing changed")
     ap.add_argument("--no-compile", action="store_true", help="do not compile the shared library")
+    ap.add_argument("--jobs", "-j", type=int, default=None,
+                    help="parallel compiler processes (default: every core)")
     args = ap.parse_args(argv)
+    if args.jobs is not None and args.jobs < 1:
+        print(f"build.py: --jobs must be >= 1 (got {args.jobs})", file=sys.stderr)
+        return 2
 
     _bootstrap()
     from rpo.runtime.errors import RpoError
-    from rpo.symbolic import codegen
+    from rpo.symbolic import codegen, functions
+    from rpo.symbolic.codegen import ModelDefinitionError
 
     t0 = time.perf_counter()
     if args.check:
-        with tempfile.TemporaryDirectory() as tmp:
-            codegen.generate(Path(tmp))
-            diff = _compare(Path(tmp), GEN)
+        result = codegen.generate(functions.families(), functions.SYMBOLIC_DIR, reuse=None, log=print)
+        files = dict(result.files)
+        files["manifest.json"] = codegen.manifest_bytes(result.manifest)
+        diff = compare(files, GEN)
         if diff:
             sys.stdout.writelines(diff)
             print("build.py --check: generated/ is STALE: it does not match symbolic/. "
                   "Run `python build.py` and commit generated/.")
             return 1
-        print(f"build.py --check: generated/ matches symbolic/ ({time.perf_counter() - t0:.1f} s)")
+        print(f"build.py --check: generated/ matches symbolic/ ({len(files)} files, "
+              f"{time.perf_counter() - t0:.1f} s)")
         return 0
 
-    ok, why = _up_to_date(codegen)
-    if ok and not args.force:
-        print(f"generated/ is up to date ({why}): nothing to regenerate")
+    try:
+        rebuilt = regenerate(GEN, force=args.force)
+    except ModelDefinitionError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    if not rebuilt:
+        print("generated/ is up to date: nothing to regenerate")
     else:
-        print(f"regenerating generated/ ({'forced' if ok else why}) ...")
-        _generate_into_generated(codegen)
         print(f"wrote generated/ in {time.perf_counter() - t0:.1f} s")
     if args.no_compile:
         return 0
     from rpo.runtime.compiled import build_library
 
     try:
-        lib, compiled = build_library(GEN, log=print)
+        lib, compiled = build_library(GEN, log=print, jobs=args.jobs)
     except RpoError as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
-    print(f"{'compiled' if compiled else 'library up to date, nothing to compile'}: {lib}")
+    print(f"{'compiled' if compiled else 'library up to date, nothing to compile'}: {lib} "
+          f"({time.perf_counter() - t0:.1f} s in all)")
     return 0
 
 

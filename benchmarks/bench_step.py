@@ -18,7 +18,6 @@ from __future__ import annotations
 
 import argparse
 import gzip
-import json
 import platform
 import statistics
 import sys
@@ -69,9 +68,9 @@ def main(argv=None) -> int:
     us_comp = t_comp / n_steps * 1e6
 
     # 3. casadi.Function per step from Python: the generated step as serialised by build.py
-    blob = generated_dir() / f"{model.manifest['module']}.casadi.gz"
-    blobs = json.loads(gzip.decompress(blob.read_bytes()))
-    step_ca = ca.Function.deserialize(blobs[model.manifest["controllers"][run.controller]["step"]])
+    step_name = model.manifest["controllers"][run.controller]["step"]
+    blob = (generated_dir() / f"{step_name}.casadi.gz").read_bytes()
+    step_ca = ca.Function.deserialize(gzip.decompress(blob).decode())
     p, k = sim.p, sim.k
     rng = np.random.default_rng(0)
     W = rng.standard_normal((args.casadi_steps, sim.nw))
@@ -87,10 +86,10 @@ def main(argv=None) -> int:
     # 2. numpy: lambdified SymPy pieces + the same step composition (setup excluded from timing)
     print("building the NumPy reference (sympy.lambdify of the plant; about a minute) ...", flush=True)
     t0 = time.perf_counter()
-    from rpo.symbolic import codegen
+    from rpo.symbolic import functions
     from rpo.symbolic.numpy_reference import numpy_step
 
-    pieces, ctx = codegen.sources()
+    pieces, ctx = functions.sources()
     ctrl = next(c for c in ctx["controllers"] if c.name == run.controller)
     step_np = numpy_step(pieces, ctx["plant"], ctrl)
     print(f"  (setup {time.perf_counter() - t0:.0f} s, not timed)")

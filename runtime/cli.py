@@ -273,7 +273,8 @@ def info(backend: str) -> int:
             return "not installed"
 
     echo(f"rpo {version('rpo')}  (python {sys.version.split()[0]})")
-    echo(f"model            {m['module']}, source hash {m['source_hash']}")
+    echo(f"model            {len(m['functions'])} functions in {len(m['families'])} families, "
+         f"source hash {m['source_hash']}")
     echo("generated with   " + ", ".join(f"{k} {v}" for k, v in sorted(m["tools"].items())))
     echo("runtime          " + ", ".join(f"{k} {version(k)}" for k in ("numpy", "scipy", "matplotlib", "pydantic",
                                                                           "click")))

@@ -4,11 +4,13 @@ Never loads stale code:
 
 * ``generated/manifest.json`` records the sha256 of every generated source; a mismatch (a hand
   edit, a partial checkout) is an error that says to run ``python build.py``;
-* the library is named by a key over the generated sources, the loop driver source, the
-  compiler's identity, the flags and the runtime ABI version, so a rebuilt library never reuses a
-  path that a process may already have loaded;
-* it is compiled to a temporary file in the cache folder and renamed into place (atomic), under
-  a file lock, so concurrent builds are safe;
+* every generated C file is compiled on its own into an object named by a key over its bytes,
+  the compiler's identity and the flags (``<cache>/obj/``), in parallel on every core; the
+  library is linked from those objects and the loop driver and named by a key over all of
+  them, the manifest and the runtime ABI version, so a rebuilt library never reuses a path
+  that a process may already have loaded, and an edit recompiles only the files it changed;
+* objects and the library are written to temporary files in the cache and renamed into place
+  (atomic); the link runs under a file lock, so concurrent builds are safe;
 * after loading, every function's input/output count and shapes are checked against the manifest.
 
 Only numpy and ctypes are needed here: no SymPy, no CasADi (except for the explicit, warned
@@ -28,7 +30,10 @@ import shutil
 import subprocess
 import sys
 import tempfile
+import time
 import warnings
+from collections.abc import Callable, Iterator
+from concurrent.futures import ThreadPoolExecutor, as_completed
 from contextlib import contextmanager
 from importlib import resources
 from pathlib import Path
@@ -37,12 +42,15 @@ import numpy as np
 
 from .errors import ModelError
 
-#: Bump when the loop driver's calling convention changes.
-RUNTIME_ABI = 1
+#: Bump when the loop driver's calling convention or the library layout changes.
+RUNTIME_ABI = 2
 #: -O2 without -ffast-math: IEEE semantics are kept so that divergence (NaN/inf) is detected
 #: and results match the symbolic model to round-off.
-CFLAGS = ("-O2", "-fPIC", "-shared")
+CFLAGS = ("-O2", "-fPIC")
+LDFLAGS = ("-shared",)
 LOOP_SOURCE = "sim_loop.c"
+#: The manifest format this runtime reads (``rpo.symbolic.codegen.FORMAT_VERSION``; a test checks they agree).
+MANIFEST_FORMAT = 2
 
 _DOUBLE_P = ctypes.POINTER(ctypes.c_double)
 _INT_P = ctypes.POINTER(ctypes.c_longlong)
@@ -69,6 +77,9 @@ def read_manifest(gen_dir: Path | None = None, verify: bool = True) -> dict:
         manifest = json.loads(path.read_text())
     except (OSError, UnicodeDecodeError, json.JSONDecodeError) as exc:
         raise ModelError(f"{path} cannot be read ({exc}): run `python build.py`") from exc
+    if manifest.get("format_version") != MANIFEST_FORMAT:
+        raise ModelError(f"{path} has format {manifest.get('format_version')}, this runtime reads format "
+                         f"{MANIFEST_FORMAT}: run `python build.py`")
     if verify:
         if manifest.get("manifest_hash") != manifest_hash(manifest):
             raise ModelError(f"{path} does not match its recorded hash (edited by hand?): run `python build.py`")
@@ -137,23 +148,35 @@ def cache_dir() -> Path:
     return Path(base) / "rpo"
 
 
-def library_key(gen_dir: Path, manifest: dict, cc_id: str) -> str:
-    h = hashlib.sha256()
-    for name in sorted(manifest["files"]):
-        if name.endswith(".c") or name.endswith(".h"):
-            h.update(name.encode() + b"\0" + (gen_dir / name).read_bytes() + b"\0")
-    h.update(loop_source().read_bytes())
-    h.update(json.dumps({"cc": cc_id, "flags": CFLAGS, "abi": RUNTIME_ABI, "tools": manifest["tools"],
-                         "manifest": manifest["manifest_hash"], "platform": sys.platform,
+def object_key(source: bytes, cc_id: str) -> str:
+    """Cache key of one object file: the C source's bytes, the compiler identity and the flags."""
+    h = hashlib.sha256(source)
+    h.update(json.dumps({"cc": cc_id, "flags": CFLAGS, "abi": RUNTIME_ABI, "platform": sys.platform,
                          "machine": platform.machine()}, sort_keys=True).encode())
     return h.hexdigest()
 
 
+def _sources(gen_dir: Path, manifest: dict) -> list[tuple[str, Path]]:
+    """(name, path) of every C file the library is linked from: the generated ones and the loop driver."""
+    return [*((name, gen_dir / name) for name in manifest["sources"]), (LOOP_SOURCE, loop_source())]
+
+
+def library_key(gen_dir: Path, manifest: dict, cc_id: str) -> str:
+    """Cache key of the library: every object key, the link flags, the manifest and the tool versions."""
+    h = hashlib.sha256()
+    for name, path in _sources(gen_dir, manifest):
+        h.update(name.encode() + b"\0" + object_key(path.read_bytes(), cc_id).encode() + b"\0")
+    h.update(json.dumps({"ldflags": LDFLAGS, "abi": RUNTIME_ABI, "tools": manifest["tools"],
+                         "manifest": manifest["manifest_hash"]}, sort_keys=True).encode())
+    return h.hexdigest()
+
+
 @contextmanager
-def _file_lock(path: Path):
+def file_lock(path: Path) -> Iterator[None]:
+    """An exclusive advisory lock on ``path`` (created if missing) for the duration of the block."""
     try:
         import fcntl
-    except ImportError:  # pragma: no cover - non-POSIX: rely on the atomic rename alone
+    except ImportError:  # pragma: no cover - non-POSIX: rely on the atomic renames alone
         yield
         return
     with open(path, "a+") as fh:
@@ -164,40 +187,94 @@ def _file_lock(path: Path):
             fcntl.flock(fh, fcntl.LOCK_UN)
 
 
-def build_library(gen_dir: Path | None = None, cache: Path | None = None, log=None) -> tuple[Path, bool]:
-    """Compile the generated model into the cache if needed; return (library path, compiled?)."""
+_file_lock = file_lock  # the name earlier code used
+
+
+def _run_cc(cmd: list[str], what: str, cc: list[str]) -> None:
+    res = subprocess.run(cmd, capture_output=True, text=True, check=False)
+    if res.returncode != 0:
+        lines = res.stderr.strip().splitlines() or ["(no output)"]
+        # the compiler's first "error:" line says what is wrong; the last is often a caret
+        first = next((ln.strip() for ln in lines if "error" in ln.lower()), lines[-1].strip())
+        raise ModelError(f"{what} failed ({' '.join(cc)}): {first}")
+
+
+def _compile_object(cc: list[str], src: Path, obj: Path) -> float:
+    """Compile ``src`` to ``obj`` through a temporary file in the same folder (atomic); return seconds."""
+    t0 = time.perf_counter()
+    fd, tmp = tempfile.mkstemp(prefix=f".{obj.stem}.", suffix=".tmp.o", dir=obj.parent)
+    os.close(fd)
+    try:
+        _run_cc([*cc, *CFLAGS, "-c", str(src), "-o", tmp], f"compiling {src.name}", cc)
+        os.replace(tmp, obj)
+    finally:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+    return time.perf_counter() - t0
+
+
+def default_jobs() -> int:
+    """Compiler processes to run at once: every core this process may use."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # pragma: no cover - not Linux
+        return max(1, os.cpu_count() or 1)
+
+
+def build_library(gen_dir: Path | None = None, cache: Path | None = None, log: Callable[[str], None] | None = None,
+                  jobs: int | None = None) -> tuple[Path, bool]:
+    """Compile the generated model into the cache if needed; return (library path, compiled?).
+
+    Objects missing from ``<cache>/obj`` are compiled in parallel (``jobs``, default every core),
+    with a progress line per file through ``log``; then the library is linked from them.
+    """
     gen_dir = generated_dir() if gen_dir is None else Path(gen_dir)
     manifest = read_manifest(gen_dir)
     cc = find_compiler()
     if cc is None:
         raise ModelError(NO_COMPILER)
-    key = library_key(gen_dir, manifest, compiler_identity(cc))
+    cc_id = compiler_identity(cc)
     cache = cache_dir() if cache is None else Path(cache)
     try:
-        cache.mkdir(parents=True, exist_ok=True)
+        (cache / "obj").mkdir(parents=True, exist_ok=True)
     except OSError as exc:
         raise ModelError(f"cannot create the build cache {cache} ({exc.strerror}): set RPO_CACHE_DIR "
                          "to a writable folder") from exc
-    lib = cache / f"rpo_{manifest['module']}_{key[:24]}.so"
+    sources = _sources(gen_dir, manifest)
+    objects = [(name, path, cache / "obj" / f"{Path(name).stem}-{object_key(path.read_bytes(), cc_id)[:24]}.o")
+               for name, path in sources]
+    key = library_key(gen_dir, manifest, cc_id)
+    lib = cache / f"rpo_model_{key[:24]}.so"
     if lib.exists():
         return lib, False
-    with _file_lock(cache / f".{lib.name}.lock"):
+    with file_lock(cache / f".{lib.name}.lock"):
         if lib.exists():  # another process finished it while we waited
             return lib, False
+        todo = [(name, src, obj) for name, src, obj in objects if not obj.exists()]
+        n_jobs = max(1, min(jobs or default_jobs(), len(todo) or 1))
+        if log and todo:
+            log(f"compiling {len(todo)} of {len(objects)} C files on {n_jobs} core{'s' * (n_jobs > 1)} "
+                f"({len(objects) - len(todo)} cached) into {cache} ...")
+        t0 = time.perf_counter()
+        # largest first, so that the long step functions start at once and the short ones fill in
+        todo.sort(key=lambda item: -item[1].stat().st_size)
+        with ThreadPoolExecutor(max_workers=n_jobs) as pool:
+            futures = {pool.submit(_compile_object, cc, src, obj): name for name, src, obj in todo}
+            for i, fut in enumerate(as_completed(futures), 1):
+                seconds = fut.result()
+                if log:
+                    log(f"  [{i}/{len(todo)}] {futures[fut]} ({seconds:.1f} s, {len(todo) - i} left)")
         fd, tmp = tempfile.mkstemp(prefix=f".{lib.stem}.", suffix=".tmp.so", dir=cache)
         os.close(fd)
-        cmd = [*cc, *CFLAGS, "-o", tmp, str(gen_dir / f"{manifest['module']}.c"), str(loop_source()), "-lm"]
-        if log:
-            log(f"compiling {lib.name} ({' '.join(Path(c).name if c.startswith('/') else c for c in cmd)})")
         try:
-            res = subprocess.run(cmd, capture_output=True, text=True, check=False)
-            if res.returncode != 0:
-                last = (res.stderr.strip().splitlines() or ["(no output)"])[-1]
-                raise ModelError(f"compiling the generated model failed ({' '.join(cc)}): {last}")
+            _run_cc([*cc, *LDFLAGS, "-o", tmp, *(str(obj) for _n, _s, obj in objects), "-lm"],
+                    "linking the generated model", cc)
             os.replace(tmp, lib)
         finally:
             if os.path.exists(tmp):
                 os.unlink(tmp)
+        if log:
+            log(f"linked {lib.name} from {len(objects)} objects ({time.perf_counter() - t0:.1f} s)")
     return lib, True
 
 
@@ -370,10 +447,11 @@ def _load_compiled(gen_dir: Path, manifest: dict, log=None) -> Model:
     if selftest(float("nan")) != 0 or selftest(float("inf")) != 0 or selftest(1.0) != 1:
         raise ModelError(f"{lib_path} does not detect NaN/inf (built with -ffast-math or similar via $CC?): "
                          "divergence would go unnoticed; use a plain C compiler command")
-    int_size = getattr(lib, f"{manifest['module']}_casadi_int_size")
-    int_size.restype = ctypes.c_int
-    if int_size() != 8:
-        raise ModelError("generated code uses a casadi_int that is not 64-bit: run `python build.py`")
+    for source in manifest["sources"]:
+        int_size = getattr(lib, f"{Path(source).stem}_casadi_int_size")
+        int_size.restype = ctypes.c_int
+        if int_size() != 8:
+            raise ModelError(f"generated/{source} uses a casadi_int that is not 64-bit: run `python build.py`")
     funcs = {name: CompiledFunction(lib, name, desc) for name, desc in manifest["functions"].items()}
     return Model(manifest, funcs, "compiled", lib_path, lib)
 
@@ -383,12 +461,10 @@ def _load_casadi(gen_dir: Path, manifest: dict) -> Model:
         import casadi as ca
     except ImportError as exc:  # pragma: no cover
         raise ModelError("backend 'casadi' needs the casadi package (pip install casadi)") from exc
-    path = gen_dir / f"{manifest['module']}.casadi.gz"
-    with gzip.open(path, "rt") as fh:
-        blobs = json.load(fh)
     funcs = {}
     for name, desc in manifest["functions"].items():
-        funcs[name] = CasadiFunction(ca.Function.deserialize(blobs[name]), desc)
+        with gzip.open(gen_dir / f"{name}.casadi.gz", "rt") as fh:
+            funcs[name] = CasadiFunction(ca.Function.deserialize(fh.read()), desc)
     return Model(manifest, funcs, "casadi")
 
 

@@ -50,19 +50,12 @@ class Piece:
     outputs: list[tuple[str, sp.Basic]]
 
 
-def model_pieces(plant: Plant, ctrl) -> dict[str, Piece]:
-    """The SymPy pieces a closed-loop step is made of (each defined once, here or below)."""
+def plant_pieces(plant: Plant) -> dict[str, Piece]:
+    """The SymPy pieces of a closed-loop step that do not depend on the controller (each defined
+    once, here or in the modules it calls): plant, measurement, environment, actuators."""
     P = plant
     x, u, t, p, w = P.x.vector(), P.u.vector(), P.t, P.p.vector(), P.w.vector()
-    meas = P.meas.vector()
     pr = P.p
-    cmd, xc_dot, diag = ctrl.law(P.meas, t, pr)
-    k = ctrl.k.vector()
-    extra = {}
-    if hasattr(ctrl, "xc0"):
-        # initial controller state from the first measurement (e.g. an observer started there)
-        extra[f"xc0_{ctrl.name}"] = Piece(f"xc0_{ctrl.name}", [("meas", meas), ("p", p), ("k", k)],
-                                          [("xc0", ctrl.xc0(P.meas, pr))])
     tau_w = sp.Matrix(sp.symbols("tau_x tau_y tau_z", real=True))
     F_c = sp.Matrix(sp.symbols("F_x F_y F_z", real=True))
     tau_t = sp.Matrix(sp.symbols("taut_x taut_y taut_z", real=True))
@@ -75,10 +68,6 @@ def model_pieces(plant: Plant, ctrl) -> dict[str, Piece]:
         "measure": Piece("measure", [("x", x), ("t", t), ("p", p), ("w", w)], [("meas", P.measurement())]),
         "env_outputs": Piece("env_outputs", [("x", x), ("u", u), ("t", t), ("p", p), ("w", w)],
                              [("env", P.env_outputs())]),
-        f"law_{ctrl.name}": Piece(
-            f"law_{ctrl.name}",
-            [("meas", meas), ("xc", ctrl.xc.vector()), ("t", t), ("p", p), ("k", k)],
-            [("cmd", cmd), ("xc_dot", xc_dot), ("diag", diag)]),
         "ideal_actuators": Piece("ideal_actuators", [("F", F_c), ("tau", tau_w), ("p", p)], list(zip(
             ("F_applied", "tau_applied"), act.ideal_wrench(F_c, tau_w, pr["force_max"], pr["torque_max"]),
             strict=True))),
@@ -95,8 +84,30 @@ def model_pieces(plant: Plant, ctrl) -> dict[str, Piece]:
             ("f_next", sp.Matrix([act.pwpf_filter_step(f[i], duty[i], on[i], pr["pwpf_km"],
                                                        pr["pwpf_tm"], pr["dt"]) for i in range(16)])),
         ]),
-        **extra,
     }
+
+
+def controller_pieces(plant: Plant, ctrl) -> dict[str, Piece]:
+    """The SymPy pieces of one controller: its law ``law_<name>`` and, if it has one, the initial
+    state ``xc0_<name>`` from the first measurement (e.g. an observer started there)."""
+    P = plant
+    t, p = P.t, P.p.vector()
+    meas = P.meas.vector()
+    cmd, xc_dot, diag = ctrl.law(P.meas, t, P.p)
+    k = ctrl.k.vector()
+    out = {f"law_{ctrl.name}": Piece(
+        f"law_{ctrl.name}",
+        [("meas", meas), ("xc", ctrl.xc.vector()), ("t", t), ("p", p), ("k", k)],
+        [("cmd", cmd), ("xc_dot", xc_dot), ("diag", diag)])}
+    if hasattr(ctrl, "xc0"):
+        out[f"xc0_{ctrl.name}"] = Piece(f"xc0_{ctrl.name}", [("meas", meas), ("p", p), ("k", k)],
+                                        [("xc0", ctrl.xc0(P.meas, P.p))])
+    return out
+
+
+def model_pieces(plant: Plant, ctrl) -> dict[str, Piece]:
+    """All SymPy pieces a closed-loop step with ``ctrl`` is made of."""
+    return {**plant_pieces(plant), **controller_pieces(plant, ctrl)}
 
 
 def output_layout(plant: Plant, ctrl) -> Layout:

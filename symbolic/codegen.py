@@ -1,269 +1,215 @@
-"""Code generation: SymPy model -> CasADi functions -> C sources and manifest in ``generated/``.
+"""Code generation engine: families of CasADi functions -> one C file per function + manifest.
 
-Called by ``build.py``.  Output is deterministic (same sources and tool versions give
-byte-identical files), which is what lets ``build.py --check`` detect a stale ``generated/``.
+A model is a list of :class:`Family` objects (rpo's own are in :mod:`rpo.symbolic.functions`; the
+build-system tests use a tiny fixture model).  A family is a group of generated functions that
+are derived together (the plant; one controller) and is identified by a **family hash** over
+
+* the bytes of every module of the package its derivation imports (the static import closure
+  of its seed modules, see :func:`module_closure`),
+* the hashes of the families it depends on (a controller's step embeds the plant),
+* the generator's format version and the CasADi/SymPy versions.
+
+:func:`generate` rebuilds only the families whose hash changed; the others are taken from the
+previous ``generated/`` folder as they are (their files are verified against the manifest
+first).  A family that needs an unchanged dependency's CasADi functions deserialises them from
+that folder's ``<function>.casadi.gz`` instead of deriving them again, which is what makes a
+controller edit cheap: the plant's SymPy derivation is not redone.
+
+Output is deterministic: the same sources and tool versions give byte-identical files whether
+a family was rebuilt or reused (``build.py --check`` regenerates everything from scratch and
+compares bytes).  Files per generated function ``f``:
+
+* ``f.c`` and ``f.h``: CasADi's C code, behind a banner with the family, its hash, the modules
+  it came from and the operation count;
+* ``f.casadi.gz``: the serialised CasADi function (for the explicit ``backend="casadi"``
+  fallback, and as the derivation cache of dependent families).
 """
 
 from __future__ import annotations
 
+import ast
 import gzip
 import hashlib
-import importlib
 import json
 import os
-import platform
 import tempfile
+import time
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass, field
+from importlib import metadata
 from pathlib import Path
-from types import SimpleNamespace
+from typing import Any
 
-import casadi as ca
-import sympy as sp
-
-from . import closed_loop as cl
-from .controllers.baseline import Baseline
-from .orbit import eccentric_anomaly
-from .plant import make_plant
-from .relative_attitude import attitude_error_rate, rate_error_dynamics
-from .to_casadi import sympy_function
-
-SYMBOLIC_DIR = Path(__file__).resolve().parent
-MODULE = "rpo_model"
 #: Bump when the layout of generated files or the manifest schema changes.
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2
+#: Options of every CasADi code generator: a header per file; 64-bit integers (the runtime checks).
+CG_OPTIONS = {"with_header": True, "casadi_int": "long long int"}
+GENERATED_SUFFIXES = (".c", ".h", ".casadi.gz")
 
 
-def source_hash(root: Path = SYMBOLIC_DIR) -> str:
-    """sha256 over every Python source of ``symbolic/`` the generated code is built from (relative path
-    and bytes, sorted).  ``symbolic/lyapunov/`` is left out: it only reads the model to check the proofs,
-    so editing a claim must not make generated/ stale."""
-    h = hashlib.sha256()
-    for f in sorted(root.rglob("*.py")):
-        if "__pycache__" in f.parts or f.relative_to(root).parts[0] == "lyapunov":
-            continue
-        h.update(f.relative_to(root).as_posix().encode() + b"\0")
-        h.update(f.read_bytes() + b"\0")
-    return h.hexdigest()
+class ModelDefinitionError(ValueError):
+    """The model cannot be generated as written (a controller module without DESIGN, two families
+    generating one function, ...): build.py reports it in one line and exits 2."""
 
 
 def tool_versions() -> dict[str, str]:
-    return {"casadi": ca.__version__, "sympy": sp.__version__}
+    """Versions of the tools whose output is committed, read without importing them (fast no-op builds)."""
+    return {name: metadata.version(name) for name in ("casadi", "sympy")}
 
 
-CASADI_OPS = SimpleNamespace(
-    vcat=ca.vertcat,
-    floor=ca.floor,
-    fmax=ca.fmax,
-    sqrt=ca.sqrt,
-    if_else=ca.if_else,
-    zeros=lambda n: ca.MX.zeros(n, 1),
-)
+# --------------------------------------------------------------------------- what a model provides
 
 
-def controllers():
-    """Controller designs to generate a closed-loop step for: the baseline, then every module of
-    ``symbolic/controllers/`` that exposes ``DESIGN`` (sorted by module name)."""
-    found = [Baseline()]
-    pkg = SYMBOLIC_DIR / "controllers"
-    for path in sorted(pkg.glob("*.py")):
-        if path.stem.startswith("_") or path.stem == "baseline":
-            continue
-        mod = importlib.import_module(f"{__package__}.controllers.{path.stem}")
-        if hasattr(mod, "DESIGN"):
-            found.append(mod.DESIGN())
-    return found
+@dataclass(frozen=True)
+class Generated:
+    """One function to generate: the CasADi function, the manifest layout name of each input and
+    output (``None`` for an unnamed vector) and a one-line description."""
+
+    fn: Any  # casadi.Function
+    inputs: Sequence[str | None]
+    outputs: Sequence[str | None]
+    doc: str
 
 
-def sources(P=None, ctrls=None) -> tuple[dict[str, cl.Piece], dict]:
-    """The SymPy source of every generated function except the composed steps, by name.
+@dataclass
+class FamilyOutput:
+    """What a family's derivation produces: its functions, the layouts it defines (name ->
+    ``Layout.describe()``), and top-level manifest entries (dicts are merged across families)."""
 
-    Tests evaluate these same expressions with NumPy (``sympy.lambdify``) and compare them with
-    the compiled functions; :func:`build_functions` translates them to CasADi.
+    functions: list[Generated]
+    layouts: dict[str, list[dict]] = field(default_factory=dict)
+    extra: dict[str, Any] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class Family:
+    """A group of functions derived together.
+
+    ``seeds``: the module files the derivation starts from (their import closure inside
+    ``root`` is hashed); ``depends``: names of families whose functions ``build`` may ask the
+    resolver for; ``build(resolve) -> FamilyOutput``.
     """
-    P = make_plant() if P is None else P
-    ctrls = controllers() if ctrls is None else ctrls
-    pieces: dict[str, cl.Piece] = {}
-    for ctrl in ctrls:
-        for name, pc in cl.model_pieces(P, ctrl).items():
-            pieces.setdefault(name, pc)
-    o = P.orbit()
-    pieces["target_orbit"] = cl.Piece("target_orbit", [("t", P.t), ("p", P.p.vector())], [
-        ("nu", o["nu"]), ("r", o["r"]), ("r_dot", o["r_dot"]), ("n", o["n"]), ("n_dot", o["n_dot"]),
-        ("r_eci", o["r_eci"]), ("v_eci", o["v_eci"]), ("q_IL", P.lvlh_attitude(o)),
-    ])
-    M, e = sp.symbols("M e", real=True)
-    pieces["kepler"] = cl.Piece("kepler", [("M", M), ("e", e)], [("E", eccentric_anomaly(M, e))])
-    tq = P.torques()
-    rel = sp.Matrix(sp.symbols("qe_x qe_y qe_z qe_w we_x we_y we_z", real=True))
-    q_e, w_e = sp.Matrix(rel[0:4]), sp.Matrix(rel[4:7])
-    rel_dot = sp.Matrix.vstack(
-        attitude_error_rate(q_e, w_e),
-        rate_error_dynamics(q_e, w_e, P.x["w_c"], tq["h_rw"], tq["I_c"], tq["I_t"], tq["T_c"], tq["M_c"],
-                            tq["M_t"]),
-    )
-    pieces["relative_attitude_rhs"] = cl.Piece(
-        "relative_attitude_rhs",
-        [("x", P.x.vector()), ("u", P.u.vector()), ("t", P.t), ("p", P.p.vector()), ("w", P.w.vector()),
-         ("rel", rel)], [("rel_dot", rel_dot)])
-    return pieces, {"plant": P, "controllers": ctrls}
+
+    name: str
+    seeds: tuple[Path, ...]
+    build: Callable[[Callable[[str], Any]], FamilyOutput]
+    depends: tuple[str, ...] = ()
 
 
-#: Manifest layout names of each source function's inputs and outputs, and its description.
-_SIGNATURES = {
-    "plant_rhs": (["x", "u", None, "p", "w"], ["x"], "plant right-hand side dx/dt (000 eqs. 6, 10, 24, 30, 45-47)"),
-    "measure": (["x", None, "p", "w"], ["meas"], "truth + sensor noise -> what the controllers read"),
-    "ideal_actuators": ([None, None, "p"], [None, None], "ideal actuators: per-axis saturated force and torque"),
-    "env_outputs": (["x", "u", None, "p", "w"], ["env"], "environment/actuator diagnostics"),
-    "wheel_alloc": ([None, "p"], [None], "pyramid wheel allocation with saturation (inverse of 000 eq. 46)"),
-    "thruster_alloc": ([None, None, "p"], [None], "thruster duty allocation"),
-    "pwpf": ([None, None, None, "p"], [None], "PWPF Schmitt trigger"),
-    "pwpf_filter": ([None, None, None, "p"], [None], "PWPF prefilter update over dt"),
-    "target_orbit": ([None, "p"], [None] * 8, "target orbit at t (000 eqs. 31-36, corrected LVLH rate)"),
-    "kepler": ([None, None], [None], "eccentric anomaly from Kepler's equation (000 eq. 32)"),
-    "relative_attitude_rhs": (["x", "u", None, "p", "w", None], [None],
-                              "relative attitude model (000 eqs. 24-29) driven by the plant state, for checks"),
-}
+# --------------------------------------------------------------------------- hashing
 
 
-def build_functions():
-    """All CasADi functions to generate, plus their manifest descriptions."""
-    pieces, ctx = sources()
-    P = ctx["plant"]
-    layouts = {"p": P.p, "x": P.x, "u": P.u, "w": P.w, "meas": P.meas, "env": P.env}
-    funcs: list[ca.Function] = []
-    desc: dict[str, dict] = {}
-
-    def add(fn: ca.Function, in_layouts, out_layouts, doc: str):
-        funcs.append(fn)
-        desc[fn.name()] = {
-            "doc": doc,
-            "inputs": [{"name": fn.name_in(i), "shape": list(fn.size_in(i)), "layout": in_layouts[i]}
-                       for i in range(fn.n_in())],
-            "outputs": [{"name": fn.name_out(i), "shape": list(fn.size_out(i)), "layout": out_layouts[i]}
-                        for i in range(fn.n_out())],
-        }
-
-    cas = {name: sympy_function(pc.name, pc.inputs, pc.outputs) for name, pc in pieces.items()}
-    for name in ("plant_rhs",):
-        add(cas[name], *_SIGNATURES[name])
-    rhs = cas["plant_rhs"]
-    xs, us = ca.SX.sym("x", P.x.size), ca.SX.sym("u", P.u.size)
-    ts, ps, ws = ca.SX.sym("t"), ca.SX.sym("p", P.p.size), ca.SX.sym("w", P.w.size)
-    xdot = rhs(xs, us, ts, ps, ws)
-    jac = ca.Function("plant_jac", [xs, us, ts, ps, ws],
-                      [ca.densify(ca.jacobian(xdot, xs)), ca.densify(ca.jacobian(xdot, us))],
-                      ["x", "u", "t", "p", "w"], ["dfdx", "dfdu"])
-    add(jac, ["x", "u", None, "p", "w"], [None, None], "Jacobians of plant_rhs w.r.t. x and u (CasADi AD)")
-    for name in ("measure", "env_outputs", "ideal_actuators", "wheel_alloc", "thruster_alloc", "pwpf",
-                 "pwpf_filter"):
-        add(cas[name], *_SIGNATURES[name])
-
-    ctrl_entries = {}
-    for ctrl in ctx["controllers"]:
-        law = cas[f"law_{ctrl.name}"]
-        klay = f"k_{ctrl.name}"
-        layouts[klay] = ctrl.k
-        layouts[f"xc_{ctrl.name}"] = ctrl.xc
-        layouts[f"diag_{ctrl.name}"] = ctrl.diag
-        add(law, ["meas", f"xc_{ctrl.name}", None, "p", klay], [None, None, f"diag_{ctrl.name}"],
-            f"control law of {ctrl.name}")
-        zl, yl = cl.state_layout(P, ctrl), cl.output_layout(P, ctrl)
-        layouts[f"z_{ctrl.name}"], layouts[f"y_{ctrl.name}"] = zl, yl
-        stepf = casadi_step(cas, P, ctrl)
-        add(stepf, [f"z_{ctrl.name}", None, "p", klay, "w"], [f"z_{ctrl.name}", f"y_{ctrl.name}"],
-            f"one closed-loop step (plant + {ctrl.name} + actuators), RK4 over dt")
-        ctrl_entries[ctrl.name] = {"step": stepf.name(), "law": law.name(), "gains": klay}
-        if f"xc0_{ctrl.name}" in cas:
-            add(cas[f"xc0_{ctrl.name}"], ["meas", "p", klay], [f"xc_{ctrl.name}"],
-                f"initial state of {ctrl.name} from the first measurement")
-            ctrl_entries[ctrl.name]["xc0"] = f"xc0_{ctrl.name}"
-
-    for name in ("target_orbit", "kepler", "relative_attitude_rhs"):
-        add(cas[name], *_SIGNATURES[name])
-
-    manifest_layouts = {name: lay.describe() for name, lay in layouts.items()}
-    extra = {
-        "delay_slots": cl.DELAY_SLOTS,
-        "controllers": ctrl_entries,
-        "quaternion_convention": "scalar-last [x, y, z, w], Hamilton product, q_B_A: v_A = q v_B q*",
-    }
-    return funcs, desc, manifest_layouts, extra
+def _module_file(root: Path, parts: Sequence[str]) -> list[Path]:
+    """The file(s) that importing the dotted module ``parts`` (relative to ``root``) executes:
+    every package ``__init__.py`` on the way, then the module itself."""
+    out = []
+    cur = root
+    for i, part in enumerate(parts):
+        cur = cur / part
+        if (cur / "__init__.py").exists():
+            out.append(cur / "__init__.py")
+        elif i == len(parts) - 1 and cur.with_suffix(".py").exists():
+            out.append(cur.with_suffix(".py"))
+        else:
+            break
+    return out
 
 
-def _caller(f: ca.Function):
-    """Call a CasADi Function on a list of MX arguments, returning its outputs as a list."""
-    return lambda *a: f.call(list(a))
+def _imports(path: Path, root: Path, package: str) -> set[Path]:
+    """Files of ``root`` that ``path`` imports (relative imports, and absolute ones through ``package``)."""
+    rel = path.relative_to(root).with_suffix("").parts
+    here = list(rel[:-1]) if rel[-1] != "__init__" else list(rel[:-1])
+    found: set[Path] = set()
+    for node in ast.walk(ast.parse(path.read_bytes(), str(path))):
+        if isinstance(node, ast.ImportFrom):
+            if node.level:
+                base = here[: len(here) - (node.level - 1)] if node.level > 1 else list(here)
+            elif node.module and (node.module == package or node.module.startswith(package + ".")):
+                base = []
+                node_module = node.module[len(package):].lstrip(".")
+                mod = node_module.split(".") if node_module else []
+                found.update(_module_file(root, mod))
+                for alias in node.names:
+                    found.update(_module_file(root, [*mod, alias.name]))
+                continue
+            else:
+                continue
+            mod = [*base, *(node.module.split(".") if node.module else [])]
+            found.update(_module_file(root, mod))
+            for alias in node.names:  # `from . import x` / `from .pkg import submodule`
+                found.update(_module_file(root, [*mod, alias.name]))
+        elif isinstance(node, ast.Import):
+            for alias in node.names:
+                if alias.name == package or alias.name.startswith(package + "."):
+                    found.update(_module_file(root, alias.name[len(package):].lstrip(".").split(".")))
+    found.discard(path)
+    return {f for f in found if f.is_file()}
 
 
-def casadi_step(cas: dict[str, ca.Function], P, ctrl) -> ca.Function:
-    """The closed-loop step composed (:func:`closed_loop.step`) from the CasADi pieces, expanded to SX."""
-    zl = cl.state_layout(P, ctrl)
-    z = ca.MX.sym("z", zl.size)
-    t = ca.MX.sym("t")
-    p = ca.MX.sym("p", P.p.size)
-    k = ca.MX.sym("k", ctrl.k.size)
-    w = ca.MX.sym("w", P.w.size)
-    names = ("plant_rhs", "measure", "env_outputs", "ideal_actuators", "wheel_alloc", "thruster_alloc", "pwpf",
-             "pwpf_filter")
-    fn = {name: cas[name] for name in names}
-    fn["law"] = cas[f"law_{ctrl.name}"]
-    fn = {name: _caller(f) for name, f in fn.items()}
-    z_next, y = cl.step(CASADI_OPS, fn, cl.step_indices(P, ctrl), z, t, p, k, w)
-    stepf = ca.Function(f"step_{ctrl.name}", [z, t, p, k, w], [z_next, y],
-                        ["z", "t", "p", "k", "w"], ["z_next", "y"]).expand()
-    # common-subexpression elimination across RK4 stages: stages at equal times share the orbit
-    # (Kepler) and every other time-only term
-    syms = [ca.SX.sym(n, stepf.size1_in(i)) for i, n in enumerate("ztpkw")]
-    outs = stepf(*syms)
-    return ca.Function(stepf.name(), syms, [ca.cse(o) for o in outs], ["z", "t", "p", "k", "w"], ["z_next", "y"])
+def module_closure(seeds: Iterable[Path], root: Path, package: str = "rpo.symbolic") -> list[Path]:
+    """Every module file under ``root`` that the seeds import, directly or not (static analysis of
+    the import statements; modules imported by computed name are not seen, so a family that
+    discovers modules at run time names them as seeds).  Sorted, seeds included."""
+    todo = [Path(s).resolve() for s in seeds]
+    root = root.resolve()
+    seen: set[Path] = set()
+    while todo:
+        f = todo.pop()
+        if f in seen:
+            continue
+        seen.add(f)
+        # importing a module runs the __init__ of its package(s)
+        for parent in f.relative_to(root).parents:
+            init = root / parent / "__init__.py"
+            if init != f and init.exists() and parent != Path("."):
+                todo.append(init)
+        todo.extend(_imports(f, root, package) - seen)
+    return sorted(seen)
 
 
-def _header(src_hash: str) -> str:
-    return (
-        "/* GENERATED FILE - DO NOT EDIT.\n"
-        " * Produced by `python build.py` from the SymPy model in symbolic/\n"
-        f" * (source hash {src_hash}).  Edit symbolic/ and rebuild instead.\n"
-        " */\n"
-    )
+def family_hashes(families: Sequence[Family], root: Path) -> dict[str, dict]:
+    """``{family: {"hash": sha256, "modules": [relative paths]}}`` in dependency order."""
+    tools = tool_versions()
+    out: dict[str, dict] = {}
+    for fam in _ordered(families):
+        mods = module_closure(fam.seeds, root)
+        h = hashlib.sha256(json.dumps({"format": FORMAT_VERSION, "tools": tools, "family": fam.name,
+                                       "depends": {d: out[d]["hash"] for d in fam.depends}},
+                                      sort_keys=True).encode())
+        rels = [m.relative_to(root.resolve()).as_posix() for m in mods]
+        for rel, m in zip(rels, mods, strict=True):
+            h.update(rel.encode() + b"\0" + m.read_bytes() + b"\0")
+        out[fam.name] = {"hash": h.hexdigest(), "modules": rels}
+    return out
 
 
-def generate(out_dir: Path) -> dict:
-    """Write the C sources and manifest into ``out_dir`` (which must exist); return the manifest."""
-    src_hash = source_hash()
-    funcs, desc, layouts, extra = build_functions()
-    with tempfile.TemporaryDirectory() as tmp:
-        cwd = os.getcwd()
-        os.chdir(tmp)
-        try:
-            cg = ca.CodeGenerator(f"{MODULE}.c", {"with_header": True, "casadi_int": "long long int"})
-            for f in funcs:
-                cg.add(f)
-            cg.generate()
-            files = {}
-            for name in (f"{MODULE}.c", f"{MODULE}.h"):
-                text = Path(tmp, name).read_text()
-                files[name] = _header(src_hash) + text
-        finally:
-            os.chdir(cwd)
-    # serialized CasADi functions for the explicit no-compiler fallback (backend "casadi")
-    blob = json.dumps({f.name(): f.serialize() for f in funcs}, sort_keys=True).encode()
-    files_bytes = {name: text.encode() for name, text in files.items()}
-    files_bytes[f"{MODULE}.casadi.gz"] = gzip.compress(blob, compresslevel=9, mtime=0)
-    for name, data in files_bytes.items():
-        (out_dir / name).write_bytes(data)
-    manifest = {
-        "format_version": FORMAT_VERSION,
-        "generator": "build.py",
-        "module": MODULE,
-        "source_hash": src_hash,
-        "tools": tool_versions(),
-        "files": {name: hashlib.sha256(data).hexdigest() for name, data in sorted(files_bytes.items())},
-        "functions": desc,
-        "layouts": layouts,
-        **extra,
-    }
-    manifest["manifest_hash"] = manifest_hash(manifest)
-    (out_dir / "manifest.json").write_text(json.dumps(manifest, indent=1, sort_keys=True) + "\n")
-    return manifest
+def _ordered(families: Sequence[Family]) -> list[Family]:
+    by_name = {f.name: f for f in families}
+    if len(by_name) != len(families):
+        raise ValueError("two families share a name")
+    done: list[Family] = []
+    placed: set[str] = set()
+
+    def visit(f: Family, chain: tuple[str, ...]) -> None:
+        if f.name in placed:
+            return
+        if f.name in chain:
+            raise ValueError(f"families depend on each other in a cycle: {' -> '.join((*chain, f.name))}")
+        for d in f.depends:
+            if d not in by_name:
+                raise ValueError(f"family {f.name} depends on unknown family {d}")
+            visit(by_name[d], (*chain, f.name))
+        placed.add(f.name)
+        done.append(f)
+
+    for f in families:
+        visit(f, ())
+    return done
+
+
+def source_hash(hashes: dict[str, dict]) -> str:
+    """One hash of the whole model: over the family hashes (recorded in run.json)."""
+    return hashlib.sha256(json.dumps({k: v["hash"] for k, v in hashes.items()}, sort_keys=True).encode()).hexdigest()
 
 
 def manifest_hash(manifest: dict) -> str:
@@ -277,5 +223,215 @@ def manifest_hash(manifest: dict) -> str:
     return hashlib.sha256(json.dumps(body, sort_keys=True, separators=(",", ":")).encode()).hexdigest()
 
 
-def python_info() -> str:
-    return f"{platform.python_implementation()} {platform.python_version()}"
+# --------------------------------------------------------------------------- writing C
+
+
+def _banner(name: str, doc: str, family: str, fhash: str, modules: list[str], ops: int) -> str:
+    mods = "".join(f" *   symbolic/{m}\n" for m in modules)
+    return (
+        "/* GENERATED FILE - DO NOT EDIT.\n"
+        f" * {name}: {doc}\n"
+        f" * Produced by `python build.py` from family '{family}' (hash {fhash}),\n"
+        " * derived from:\n"
+        f"{mods}"
+        f" * Operations: {ops} (CasADi SX instructions).  Edit symbolic/ and rebuild instead.\n"
+        " */\n"
+    )
+
+
+def function_files(g: Generated, family: str, fhash: str, modules: list[str]) -> dict[str, bytes]:
+    """The three files of one generated function, as bytes."""
+    import casadi as ca
+
+    name = g.fn.name()
+    ops = int(g.fn.n_instructions()) if g.fn.is_a("SXFunction") else int(g.fn.n_nodes())
+    banner = _banner(name, g.doc, family, fhash, modules, ops)
+    with tempfile.TemporaryDirectory() as tmp:
+        cwd = os.getcwd()
+        os.chdir(tmp)  # CasADi writes into the working directory
+        try:
+            cg = ca.CodeGenerator(f"{name}.c", CG_OPTIONS)
+            cg.add(g.fn)
+            cg.generate()
+            files = {f"{name}{ext}": (banner + Path(tmp, f"{name}{ext}").read_text()).encode()
+                     for ext in (".c", ".h")}
+        finally:
+            os.chdir(cwd)
+    files[f"{name}.casadi.gz"] = gzip.compress(g.fn.serialize().encode(), compresslevel=9, mtime=0)
+    return files
+
+
+def describe(g: Generated, family: str) -> dict:
+    fn = g.fn
+    ops = int(fn.n_instructions()) if fn.is_a("SXFunction") else int(fn.n_nodes())
+    return {
+        "doc": g.doc,
+        "family": family,
+        "source": f"{fn.name()}.c",
+        "ops": ops,
+        "inputs": [{"name": fn.name_in(i), "shape": list(fn.size_in(i)), "layout": g.inputs[i]}
+                   for i in range(fn.n_in())],
+        "outputs": [{"name": fn.name_out(i), "shape": list(fn.size_out(i)), "layout": g.outputs[i]}
+                    for i in range(fn.n_out())],
+    }
+
+
+# --------------------------------------------------------------------------- generate
+
+
+def read_previous(gen_dir: Path | None) -> dict | None:
+    """The manifest of an existing generated folder, or None (missing, unreadable, other format)."""
+    if gen_dir is None or not (gen_dir / "manifest.json").exists():
+        return None
+    try:
+        m = json.loads((gen_dir / "manifest.json").read_text())
+    except (OSError, ValueError):
+        return None
+    if m.get("format_version") != FORMAT_VERSION or m.get("manifest_hash") != manifest_hash(m):
+        return None
+    return m
+
+
+def _reusable(prev: dict | None, gen_dir: Path | None, name: str, fhash: str) -> bool:
+    if prev is None or gen_dir is None:
+        return False
+    fam = prev.get("families", {}).get(name)
+    if not fam or fam.get("hash") != fhash:
+        return False
+    for fname in fam["files"]:
+        f = gen_dir / fname
+        if not f.is_file() or hashlib.sha256(f.read_bytes()).hexdigest() != prev["files"].get(fname):
+            return False
+    return True
+
+
+@dataclass
+class GenerateResult:
+    manifest: dict
+    files: dict[str, bytes]
+    rebuilt: list[str]
+    reused: list[str]
+
+
+def generate(families: Sequence[Family], root: Path, reuse: Path | None = None,
+             log: Callable[[str], None] | None = None) -> GenerateResult:
+    """Derive the families whose hash changed (the rest are taken from ``reuse``, a previous
+    generated folder); return every file's bytes and the manifest.  Nothing is written."""
+    say = log or (lambda _msg: None)
+    hashes = family_hashes(families, root)
+    prev = read_previous(reuse)
+    files: dict[str, bytes] = {}
+    fam_records: dict[str, dict] = {}
+    built: dict[str, Any] = {}  # function name -> casadi.Function built in this run
+    owner: dict[str, str] = {}  # function name -> family
+    rebuilt, reused = [], []
+    fams = _ordered(families)
+
+    def resolve(fn_name: str):
+        if fn_name in built:
+            return built[fn_name]
+        import casadi as ca
+
+        blob = files.get(f"{fn_name}.casadi.gz")
+        if blob is None:
+            raise KeyError(f"function {fn_name} is not generated by a family this one depends on")
+        return ca.Function.deserialize(gzip.decompress(blob).decode())
+
+    for i, fam in enumerate(fams, 1):
+        h = hashes[fam.name]
+        if _reusable(prev, reuse, fam.name, h["hash"]):
+            assert prev is not None and reuse is not None
+            rec = prev["families"][fam.name]
+            for fname in rec["files"]:
+                files[fname] = (reuse / fname).read_bytes()
+            fam_records[fam.name] = rec
+            reused.append(fam.name)
+            continue
+        t0 = time.perf_counter()
+        say(f"[{i}/{len(fams)}] deriving {fam.name} ...")
+        out = fam.build(resolve)
+        fnames, descs = [], {}
+        for g in out.functions:
+            name = g.fn.name()
+            if name in owner:
+                raise ModelDefinitionError(f"function {name} is generated by both {owner[name]} and {fam.name}")
+            owner[name] = fam.name
+            built[name] = g.fn
+            ff = function_files(g, fam.name, h["hash"], h["modules"])
+            files.update(ff)
+            fnames.extend(sorted(ff))
+            descs[name] = describe(g, fam.name)
+        fam_records[fam.name] = {"hash": h["hash"], "modules": h["modules"], "files": fnames,
+                                 "functions": descs, "layouts": out.layouts, "extra": out.extra}
+        rebuilt.append(fam.name)
+        say(f"[{i}/{len(fams)}] {fam.name}: {len(out.functions)} functions in {time.perf_counter() - t0:.1f} s")
+
+    manifest: dict[str, Any] = {
+        "format_version": FORMAT_VERSION,
+        "generator": "build.py",
+        "source_hash": source_hash(hashes),
+        "tools": tool_versions(),
+        "families": {k: fam_records[k] for k in sorted(fam_records)},
+        "files": {name: hashlib.sha256(data).hexdigest() for name, data in sorted(files.items())},
+        "sources": sorted(n for n in files if n.endswith(".c")),
+        "functions": {},
+        "layouts": {},
+    }
+    for fam in fams:  # union of the families' contributions (dependency order, so deterministic)
+        rec = fam_records[fam.name]
+        manifest["functions"].update(rec["functions"])
+        for lname, lay in rec["layouts"].items():
+            if lname in manifest["layouts"] and manifest["layouts"][lname] != lay:
+                raise ModelDefinitionError(f"layout {lname} is defined differently by two families")
+            manifest["layouts"][lname] = lay
+        for key, val in rec["extra"].items():
+            if isinstance(val, dict):
+                manifest.setdefault(key, {}).update(val)
+            else:
+                manifest[key] = val
+    manifest["manifest_hash"] = manifest_hash(manifest)
+    return GenerateResult(manifest, files, rebuilt, reused)
+
+
+def manifest_bytes(manifest: dict) -> bytes:
+    return (json.dumps(manifest, indent=1, sort_keys=True) + "\n").encode()
+
+
+def write_all(result: GenerateResult, out_dir: Path) -> None:
+    """Write every file and the manifest into ``out_dir`` (which must exist)."""
+    for name, data in result.files.items():
+        (out_dir / name).write_bytes(data)
+    (out_dir / "manifest.json").write_bytes(manifest_bytes(result.manifest))
+
+
+def is_generated_name(name: str) -> bool:
+    return name == "manifest.json" or name.endswith(GENERATED_SUFFIXES)
+
+
+def update_folder(result: GenerateResult, gen_dir: Path, keep: Iterable[str] = ("__init__.py",)) -> list[str]:
+    """Bring ``gen_dir`` to ``result``, touching only files whose bytes differ.
+
+    Each file is written to a temporary name in the folder and renamed over the old one
+    (atomic); the manifest goes last, so a reader never sees a manifest that names files not
+    yet written (and verifies every file's hash anyway).  Generated files the model no longer
+    produces are removed.  The caller holds the folder's lock.  Returns the names written.
+    """
+    written = []
+    wanted = dict(result.files)
+    wanted["manifest.json"] = manifest_bytes(result.manifest)
+    for name in [n for n in sorted(wanted) if n != "manifest.json"] + ["manifest.json"]:
+        dst = gen_dir / name
+        if dst.is_file() and dst.read_bytes() == wanted[name]:
+            continue
+        fd, tmp = tempfile.mkstemp(prefix=f".{name}.", dir=gen_dir)
+        with os.fdopen(fd, "wb") as fh:
+            fh.write(wanted[name])
+        os.chmod(tmp, 0o644)
+        os.replace(tmp, dst)
+        written.append(name)
+    keep = set(keep)
+    for f in sorted(gen_dir.iterdir()):
+        if f.is_file() and is_generated_name(f.name) and f.name not in wanted and f.name not in keep:
+            f.unlink()
+            written.append(f.name)
+    return written

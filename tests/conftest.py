@@ -21,9 +21,9 @@ def model():
 
 @functools.cache
 def _sources():
-    from rpo.symbolic import codegen
+    from rpo.symbolic import functions
 
-    return codegen.sources()
+    return functions.sources()
 
 
 @pytest.fixture(scope="session")

@@ -1,7 +1,15 @@
-"""The build system: stale code is never loaded, builds are atomic and concurrent-safe."""
+"""The build system: incremental per-function generation, cached parallel compilation, and the
+guarantees around it (deterministic bytes, stale code never loaded, atomic and concurrent-safe).
+
+Everything that generates or compiles runs on the tiny fixture model (``tests/fixtures/``), in
+milliseconds; the full model is only read (its committed manifest, its module closures) or
+loaded through the shared, cached ``model`` fixture.  ``build.py --check`` on the full model is
+a CI step of its own and is not repeated here.
+"""
 
 from __future__ import annotations
 
+import hashlib
 import json
 import shutil
 import subprocess
@@ -9,85 +17,366 @@ import sys
 import warnings
 from pathlib import Path
 
+import casadi as ca
 import numpy as np
 import pytest
+import tiny_model
 
+import build
 from rpo.runtime import compiled
 from rpo.runtime.errors import ModelError
+from rpo.symbolic import codegen, functions
 
 ROOT = Path(__file__).resolve().parents[1]
 
 
+def _generate(src: Path, gen: Path, **kw) -> codegen.GenerateResult:
+    gen.mkdir(exist_ok=True)
+    result = codegen.generate(tiny_model.families(src, **kw), src, reuse=gen)
+    codegen.update_folder(result, gen)
+    return result
+
+
+def _edit(path: Path, old: str, new: str) -> None:
+    text = path.read_text()
+    assert old in text, (path, old)
+    path.write_text(text.replace(old, new))
+
+
 @pytest.fixture
-def gen_copy(tmp_path):
-    dst = tmp_path / "generated"
-    shutil.copytree(ROOT / "generated", dst, ignore=shutil.ignore_patterns("__pycache__", ".lock"))
-    return dst
+def tiny(tmp_path):
+    """(model sources, generated folder, cache) of a freshly generated tiny model."""
+    src = tiny_model.copy_model(tmp_path / "tiny")
+    gen = tmp_path / "generated"
+    _generate(src, gen)
+    return src, gen, tmp_path / "cache"
+
+
+def _files(gen: Path) -> dict[str, bytes]:
+    return {p.name: p.read_bytes() for p in sorted(gen.iterdir()) if p.is_file() and not p.name.startswith(".")}
+
+
+# --------------------------------------------------------------------------- generation
+
+
+def test_one_file_set_per_function_with_banner(tiny):
+    src, gen, _ = tiny
+    m = compiled.read_manifest(gen)
+    assert set(m["functions"]) == {"tiny_rhs", "tiny_out", "law_a", "step_a", "law_b", "step_b"}
+    assert m["sources"] == sorted(f"{n}.c" for n in m["functions"])
+    for name, desc in m["functions"].items():
+        for ext in (".c", ".h", ".casadi.gz"):
+            assert (gen / f"{name}{ext}").is_file()
+        head = (gen / f"{name}.c").read_text()[:1200]
+        fam = m["families"][desc["family"]]
+        assert head.startswith("/* GENERATED FILE - DO NOT EDIT.") and "python build.py" in head
+        assert fam["hash"] in head and f"Operations: {desc['ops']} " in head and desc["ops"] > 0
+        for mod in fam["modules"]:
+            assert f"symbolic/{mod}" in head
+    # the closure of a controller family: its own module, not the other controller's
+    assert m["families"]["ctrl_a"]["modules"] == ["ctrl_a.py"]
+    assert m["families"]["plant"]["modules"] == ["plant.py", "shared.py"]
+
+
+def test_generation_is_deterministic_and_incremental_equals_scratch(tiny, tmp_path):
+    src, gen, _ = tiny
+    again = codegen.generate(tiny_model.families(src), src, reuse=None)
+    files = dict(again.files, **{"manifest.json": codegen.manifest_bytes(again.manifest)})
+    assert files == _files(gen)
+    # edit one controller: only its family is re-derived, the rest reused; bytes equal a scratch build
+    _edit(src / "ctrl_a.py", "K = 0.5", "K = 0.75")
+    inc = codegen.generate(tiny_model.families(src), src, reuse=gen)
+    assert inc.rebuilt == ["ctrl_a"] and inc.reused == ["plant", "ctrl_b"]
+    scratch = codegen.generate(tiny_model.families(src), src, reuse=None)
+    assert scratch.rebuilt == ["plant", "ctrl_a", "ctrl_b"]
+    assert inc.files == scratch.files and inc.manifest == scratch.manifest
+    assert inc.files["law_a.c"] != _files(gen)["law_a.c"]
+
+
+def test_controller_edit_rewrites_only_its_files(tiny):
+    src, gen, _ = tiny
+    before = _files(gen)
+    _edit(src / "ctrl_b.py", "K = 0.25", "K = 0.3")
+    result = codegen.generate(tiny_model.families(src), src, reuse=gen)
+    written = codegen.update_folder(result, gen)
+    assert sorted(written) == sorted(["law_b.c", "law_b.h", "law_b.casadi.gz", "step_b.c", "step_b.h",
+                                      "step_b.casadi.gz", "manifest.json"])
+    after = _files(gen)
+    assert {n for n in before if before[n] != after[n]} == set(written)
+
+
+def test_shared_module_edit_rederives_every_dependent_family(tiny):
+    src, gen, _ = tiny
+    _edit(src / "shared.py", "GAIN = 2.0", "GAIN = 3.0")
+    result = codegen.generate(tiny_model.families(src), src, reuse=gen)
+    assert result.rebuilt == ["plant", "ctrl_a", "ctrl_b"]  # the steps embed the plant
+
+
+def test_dependent_family_uses_the_plant_functions_from_generated(tiny):
+    """A reused plant is deserialised from generated/: the step evaluates like a fresh composition."""
+    src, gen, _ = tiny
+    _edit(src / "ctrl_a.py", "K = 0.5", "K = 0.6")
+    result = codegen.generate(tiny_model.families(src), src, reuse=gen)
+    assert "plant" in result.reused
+    import gzip
+
+    step = ca.Function.deserialize(gzip.decompress(result.files["step_a.casadi.gz"]).decode())
+    x = np.array([0.3, -0.2, 0.1])
+    u = -0.6 * x
+    expected = x + 0.01 * (2.0 * x * x + 1 - x + u)
+    assert np.allclose(np.asarray(step(x)).ravel(), expected, rtol=0, atol=1e-15)
+
+
+def test_removed_family_removes_its_files(tiny):
+    src, gen, _ = tiny
+    (src / "ctrl_b.py").unlink()
+    result = codegen.generate(tiny_model.families(src, controllers=("a",)), src, reuse=gen)
+    codegen.update_folder(result, gen)
+    assert not list(gen.glob("*_b.*"))
+    assert set(compiled.read_manifest(gen)["controllers"]) == {"a"}
+
+
+def test_model_definition_errors_are_reported():
+    fam = tiny_model.families(tiny_model.FIXTURE)
+    with pytest.raises(ValueError, match="cycle"):
+        codegen.generate([codegen.Family("x", (), fam[0].build, ("y",)),
+                          codegen.Family("y", (), fam[0].build, ("x",))], tiny_model.FIXTURE)
+    with pytest.raises(codegen.ModelDefinitionError, match="tiny_rhs is generated by both"):
+        codegen.generate([fam[0], codegen.Family("again", (), fam[0].build)], tiny_model.FIXTURE)
+
+
+def test_check_reports_a_readable_diff(tiny):
+    src, gen, _ = tiny
+    _edit(src / "ctrl_a.py", "K = 0.5", "K = 0.5 + 1e-3")
+    fresh = codegen.generate(tiny_model.families(src), src, reuse=None)
+    diff = "".join(build.compare(dict(fresh.files, **{"manifest.json": codegen.manifest_bytes(fresh.manifest)}),
+                                 gen))
+    assert "generated/law_a.c: differs" in diff and "generated/step_a.c: differs" in diff
+    assert "generated/law_b.c" not in diff and "generated/tiny_rhs.c" not in diff
+    # the changed constant shows in the unified diff, old and new
+    assert any(ln.startswith("-") and "5.0000000000000000e-01" in ln for ln in diff.splitlines())
+    assert any(ln.startswith("+") and "5.0100000000000000e-01" in ln for ln in diff.splitlines())
+
+
+def test_concurrent_regenerations_leave_a_consistent_folder(tiny):
+    """Two build processes regenerate the same folder at once: both succeed, the second finds
+    nothing to do (lock), and the folder verifies against its manifest."""
+    src, gen, _ = tiny
+    _edit(src / "ctrl_a.py", "K = 0.5", "K = 0.9")
+    code = ("import sys; sys.path[:0] = [sys.argv[3], sys.argv[4]]; from pathlib import Path; import build; "
+            "import tiny_model; src = Path(sys.argv[1]); "
+            "print(build.regenerate(Path(sys.argv[2]), log=lambda m: None, "
+            "families=tiny_model.families(src), root=src))")
+    procs = [subprocess.Popen([sys.executable, "-c", code, str(src), str(gen), str(ROOT), str(ROOT / "tests")],
+                              stdout=subprocess.PIPE, text=True) for _ in range(2)]
+    outs = sorted(p.communicate(timeout=300)[0].strip() for p in procs)
+    assert all(p.returncode == 0 for p in procs)
+    assert outs == ["['ctrl_a']", "[]"]
+    compiled.read_manifest(gen)
+    assert not [f for f in gen.iterdir() if f.name.startswith(".") and f.name != ".lock"]
+
+
+# --------------------------------------------------------------------------- the real model's families
+
+
+def test_rpo_families_cover_every_controller_module():
+    fams = functions.families()
+    assert [f.name for f in fams] == ["plant", *(f"controller_{n}" for n in functions.controller_names())]
+    assert set(functions.controller_names()) >= {"baseline", "c000", "c001", "c002", "c004"}
+    m = compiled.read_manifest(ROOT / "generated")
+    assert set(m["families"]) == {f.name for f in fams}
+    assert set(m["controllers"]) == set(functions.controller_names())
+
+
+def test_family_closures_follow_the_imports(tmp_path):
+    """Editing a Lyapunov claim changes no family; editing c001 changes only controller_c001;
+    editing the plant changes every family (each step embeds the plant)."""
+    dst = tmp_path / "symbolic"
+    shutil.copytree(functions.SYMBOLIC_DIR, dst, ignore=shutil.ignore_patterns("__pycache__"))
+
+    def hashes():
+        fams = [codegen.Family(f.name, tuple(dst / Path(s).relative_to(functions.SYMBOLIC_DIR) for s in f.seeds),
+                               f.build, f.depends) for f in functions.families()]
+        return {k: v["hash"] for k, v in codegen.family_hashes(fams, dst).items()}
+
+    h0 = hashes()
+    m = compiled.read_manifest(ROOT / "generated")
+    assert h0 == {k: v["hash"] for k, v in m["families"].items()}  # generated/ is of these sources
+    for claims in (dst / "lyapunov").rglob("*.py"):
+        claims.write_text(claims.read_text() + "\n# edit\n")
+    assert hashes() == h0
+    (dst / "controllers" / "c001.py").write_text((dst / "controllers" / "c001.py").read_text() + "\n# edit\n")
+    h1 = hashes()
+    assert {k for k in h0 if h0[k] != h1[k]} == {"controller_c001"}
+    (dst / "environment.py").write_text((dst / "environment.py").read_text() + "\n# edit\n")
+    h2 = hashes()
+    assert all(h2[k] != h1[k] for k in h0)
 
 
 def test_manifest_records_hashes_versions_and_io(model):
     m = model.manifest
     assert len(m["source_hash"]) == 64 and set(m["tools"]) == {"casadi", "sympy"}
+    assert m["tools"] == codegen.tool_versions() == {"casadi": ca.__version__, "sympy": __import__("sympy").__version__}
     for name, desc in m["functions"].items():
         assert desc["inputs"] and desc["outputs"], name
+        assert desc["source"] == f"{name}.c" and desc["family"] in m["families"]
         for io in desc["inputs"] + desc["outputs"]:
             assert len(io["shape"]) == 2
     # units and names of every state entry are recorded for the runtime
     assert all("unit" in f for f in m["layouts"]["x"])
 
 
-def test_generated_sources_are_marked_as_generated():
-    for name in ("rpo_model.c", "rpo_model.h"):
-        head = (ROOT / "generated" / name).read_text()[:400]
-        assert "GENERATED FILE - DO NOT EDIT" in head and "build.py" in head
+def test_manifest_hash_and_format_definitions_agree():
+    m = json.loads((ROOT / "generated" / "manifest.json").read_text())
+    assert codegen.manifest_hash(m) == compiled.manifest_hash(m) == m["manifest_hash"]
+    assert codegen.FORMAT_VERSION == compiled.MANIFEST_FORMAT == m["format_version"]
 
 
-def test_hand_edited_generated_source_is_refused(gen_copy):
-    c = gen_copy / "rpo_model.c"
-    c.write_text(c.read_text().replace("casadi_real a0", "casadi_real  a0", 1))
-    with pytest.raises(ModelError, match="does not match manifest"):
-        compiled.read_manifest(gen_copy)
+# --------------------------------------------------------------------------- compiling and loading
 
 
-def test_library_name_follows_the_content(gen_copy, tmp_path, monkeypatch):
-    monkeypatch.setenv("RPO_CACHE_DIR", str(tmp_path / "cache"))
+def test_compile_is_cached_per_object_and_parallel(tiny):
+    src, gen, cache = tiny
+    lines: list[str] = []
+    lib1, built = compiled.build_library(gen, cache, log=lines.append, jobs=2)
+    assert built and lib1.exists()
+    assert "compiling 7 of 7 C files on 2 cores (0 cached)" in lines[0]
+    assert sum("left)" in ln for ln in lines) == 7  # one progress line per file
+    assert compiled.build_library(gen, cache) == (lib1, False)
+    _edit(src / "ctrl_a.py", "K = 0.5", "K = 0.4")
+    _generate(src, gen)
+    lines.clear()
+    lib2, built = compiled.build_library(gen, cache, log=lines.append)
+    assert built and lib2 != lib1 and lib1.exists()  # a loaded library is never replaced in place
+    assert "compiling 2 of 7 C files" in lines[0] and "(5 cached)" in lines[0]
+    assert not [f for f in cache.rglob("*") if "tmp" in f.name]
+
+
+def test_tiny_library_evaluates_like_casadi(tiny, monkeypatch):
+    src, gen, cache = tiny
+    monkeypatch.setenv("RPO_CACHE_DIR", str(cache))
+    model = compiled.load_model(gen_dir=gen)
+    rng = np.random.default_rng(1)
+    import gzip
+
+    for name in model.functions:
+        ref = ca.Function.deserialize(gzip.decompress((gen / f"{name}.casadi.gz").read_bytes()).decode())
+        args = [rng.normal(size=int(np.prod(s))) for s in model.functions[name].in_shapes]
+        got = model.functions[name](*args)
+        want = ref(*args)
+        want = want if isinstance(want, (list, tuple)) else [want]
+        for g, w in zip(got, want, strict=True):
+            assert np.array_equal(np.ravel(g), np.asarray(w).ravel(order="F")), name
+
+
+def test_library_name_follows_the_content(tiny):
+    src, gen, _ = tiny
     cc = compiled.find_compiler()
-    k1 = compiled.library_key(gen_copy, compiled.read_manifest(gen_copy), compiled.compiler_identity(cc))
-    c = gen_copy / "rpo_model.c"
-    c.write_text(c.read_text() + "\n/* changed */\n")
-    m = json.loads((gen_copy / "manifest.json").read_text())
-    import hashlib
-
-    m["files"]["rpo_model.c"] = hashlib.sha256(c.read_bytes()).hexdigest()
-    m["manifest_hash"] = compiled.manifest_hash(m)
-    (gen_copy / "manifest.json").write_text(json.dumps(m))
-    k2 = compiled.library_key(gen_copy, compiled.read_manifest(gen_copy), compiled.compiler_identity(cc))
-    assert k1 != k2
-    k3 = compiled.library_key(gen_copy, compiled.read_manifest(gen_copy), "another compiler 1.0")
-    assert k3 != k2
+    m = compiled.read_manifest(gen)
+    k1 = compiled.library_key(gen, m, compiled.compiler_identity(cc))
+    assert compiled.library_key(gen, m, "another compiler 1.0") != k1
+    _edit(src / "shared.py", "GAIN = 2.0", "GAIN = 2.5")
+    _generate(src, gen)
+    assert compiled.library_key(gen, compiled.read_manifest(gen), compiled.compiler_identity(cc)) != k1
 
 
-def test_two_concurrent_builds_are_safe(gen_copy, tmp_path):
+def test_two_concurrent_builds_are_safe(tiny):
     """Two processes build the same library into an empty cache at once: one compiles, the other
     waits on the lock and reuses it; no partial file is ever visible under the final name."""
-    cache = tmp_path / "cache"
+    _, gen, cache = tiny
     code = ("import sys; from pathlib import Path; from rpo.runtime import compiled; "
             "lib, built = compiled.build_library(Path(sys.argv[1]), Path(sys.argv[2])); print(lib, built)")
-    procs = [subprocess.Popen([sys.executable, "-c", code, str(gen_copy), str(cache)], stdout=subprocess.PIPE,
+    procs = [subprocess.Popen([sys.executable, "-c", code, str(gen), str(cache)], stdout=subprocess.PIPE,
                               text=True) for _ in range(2)]
-    outs = [p.communicate(timeout=600)[0].split() for p in procs]
+    outs = [p.communicate(timeout=300)[0].split() for p in procs]
     assert all(p.returncode == 0 for p in procs)
     assert outs[0][0] == outs[1][0]
     assert sorted(o[1] for o in outs) == ["False", "True"]
     libs = [f for f in cache.iterdir() if f.suffix == ".so"]
-    assert len(libs) == 1 and not [f for f in cache.iterdir() if "tmp" in f.name]
+    assert len(libs) == 1 and not [f for f in cache.rglob("*") if "tmp" in f.name]
 
 
-def test_no_compiler_gives_a_clear_error(gen_copy, tmp_path, monkeypatch):
+def test_hand_edited_generated_source_is_refused(tiny):
+    _, gen, _ = tiny
+    c = gen / "step_a.c"
+    c.write_text(c.read_text().replace("casadi_real a0", "casadi_real  a0", 1))
+    with pytest.raises(ModelError, match="step_a.c does not match manifest"):
+        compiled.read_manifest(gen)
+
+
+def test_missing_generated_file_is_refused(tiny):
+    _, gen, _ = tiny
+    (gen / "law_b.c").unlink()
+    with pytest.raises(ModelError, match="law_b.c is missing"):
+        compiled.read_manifest(gen)
+
+
+def test_hand_edited_manifest_is_refused(gen_copy):
+    """Swapping two parameter fields (or a unit, or a default) would silently repack p."""
+    path = gen_copy / "manifest.json"
+    m = json.loads(path.read_text())
+    lay = m["layouts"]["p"]
+    i, j = [k for k, f in enumerate(lay) if f["name"] in ("orbit_raan", "orbit_argp")]
+    lay[i], lay[j] = lay[j], lay[i]
+    path.write_text(json.dumps(m))
+    with pytest.raises(ModelError, match="does not match its recorded hash"):
+        compiled.read_manifest(gen_copy)
+
+
+def test_old_manifest_format_is_refused(tiny):
+    _, gen, _ = tiny
+    m = json.loads((gen / "manifest.json").read_text())
+    m["format_version"] = 1
+    m["manifest_hash"] = compiled.manifest_hash(m)
+    (gen / "manifest.json").write_text(json.dumps(m))
+    with pytest.raises(ModelError, match="format 1, this runtime reads format 2"):
+        compiled.read_manifest(gen)
+
+
+def test_loaded_library_is_checked_against_the_manifest(tiny, monkeypatch):
+    """A manifest that disagrees with the library's signatures is refused at load time."""
+    _, gen, cache = tiny
+    monkeypatch.setenv("RPO_CACHE_DIR", str(cache))
+    m = json.loads((gen / "manifest.json").read_text())
+    m["functions"]["tiny_out"]["inputs"][0]["shape"] = [2, 1]
+    m["manifest_hash"] = compiled.manifest_hash(m)  # consistent manifest, inconsistent library
+    (gen / "manifest.json").write_text(json.dumps(m))
+    with pytest.raises(ModelError, match="tiny_out"):
+        compiled.load_model(gen_dir=gen)
+
+
+def test_no_compiler_gives_a_clear_error(tiny, tmp_path, monkeypatch):
+    _, gen, _ = tiny
     monkeypatch.setenv("CC", str(tmp_path / "no-such-cc"))
     monkeypatch.setenv("RPO_CACHE_DIR", str(tmp_path / "empty-cache"))
     with pytest.raises(ModelError, match="no C compiler found.*apt-get install gcc.*--backend casadi"):
-        compiled.load_model(gen_dir=gen_copy)
+        compiled.load_model(gen_dir=gen)
+
+
+def test_compiler_error_is_reported_with_the_file(tiny, tmp_path):
+    _, gen, cache = tiny
+    broken = gen / "tiny_out.c"
+    broken.write_text(broken.read_text() + "\n#error planted\n")
+    m = json.loads((gen / "manifest.json").read_text())
+    m["files"]["tiny_out.c"] = hashlib.sha256(broken.read_bytes()).hexdigest()
+    m["manifest_hash"] = compiled.manifest_hash(m)
+    (gen / "manifest.json").write_text(json.dumps(m))
+    with pytest.raises(ModelError, match="compiling tiny_out.c failed.*planted"):
+        compiled.build_library(gen, cache)
+    assert not list(cache.glob("*.so"))
+
+
+def test_fast_math_library_is_refused(tiny, tmp_path, monkeypatch):
+    """A $CC that adds -ffast-math breaks NaN detection; the loader's self-test refuses it."""
+    _, gen, _ = tiny
+    cc = compiled.find_compiler()
+    wrapper = tmp_path / "ccwrap"
+    wrapper.write_text(f'#!/bin/sh\nexec {cc[0]} -ffast-math "$@"\n')
+    wrapper.chmod(0o755)
+    monkeypatch.setenv("CC", str(wrapper))
+    monkeypatch.setenv("RPO_CACHE_DIR", str(tmp_path / "cache"))
+    with pytest.raises(ModelError, match="does not detect NaN"):
+        compiled.load_model(gen_dir=gen)
 
 
 def test_casadi_fallback_is_explicit_warned_and_equal(model):
@@ -106,80 +395,8 @@ def test_casadi_fallback_is_explicit_warned_and_equal(model):
         assert np.allclose(x, y, rtol=1e-13, atol=1e-13)
 
 
-def test_hand_edited_manifest_is_refused(gen_copy):
-    """Swapping two parameter fields (or a unit, or a default) would silently repack p."""
-    path = gen_copy / "manifest.json"
-    m = json.loads(path.read_text())
-    lay = m["layouts"]["p"]
-    i, j = [k for k, f in enumerate(lay) if f["name"] in ("orbit_raan", "orbit_argp")]
-    lay[i], lay[j] = lay[j], lay[i]
-    path.write_text(json.dumps(m))
-    with pytest.raises(ModelError, match="does not match its recorded hash"):
-        compiled.read_manifest(gen_copy)
-
-
-def test_manifest_hash_definitions_agree():
-    from rpo.symbolic import codegen
-
-    m = json.loads((ROOT / "generated" / "manifest.json").read_text())
-    assert codegen.manifest_hash(m) == compiled.manifest_hash(m) == m["manifest_hash"]
-
-
-def test_fast_math_library_is_refused(gen_copy, tmp_path, monkeypatch):
-    """A $CC that adds -ffast-math breaks NaN detection; the loader's self-test refuses it."""
-    cc = compiled.find_compiler()
-    wrapper = tmp_path / "ccwrap"
-    wrapper.write_text(f'#!/bin/sh\nexec {cc[0]} -ffast-math "$@"\n')
-    wrapper.chmod(0o755)
-    monkeypatch.setenv("CC", str(wrapper))
-    monkeypatch.setenv("RPO_CACHE_DIR", str(tmp_path / "cache"))
-    with pytest.raises(ModelError, match="does not detect NaN"):
-        compiled.load_model(gen_dir=gen_copy)
-
-
-def test_loaded_library_is_checked_against_the_manifest(gen_copy, tmp_path, monkeypatch):
-    """A manifest that disagrees with the library's signatures is refused at load time."""
-    monkeypatch.setenv("RPO_CACHE_DIR", str(tmp_path / "cache"))
-    m = json.loads((gen_copy / "manifest.json").read_text())
-    m["functions"]["kepler"]["inputs"][0]["shape"] = [2, 1]
-    m["manifest_hash"] = compiled.manifest_hash(m)  # consistent manifest, inconsistent library
-    (gen_copy / "manifest.json").write_text(json.dumps(m))
-    with pytest.raises(ModelError, match="kepler"):
-        compiled.load_model(gen_dir=gen_copy)
-
-
-def test_build_check_detects_a_stale_generated_folder(tmp_path):
-    """Edit the model in a copy of the checkout: `build.py --check` fails with a readable diff;
-    `build.py` then regenerates, and `--check` passes."""
-    repo = tmp_path / "repo"
-    repo.mkdir()
-    for d in ("symbolic", "runtime", "generated"):
-        shutil.copytree(ROOT / d, repo / d, ignore=shutil.ignore_patterns("__pycache__", ".lock"))
-    shutil.copy(ROOT / "build.py", repo / "build.py")
-    env_py = repo / "symbolic" / "environment.py"
-    env_py.write_text(env_py.read_text().replace("return 3 * mu / r**3 * cross(", "return 2 * mu / r**3 * cross("))
-    res = subprocess.run([sys.executable, "build.py", "--check"], cwd=repo, capture_output=True, text=True)
-    assert res.returncode == 1
-    assert "STALE" in res.stdout and "generated/rpo_model.c: differs" in res.stdout
-    res = subprocess.run([sys.executable, "build.py", "--no-compile"], cwd=repo, capture_output=True, text=True)
-    assert res.returncode == 0 and "regenerating" in res.stdout
-    res = subprocess.run([sys.executable, "build.py", "--no-compile"], cwd=repo, capture_output=True, text=True)
-    assert "nothing to regenerate" in res.stdout
-    res = subprocess.run([sys.executable, "build.py", "--check"], cwd=repo, capture_output=True, text=True)
-    assert res.returncode == 0, res.stdout[-2000:]
-
-
-def test_source_hash_ignores_the_lyapunov_claims(tmp_path):
-    """Editing a claim (symbolic/lyapunov/) must not make generated/ stale; editing the model must."""
-    import shutil
-
-    from rpo.symbolic import codegen
-
-    src = Path(codegen.SYMBOLIC_DIR)
-    dst = tmp_path / "symbolic"
-    shutil.copytree(src, dst, ignore=shutil.ignore_patterns("__pycache__"))
-    h0 = codegen.source_hash(dst)
-    (dst / "lyapunov" / "c004.py").write_text((dst / "lyapunov" / "c004.py").read_text() + "\n# edit\n")
-    assert codegen.source_hash(dst) == h0
-    (dst / "plant.py").write_text((dst / "plant.py").read_text() + "\n# edit\n")
-    assert codegen.source_hash(dst) != h0
+@pytest.fixture
+def gen_copy(tmp_path):
+    dst = tmp_path / "generated"
+    shutil.copytree(ROOT / "generated", dst, ignore=shutil.ignore_patterns("__pycache__", ".lock"))
+    return dst

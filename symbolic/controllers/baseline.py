@@ -43,3 +43,6 @@ class Baseline:
         cmd = command_layout().pack({"tau_w": tau, "F": F_body, "tau_thr": sp.zeros(3, 1)})
         att_err = 2 * sp.acos(sp.Min(1, sp.Abs(q_e[3])))
         return cmd, sp.zeros(0, 1), sp.Matrix([att_err])
+
+
+DESIGN = Baseline

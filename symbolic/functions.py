@@ -1,0 +1,230 @@
+"""The functions rpo generates, grouped into families for incremental code generation.
+
+* family ``plant``: everything that does not depend on a controller: ``plant_rhs`` and its
+  Jacobians ``plant_jac``, ``measure``, ``env_outputs``, the actuator pieces, ``target_orbit``,
+  ``kepler``, ``relative_attitude_rhs``, plus the layouts p, x, u, w, meas, env;
+* family ``controller_<name>``, one per module ``symbolic/controllers/<name>.py`` (discovered):
+  ``law_<name>``, ``step_<name>`` (plant + law + actuators, RK4 over dt) and, if the design has
+  one, ``xc0_<name>``, plus the layouts ``k_<name>``, ``xc_<name>``, ``diag_<name>``,
+  ``z_<name>``, ``y_<name>`` and the manifest entry ``controllers.<name>``.
+
+A controller family depends on the plant family: its step is composed from the plant's CasADi
+functions, which :mod:`rpo.symbolic.codegen` deserialises from ``generated/`` when the plant is
+unchanged, so editing a controller never re-derives the plant.
+"""
+
+from __future__ import annotations
+
+import importlib
+from pathlib import Path
+from types import SimpleNamespace
+
+from .codegen import Family, FamilyOutput, Generated, ModelDefinitionError
+
+# Heavy imports (SymPy, CasADi, the model) happen inside the builders: listing the families and
+# hashing their sources must not import them, so that a build with nothing to do takes well under 1 s.
+
+SYMBOLIC_DIR = Path(__file__).resolve().parent
+CONTROLLERS_DIR = SYMBOLIC_DIR / "controllers"
+
+#: Plant pieces composed into each controller's step (closed_loop.step's ``fn``).
+STEP_PIECES = ("plant_rhs", "measure", "env_outputs", "ideal_actuators", "wheel_alloc", "thruster_alloc", "pwpf",
+               "pwpf_filter")
+
+#: Manifest layout names of each plant function's inputs and outputs, and its description.
+_SIGNATURES = {
+    "plant_rhs": (["x", "u", None, "p", "w"], ["x"], "plant right-hand side dx/dt (000 eqs. 6, 10, 24, 30, 45-47)"),
+    "plant_jac": (["x", "u", None, "p", "w"], [None, None], "Jacobians of plant_rhs w.r.t. x and u (CasADi AD)"),
+    "measure": (["x", None, "p", "w"], ["meas"], "truth + sensor noise -> what the controllers read"),
+    "env_outputs": (["x", "u", None, "p", "w"], ["env"], "environment/actuator diagnostics"),
+    "ideal_actuators": ([None, None, "p"], [None, None], "ideal actuators: per-axis saturated force and torque"),
+    "wheel_alloc": ([None, "p"], [None], "pyramid wheel allocation with saturation (inverse of 000 eq. 46)"),
+    "thruster_alloc": ([None, None, "p"], [None], "thruster duty allocation"),
+    "pwpf": ([None, None, None, "p"], [None], "PWPF Schmitt trigger"),
+    "pwpf_filter": ([None, None, None, "p"], [None], "PWPF prefilter update over dt"),
+    "target_orbit": ([None, "p"], [None] * 8, "target orbit at t (000 eqs. 31-36, corrected LVLH rate)"),
+    "kepler": ([None, None], [None], "eccentric anomaly from Kepler's equation (000 eq. 32)"),
+    "relative_attitude_rhs": (["x", "u", None, "p", "w", None], [None],
+                              "relative attitude model (000 eqs. 24-29) driven by the plant state, for checks"),
+}
+
+QUATERNION_CONVENTION = "scalar-last [x, y, z, w], Hamilton product, q_B_A: v_A = q v_B q*"
+
+
+# --------------------------------------------------------------------------- discovery
+
+
+def controller_names(directory: Path = CONTROLLERS_DIR) -> list[str]:
+    """Every controller module of ``symbolic/controllers/`` (``<name>.py``, not ``_private.py``), sorted.
+
+    Found from the file names alone, without importing anything, so a no-op build stays fast.
+    """
+    return sorted(p.stem for p in directory.glob("*.py") if not p.stem.startswith("_"))
+
+
+def load_controller(name: str):
+    """An instance of the design ``DESIGN`` of ``symbolic/controllers/<name>.py``, named after the module
+    (so a copy of a module under a new name is a new controller)."""
+    mod = importlib.import_module(f"{__package__}.controllers.{name}")
+    design = getattr(mod, "DESIGN", None)
+    if design is None:
+        raise ModelDefinitionError(f"symbolic/controllers/{name}.py defines no DESIGN "
+                                   "(the controller class to generate)")
+    ctrl = design()
+    ctrl.name = name
+    return ctrl
+
+
+def controllers() -> list:
+    """Instances of every discovered controller design, sorted by module name."""
+    return [load_controller(n) for n in controller_names()]
+
+
+# --------------------------------------------------------------------------- SymPy sources
+
+
+def plant_sources(P) -> dict:
+    """The SymPy source of every plant-family function except the Jacobian (taken by CasADi AD)."""
+    import sympy as sp
+
+    from . import closed_loop as cl
+    from .orbit import eccentric_anomaly
+    from .relative_attitude import attitude_error_rate, rate_error_dynamics
+
+    pieces = cl.plant_pieces(P)
+    o = P.orbit()
+    pieces["target_orbit"] = cl.Piece("target_orbit", [("t", P.t), ("p", P.p.vector())], [
+        ("nu", o["nu"]), ("r", o["r"]), ("r_dot", o["r_dot"]), ("n", o["n"]), ("n_dot", o["n_dot"]),
+        ("r_eci", o["r_eci"]), ("v_eci", o["v_eci"]), ("q_IL", P.lvlh_attitude(o)),
+    ])
+    M, e = sp.symbols("M e", real=True)
+    pieces["kepler"] = cl.Piece("kepler", [("M", M), ("e", e)], [("E", eccentric_anomaly(M, e))])
+    tq = P.torques()
+    rel = sp.Matrix(sp.symbols("qe_x qe_y qe_z qe_w we_x we_y we_z", real=True))
+    q_e, w_e = sp.Matrix(rel[0:4]), sp.Matrix(rel[4:7])
+    rel_dot = sp.Matrix.vstack(
+        attitude_error_rate(q_e, w_e),
+        rate_error_dynamics(q_e, w_e, P.x["w_c"], tq["h_rw"], tq["I_c"], tq["I_t"], tq["T_c"], tq["M_c"],
+                            tq["M_t"]),
+    )
+    pieces["relative_attitude_rhs"] = cl.Piece(
+        "relative_attitude_rhs",
+        [("x", P.x.vector()), ("u", P.u.vector()), ("t", P.t), ("p", P.p.vector()), ("w", P.w.vector()),
+         ("rel", rel)], [("rel_dot", rel_dot)])
+    return pieces
+
+
+def sources(P=None, ctrls=None) -> tuple[dict, dict]:
+    """The SymPy source of every generated function except the Jacobian and the composed steps.
+
+    Tests evaluate these same expressions with NumPy (``sympy.lambdify``) and compare them with
+    the compiled functions; the families below translate them to CasADi.
+    """
+    from . import closed_loop as cl
+    from .plant import make_plant
+
+    P = make_plant() if P is None else P
+    ctrls = controllers() if ctrls is None else ctrls
+    pieces = plant_sources(P)
+    for ctrl in ctrls:
+        pieces.update(cl.controller_pieces(P, ctrl))
+    return pieces, {"plant": P, "controllers": ctrls}
+
+
+# --------------------------------------------------------------------------- families
+
+
+def _build_plant(_resolve) -> FamilyOutput:
+    import casadi as ca
+
+    from . import closed_loop as cl
+    from .plant import make_plant
+    from .to_casadi import sympy_function
+
+    P = make_plant()
+    cas = {name: sympy_function(pc.name, pc.inputs, pc.outputs) for name, pc in plant_sources(P).items()}
+    xs, us = ca.SX.sym("x", P.x.size), ca.SX.sym("u", P.u.size)
+    ts, ps, ws = ca.SX.sym("t"), ca.SX.sym("p", P.p.size), ca.SX.sym("w", P.w.size)
+    xdot = cas["plant_rhs"](xs, us, ts, ps, ws)
+    cas["plant_jac"] = ca.Function("plant_jac", [xs, us, ts, ps, ws],
+                                   [ca.densify(ca.jacobian(xdot, xs)), ca.densify(ca.jacobian(xdot, us))],
+                                   ["x", "u", "t", "p", "w"], ["dfdx", "dfdu"])
+    funcs = [Generated(cas[name], *_SIGNATURES[name]) for name in _SIGNATURES]
+    layouts = {name: lay.describe() for name, lay in
+               (("p", P.p), ("x", P.x), ("u", P.u), ("w", P.w), ("meas", P.meas), ("env", P.env))}
+    return FamilyOutput(funcs, layouts, {"delay_slots": cl.DELAY_SLOTS,
+                                         "quaternion_convention": QUATERNION_CONVENTION})
+
+
+def _casadi_ops():
+    import casadi as ca
+
+    return SimpleNamespace(vcat=ca.vertcat, floor=ca.floor, fmax=ca.fmax, sqrt=ca.sqrt, if_else=ca.if_else,
+                           zeros=lambda n: ca.MX.zeros(n, 1))
+
+
+def _caller(f):
+    """Call a CasADi Function on a list of MX arguments, returning its outputs as a list."""
+    return lambda *a: f.call(list(a))
+
+
+def casadi_step(cas: dict, P, ctrl):
+    """The closed-loop step composed (:func:`closed_loop.step`) from the CasADi pieces, expanded to SX
+    and common-subexpression-eliminated, so RK4 stages at equal times share the orbit (Kepler)
+    and every other time-only term."""
+    import casadi as ca
+
+    from . import closed_loop as cl
+
+    zl = cl.state_layout(P, ctrl)
+    z = ca.MX.sym("z", zl.size)
+    t = ca.MX.sym("t")
+    p = ca.MX.sym("p", P.p.size)
+    k = ca.MX.sym("k", ctrl.k.size)
+    w = ca.MX.sym("w", P.w.size)
+    fn = {name: cas[name] for name in STEP_PIECES}
+    fn["law"] = cas[f"law_{ctrl.name}"]
+    calls = {name: _caller(f) for name, f in fn.items()}
+    z_next, y = cl.step(_casadi_ops(), calls, cl.step_indices(P, ctrl), z, t, p, k, w)
+    stepf = ca.Function(f"step_{ctrl.name}", [z, t, p, k, w], [z_next, y],
+                        ["z", "t", "p", "k", "w"], ["z_next", "y"]).expand()
+    syms = [ca.SX.sym(n, stepf.size1_in(i)) for i, n in enumerate("ztpkw")]
+    outs = stepf(*syms)
+    return ca.Function(stepf.name(), syms, [ca.cse(o) for o in outs], ["z", "t", "p", "k", "w"], ["z_next", "y"])
+
+
+def _controller_family(name: str) -> Family:
+    def build(resolve) -> FamilyOutput:
+        from . import closed_loop as cl
+        from .plant import make_plant
+        from .to_casadi import sympy_function
+
+        P = make_plant()
+        ctrl = load_controller(name)
+        cas = {n: sympy_function(pc.name, pc.inputs, pc.outputs)
+               for n, pc in cl.controller_pieces(P, ctrl).items()}
+        for piece in STEP_PIECES:
+            cas[piece] = resolve(piece)
+        klay, xlay, dlay, zlay, ylay = (f"{pre}_{name}" for pre in ("k", "xc", "diag", "z", "y"))
+        funcs = [Generated(cas[f"law_{name}"], ["meas", xlay, None, "p", klay], [None, None, dlay],
+                           f"control law of {name}"),
+                 Generated(casadi_step(cas, P, ctrl), [zlay, None, "p", klay, "w"], [zlay, ylay],
+                           f"one closed-loop step (plant + {name} + actuators), RK4 over dt")]
+        entry = {"step": f"step_{name}", "law": f"law_{name}", "gains": klay}
+        if f"xc0_{name}" in cas:
+            funcs.append(Generated(cas[f"xc0_{name}"], ["meas", "p", klay], [xlay],
+                                   f"initial state of {name} from the first measurement"))
+            entry["xc0"] = f"xc0_{name}"
+        layouts = {klay: ctrl.k.describe(), xlay: ctrl.xc.describe(), dlay: ctrl.diag.describe(),
+                   zlay: cl.state_layout(P, ctrl).describe(), ylay: cl.output_layout(P, ctrl).describe()}
+        return FamilyOutput(funcs, layouts, {"controllers": {name: entry}})
+
+    return Family(f"controller_{name}", (CONTROLLERS_DIR / f"{name}.py", Path(__file__)), build, ("plant",))
+
+
+def families() -> list[Family]:
+    """rpo's model: the plant family, then one family per controller module."""
+    plant = Family("plant", (Path(__file__), SYMBOLIC_DIR / "closed_loop.py", SYMBOLIC_DIR / "plant.py",
+                             SYMBOLIC_DIR / "to_casadi.py"),
+                   _build_plant)
+    return [plant, *(_controller_family(n) for n in controller_names())]
