@@ -44,9 +44,10 @@ def _loader(quiet: bool):
     return None if quiet else (lambda m: _err(m))
 
 
-def _load_model(backend: str, quiet: bool):
+def _load_model(backend: str, quiet: bool, controllers: list[str] | None = None):
+    """The model; ``controllers``: only these (a run loads, and on first use compiles, what it flies)."""
     from .compiled import load_model
-    return load_model(backend, log=_loader(quiet))
+    return load_model(backend, log=_loader(quiet), controllers=controllers)
 
 
 def _default_out(scenario_path: str) -> Path:
@@ -106,7 +107,7 @@ def run(scenario: str, out: str | None, duration: float | None, seed: int | None
     # validate the scenario and the folder before loading (maybe compiling) the model
     sc = load_scenario(scenario).with_overrides(duration=duration, seed=seed, controller=controller, plant=plant)
     out_dir = check_out_dir(out if out is not None else _default_out(scenario))
-    model = _load_model(backend, quiet)
+    model = _load_model(backend, quiet, controllers=[sc.simulation.controller])
     n_steps = int(round(sc.simulation.duration / float(sc.params(model.manifest)["dt"][0])))
     expected = n_steps * STEP_COST.get(model.backend, 2e-3)
     show_bar = not quiet and expected > 1.0 and sys.stderr.isatty()

@@ -32,7 +32,7 @@ import sys
 import tempfile
 import time
 import warnings
-from collections.abc import Callable, Iterator
+from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import ThreadPoolExecutor, as_completed
 from contextlib import contextmanager
 from importlib import resources
@@ -156,15 +156,37 @@ def object_key(source: bytes, cc_id: str) -> str:
     return h.hexdigest()
 
 
-def _sources(gen_dir: Path, manifest: dict) -> list[tuple[str, Path]]:
+def selected_sources(manifest: dict, controllers: Iterable[str] | None = None) -> list[str]:
+    """The generated C files a library needs: all of them, or (``controllers`` given) those of the
+    families that belong to no controller (the plant) plus the families of the named controllers.
+
+    A first ``rpo run`` compiles only what its scenario flies; the objects are cached and shared
+    with any later, larger selection.
+    """
+    if controllers is None:
+        return list(manifest["sources"])
+    ctrls = manifest.get("controllers", {})
+    unknown = sorted(set(controllers) - set(ctrls))
+    if unknown:
+        raise ModelError(f"unknown controller {', '.join(unknown)}; available: {', '.join(sorted(ctrls))}")
+    funcs = manifest["functions"]
+    owned = {name: {funcs[f]["family"] for f in entry.values() if f in funcs} for name, entry in ctrls.items()}
+    all_ctrl = set().union(*owned.values()) if owned else set()
+    keep = set().union(*(owned[c] for c in controllers)) if controllers else set()
+    return [d["source"] for d in sorted(funcs.values(), key=lambda d: d["source"])
+            if d["family"] not in all_ctrl or d["family"] in keep]
+
+
+def _sources(gen_dir: Path, manifest: dict, controllers: Iterable[str] | None = None) -> list[tuple[str, Path]]:
     """(name, path) of every C file the library is linked from: the generated ones and the loop driver."""
-    return [*((name, gen_dir / name) for name in manifest["sources"]), (LOOP_SOURCE, loop_source())]
+    return [*((name, gen_dir / name) for name in selected_sources(manifest, controllers)),
+            (LOOP_SOURCE, loop_source())]
 
 
-def library_key(gen_dir: Path, manifest: dict, cc_id: str) -> str:
+def library_key(gen_dir: Path, manifest: dict, cc_id: str, controllers: Iterable[str] | None = None) -> str:
     """Cache key of the library: every object key, the link flags, the manifest and the tool versions."""
     h = hashlib.sha256()
-    for name, path in _sources(gen_dir, manifest):
+    for name, path in _sources(gen_dir, manifest, controllers):
         h.update(name.encode() + b"\0" + object_key(path.read_bytes(), cc_id).encode() + b"\0")
     h.update(json.dumps({"ldflags": LDFLAGS, "abi": RUNTIME_ABI, "tools": manifest["tools"],
                          "manifest": manifest["manifest_hash"]}, sort_keys=True).encode())
@@ -222,12 +244,14 @@ def default_jobs() -> int:
 
 
 def build_library(gen_dir: Path | None = None, cache: Path | None = None, log: Callable[[str], None] | None = None,
-                  jobs: int | None = None) -> tuple[Path, bool]:
+                  jobs: int | None = None, controllers: Iterable[str] | None = None) -> tuple[Path, bool]:
     """Compile the generated model into the cache if needed; return (library path, compiled?).
 
     Objects missing from ``<cache>/obj`` are compiled in parallel (``jobs``, default every core),
     with a progress line per file through ``log``; then the library is linked from them.
+    ``controllers``: only the plant and these controllers' functions (default: everything).
     """
+    controllers = None if controllers is None else sorted(set(controllers))
     gen_dir = generated_dir() if gen_dir is None else Path(gen_dir)
     manifest = read_manifest(gen_dir)
     cc = find_compiler()
@@ -240,10 +264,10 @@ def build_library(gen_dir: Path | None = None, cache: Path | None = None, log: C
     except OSError as exc:
         raise ModelError(f"cannot create the build cache {cache} ({exc.strerror}): set RPO_CACHE_DIR "
                          "to a writable folder") from exc
-    sources = _sources(gen_dir, manifest)
+    sources = _sources(gen_dir, manifest, controllers)
     objects = [(name, path, cache / "obj" / f"{Path(name).stem}-{object_key(path.read_bytes(), cc_id)[:24]}.o")
                for name, path in sources]
-    key = library_key(gen_dir, manifest, cc_id)
+    key = library_key(gen_dir, manifest, cc_id, controllers)
     lib = cache / f"rpo_model_{key[:24]}.so"
     if lib.exists():
         return lib, False
@@ -384,6 +408,15 @@ class Model:
         except KeyError:
             raise AttributeError(name) from None
 
+    def function(self, name: str):
+        """The loaded function ``name``; a clear error if the manifest has it but it was not loaded."""
+        if name in self.functions:
+            return self.functions[name]
+        if name in self.manifest["functions"]:
+            raise ModelError(f"{name} is not loaded: this model was loaded for some controllers only "
+                             "(load_model(controllers=[...]))")
+        raise ModelError(f"no generated function {name!r}")
+
     @property
     def layouts(self) -> dict:
         return self.manifest["layouts"]
@@ -435,8 +468,9 @@ class Model:
         return f
 
 
-def _load_compiled(gen_dir: Path, manifest: dict, log=None) -> Model:
-    lib_path, _ = build_library(gen_dir, log=log)
+def _load_compiled(gen_dir: Path, manifest: dict, log=None, controllers: Iterable[str] | None = None) -> Model:
+    lib_path, _ = build_library(gen_dir, log=log, controllers=controllers)
+    sources = set(selected_sources(manifest, controllers))
     try:
         lib = ctypes.CDLL(str(lib_path))
     except OSError as exc:
@@ -447,12 +481,13 @@ def _load_compiled(gen_dir: Path, manifest: dict, log=None) -> Model:
     if selftest(float("nan")) != 0 or selftest(float("inf")) != 0 or selftest(1.0) != 1:
         raise ModelError(f"{lib_path} does not detect NaN/inf (built with -ffast-math or similar via $CC?): "
                          "divergence would go unnoticed; use a plain C compiler command")
-    for source in manifest["sources"]:
+    for source in sorted(sources):
         int_size = getattr(lib, f"{Path(source).stem}_casadi_int_size")
         int_size.restype = ctypes.c_int
         if int_size() != 8:
             raise ModelError(f"generated/{source} uses a casadi_int that is not 64-bit: run `python build.py`")
-    funcs = {name: CompiledFunction(lib, name, desc) for name, desc in manifest["functions"].items()}
+    funcs = {name: CompiledFunction(lib, name, desc) for name, desc in manifest["functions"].items()
+             if desc["source"] in sources}
     return Model(manifest, funcs, "compiled", lib_path, lib)
 
 
@@ -468,16 +503,20 @@ def _load_casadi(gen_dir: Path, manifest: dict) -> Model:
     return Model(manifest, funcs, "casadi")
 
 
-def load_model(backend: str = "auto", gen_dir: Path | None = None, log=None) -> Model:
+def load_model(backend: str = "auto", gen_dir: Path | None = None, log: Callable[[str], None] | None = None,
+               controllers: Iterable[str] | None = None) -> Model:
     """Load the model: ``"compiled"`` (C), ``"casadi"`` (VM fallback, warned) or ``"auto"``.
 
     ``auto`` means compiled; without a C compiler it raises a :class:`ModelError` that says
     what to install or how to choose the CasADi fallback explicitly (never a silent slowdown).
+    ``controllers``: load only the plant and these controllers (what a run needs; the first run
+    after an install then compiles a fraction of the model); default: every controller.
+    ``log`` receives the compile progress (which file, how many left).
     """
     gen_dir = generated_dir() if gen_dir is None else Path(gen_dir)
     manifest = read_manifest(gen_dir)
     if backend in ("auto", "compiled"):
-        return _load_compiled(gen_dir, manifest, log)
+        return _load_compiled(gen_dir, manifest, log, controllers)
     if backend == "casadi":
         warnings.warn("backend 'casadi': evaluating the model in CasADi's virtual machine, about 100x slower "
                       "than the compiled backend", RuntimeWarning, stacklevel=2)

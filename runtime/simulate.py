@@ -109,7 +109,7 @@ class Simulation:
         self.k = model.vector(entry["gains"], gains)
         self.z_layout = f"z_{controller}"
         self.y_layout = f"y_{controller}"
-        self.step_fn = model.functions[entry["step"]].clone()
+        self.step_fn = model.function(entry["step"]).clone()
         self.nz = model.layout_size(self.z_layout)
         self.ny = model.layout_size(self.y_layout)
         self.nw = model.layout_size("w")

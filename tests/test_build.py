@@ -400,3 +400,23 @@ def gen_copy(tmp_path):
     dst = tmp_path / "generated"
     shutil.copytree(ROOT / "generated", dst, ignore=shutil.ignore_patterns("__pycache__", ".lock"))
     return dst
+
+
+def test_library_for_some_controllers_compiles_only_what_they_need(tiny, monkeypatch):
+    """A run loads the plant and its own controller: the first run after an install compiles a
+    fraction of the model; a later full build reuses those objects."""
+    _, gen, cache = tiny
+    monkeypatch.setenv("RPO_CACHE_DIR", str(cache))
+    m = compiled.read_manifest(gen)
+    assert compiled.selected_sources(m, ["a"]) == ["law_a.c", "step_a.c", "tiny_out.c", "tiny_rhs.c"]
+    lines: list[str] = []
+    model = compiled.load_model(gen_dir=gen, controllers=["a"], log=lines.append)
+    assert "compiling 5 of 5 C files" in lines[0]  # 4 generated + the loop driver
+    assert set(model.functions) == {"law_a", "step_a", "tiny_out", "tiny_rhs"}
+    with pytest.raises(ModelError, match="step_b is not loaded"):
+        model.function("step_b")
+    with pytest.raises(ModelError, match="unknown controller z; available: a, b"):
+        compiled.load_model(gen_dir=gen, controllers=["z"])
+    lines.clear()
+    full = compiled.load_model(gen_dir=gen, log=lines.append)
+    assert "compiling 2 of 7 C files" in lines[0] and full.library != model.library
