@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * ideal_actuators: ideal actuators: per-axis saturated force and torque
- * Produced by `python build.py` from family 'plant' (hash d811f3dea5ef635041b58420506022e541da6d577365448869b0ab2036476992),
+ * Produced by `python build.py` from family 'plant' (hash 55e25efae9ead8de8ae5d2060dc2629da3efa29990e3eb9238ebb3cd0b14f833),
  * derived from:
  *   symbolic/actuators.py
  *   symbolic/closed_loop.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_baseline: control law of baseline
- * Produced by `python build.py` from family 'controller_baseline' (hash 64c7b4fe713b98bf89af0dc04bd75477002da46a2e50532e0400a73bad845cd2),
+ * Produced by `python build.py` from family 'controller_baseline' (hash d5f4e24833d857c5e3eda37f8f5f8271e50599e1b82c5496ce367edffbc39114),
  * derived from:
  *   symbolic/actuators.py
  *   symbolic/closed_loop.py

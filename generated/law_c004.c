@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c004: control law of c004
- * Produced by `python build.py` from family 'controller_c004' (hash bdf317fd66f40d86b2a49b7ff29c066a332be34d3465e35f879dd0b990ac7d47),
+ * Produced by `python build.py` from family 'controller_c004' (hash 0eb38daaa9e154ed90378d3e29b9eb5a600b48aef95cb46118c90502b9c62870),
  * derived from:
  *   symbolic/actuators.py
  *   symbolic/closed_loop.py

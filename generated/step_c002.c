@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c002: one closed-loop step (plant + c002 + actuators), RK4 over dt
- * Produced by `python build.py` from family 'controller_c002' (hash 9963b169a361c8b3e18a8035d0ef790f810945eb7dded3f6c171e6d2c62a7529),
+ * Produced by `python build.py` from family 'controller_c002' (hash 6ef3a6c3e3fc30da7e52905b3612a719da276dd31cac4ef77a81b6ffc1790e4f),
  * derived from:
  *   symbolic/actuators.py
  *   symbolic/closed_loop.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * xc0_c000: initial state of c000 from the first measurement
- * Produced by `python build.py` from family 'controller_c000' (hash 62739887c2685d9fb9fbf43d16c50079816486868977addc097d221bc51bdf98),
+ * Produced by `python build.py` from family 'controller_c000' (hash 346b810af21e14f5e2b4f2e29a9e58e51ee9452438b8dc03dc0f3ab6278eb7f7),
  * derived from:
  *   symbolic/actuators.py
  *   symbolic/closed_loop.py

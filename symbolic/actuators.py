@@ -138,8 +138,14 @@ def propellant_flow(on, F_max, isp, g0):
 
 
 def saturate(v, limit):
-    """Per-axis saturation of a column to [-limit, limit]."""
-    return v.applyfunc(lambda c: sp.Max(-limit, sp.Min(limit, c)))
+    """Per-axis saturation of a column to [-limit, limit] (limit >= 0, in the column's unit).
+
+    The one saturation of rpo: the ideal actuators use it directly, the papers' own limits
+    (001 sec. 7, 002 eq. 13) through wrappers that keep their equation numbers.
+    """
+    # evaluate=False: SymPy's Min/Max otherwise try to order the limit against the (large) command
+    # expression symbolically, which takes minutes and cannot succeed
+    return v.applyfunc(lambda c: sp.Max(-limit, sp.Min(limit, c, evaluate=False), evaluate=False))
 
 
 def ideal_wrench(F_cmd, tau_cmd, F_max, tau_max):

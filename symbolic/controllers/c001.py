@@ -26,6 +26,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
+from .. import actuators as act
 from ..layout import XYZ, XYZW, Layout
 from ..rotations import cross, dot, dq, dq_conj, dq_dual, dq_mul, dq_real, quat, quat_conj, quat_mul, quat_to_dcm
 from ..special import Step
@@ -409,13 +410,8 @@ def control_dual_force(q_ST, grad_Vp, w_ST, w_TI_S, J, f_G, d_hat, k_p, k_d) -> 
 
 
 def saturate(x: sp.Matrix, limit) -> sp.Matrix:
-    """Per-axis actuator limit ``[-limit, limit]`` (001 sec. 7: 2 mN m, 750 mN), written with :class:`Step`."""
-    # e (1 - hi - lo) + limit (hi - lo) is exact in floating point on both branches (no e - e)
-    def sat(e):
-        hi, lo = Step(e - limit), Step(-limit - e)
-        return e * (1 - hi - lo) + limit * (hi - lo)
-
-    return x.applyfunc(sat)
+    """Per-axis actuator limit ``[-limit, limit]`` (001 sec. 7: 2 mN m, 750 mN): rpo's one saturation."""
+    return act.saturate(x, limit)
 
 
 def applied_dual_force(f_C: sp.Matrix, F_max, tau_max) -> sp.Matrix:

@@ -27,6 +27,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
+from .. import actuators as act
 from ..layout import XYZ, XYZW, Layout
 from ..rotations import dot, quat, quat_conj, quat_mul, quat_to_dcm, quat_vec, skew
 from . import command_layout
@@ -150,9 +151,7 @@ def saturation(eps, u_max):
     As printed, eq. 13 switches on ``eps_i >= u_M`` (not |eps_i| >= u_M), which would leave
     large negative commands unsaturated; the text ("u_M is the upper bound") means |u_i| <= u_M.
     """
-    # evaluate=False: SymPy's Min/Max otherwise try to order u_max against the (large) command
-    # expression symbolically, which takes minutes and cannot succeed
-    return sp.Matrix([sp.Max(-u_max, sp.Min(u_max, e, evaluate=False), evaluate=False) for e in eps])
+    return act.saturate(sp.Matrix(eps), u_max)
 
 
 # =========================================================================== controller
