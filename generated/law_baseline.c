@@ -1,8 +1,9 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_baseline: control law of baseline
- * Produced by `python build.py` from family 'controller_baseline' (hash d5f4e24833d857c5e3eda37f8f5f8271e50599e1b82c5496ce367edffbc39114),
+ * Produced by `python build.py` from family 'controller_baseline' (hash ac57bcc7d2f0fcd50da9ffa54b6efeddf5c163888f4eab5b49fc3b7762c89119),
  * derived from:
  *   symbolic/actuators.py
+ *   symbolic/c_composition.py
  *   symbolic/closed_loop.py
  *   symbolic/codegen.py
  *   symbolic/constraints.py
@@ -20,6 +21,7 @@
  *   symbolic/rigid_body.py
  *   symbolic/rotations.py
  *   symbolic/special.py
+ *   symbolic/structural_cse.py
  *   symbolic/to_casadi.py
  * Operations: 129 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */

@@ -1,8 +1,9 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c001: control law of c001
- * Produced by `python build.py` from family 'controller_c001' (hash f414666646dcdcfa14f249f526a4b2c4df5eaf79303c2687a4566d1dba95f4e3),
+ * Produced by `python build.py` from family 'controller_c001' (hash 2718624550337e312d66b9f136991a414285f890f7cb2a5b06709e9ac923dc42),
  * derived from:
  *   symbolic/actuators.py
+ *   symbolic/c_composition.py
  *   symbolic/closed_loop.py
  *   symbolic/codegen.py
  *   symbolic/constraints.py
@@ -20,6 +21,7 @@
  *   symbolic/rigid_body.py
  *   symbolic/rotations.py
  *   symbolic/special.py
+ *   symbolic/structural_cse.py
  *   symbolic/to_casadi.py
  * Operations: 2187 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */

@@ -1,8 +1,9 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c002: control law of c002
- * Produced by `python build.py` from family 'controller_c002' (hash 6ef3a6c3e3fc30da7e52905b3612a719da276dd31cac4ef77a81b6ffc1790e4f),
+ * Produced by `python build.py` from family 'controller_c002' (hash 27d5096e611da4c75fabea64b8d737931ae46792faa97d5ba1d5cc36f226aeb6),
  * derived from:
  *   symbolic/actuators.py
+ *   symbolic/c_composition.py
  *   symbolic/closed_loop.py
  *   symbolic/codegen.py
  *   symbolic/constraints.py
@@ -20,6 +21,7 @@
  *   symbolic/rigid_body.py
  *   symbolic/rotations.py
  *   symbolic/special.py
+ *   symbolic/structural_cse.py
  *   symbolic/to_casadi.py
  * Operations: 994 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */

@@ -1,8 +1,9 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c004: control law of c004
- * Produced by `python build.py` from family 'controller_c004' (hash 0eb38daaa9e154ed90378d3e29b9eb5a600b48aef95cb46118c90502b9c62870),
+ * Produced by `python build.py` from family 'controller_c004' (hash 4b1ff00f753e95ea5a6145df164968104b9bb0762486eaa73a57ca3ebcb0d4bb),
  * derived from:
  *   symbolic/actuators.py
+ *   symbolic/c_composition.py
  *   symbolic/closed_loop.py
  *   symbolic/codegen.py
  *   symbolic/constraints.py
@@ -20,6 +21,7 @@
  *   symbolic/rigid_body.py
  *   symbolic/rotations.py
  *   symbolic/special.py
+ *   symbolic/structural_cse.py
  *   symbolic/to_casadi.py
  * Operations: 1054 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */

@@ -1,8 +1,9 @@
 /* GENERATED FILE - DO NOT EDIT.
  * measure: truth + sensor noise -> what the controllers read
- * Produced by `python build.py` from family 'plant' (hash 55e25efae9ead8de8ae5d2060dc2629da3efa29990e3eb9238ebb3cd0b14f833),
+ * Produced by `python build.py` from family 'plant' (hash 3845fb826ebcd546bc105b2b56ba3197b900853aa2fb16620c3d953a0a936d79),
  * derived from:
  *   symbolic/actuators.py
+ *   symbolic/c_composition.py
  *   symbolic/closed_loop.py
  *   symbolic/codegen.py
  *   symbolic/constraints.py
@@ -19,6 +20,7 @@
  *   symbolic/rigid_body.py
  *   symbolic/rotations.py
  *   symbolic/special.py
+ *   symbolic/structural_cse.py
  *   symbolic/to_casadi.py
  * Operations: 604 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */

@@ -1,8 +1,9 @@
 /* GENERATED FILE - DO NOT EDIT.
  * xc0_c000: initial state of c000 from the first measurement
- * Produced by `python build.py` from family 'controller_c000' (hash 346b810af21e14f5e2b4f2e29a9e58e51ee9452438b8dc03dc0f3ab6278eb7f7),
+ * Produced by `python build.py` from family 'controller_c000' (hash 025a712305b429740ce1244b3c2488115062737c2c3c5aedc4f8ade164c8c388),
  * derived from:
  *   symbolic/actuators.py
+ *   symbolic/c_composition.py
  *   symbolic/closed_loop.py
  *   symbolic/codegen.py
  *   symbolic/constraints.py
@@ -20,6 +21,7 @@
  *   symbolic/rigid_body.py
  *   symbolic/rotations.py
  *   symbolic/special.py
+ *   symbolic/structural_cse.py
  *   symbolic/to_casadi.py
  * Operations: 101 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */

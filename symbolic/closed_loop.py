@@ -127,10 +127,12 @@ def output_layout(plant: Plant, ctrl) -> Layout:
     return y
 
 
-def state_layout(plant: Plant, ctrl) -> Layout:
-    """The packed step state z = [plant x, actuator states, controller states]."""
+def state_layout(plant: Plant, ctrl=None) -> Layout:
+    """The packed step state z = [plant x, actuator states, controller states] (``ctrl`` None: the
+    plant's part zp, which :func:`plant_advance` advances)."""
     z = Layout("z")
-    for lay, prefix in ((plant.x, ""), (actuator_layout(), ""), (ctrl.xc, "xc_")):
+    blocks = [(plant.x, ""), (actuator_layout(), "")] + ([(ctrl.xc, "xc_")] if ctrl is not None else [])
+    for lay, prefix in blocks:
         for fl in lay.fields:
             z.add(prefix + fl.name, fl.size, fl.unit, fl.doc, fl.components)
     return z
@@ -151,28 +153,39 @@ def rk4(f, x, t, h, t_end=None):
     return x + h / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
 
 
-def step(ops, fn, idx, z, t, p, k, w):
-    """Advance the packed state z by one step dt; return (z_next, y).
+def controller_update(ops, law, meas, xc, t, p, k, dt, nc):
+    """The controller's half of a step: ``(cmd, xc_next, diag)`` from the measurement at t_k.
 
-    ``ops``: array backend (``vcat``, ``floor``, ``if_else``, ``sqrt``, ``fmax``, ``zeros``);
-    ``fn``: callables for the pieces of :func:`model_pieces`, each returning a tuple of outputs;
-    ``idx``: integer offsets (from the layouts) of the blocks of z and of ``dt``, ``wheel_delay``.
+    ``law(meas, xc, t, p, k) -> (cmd, xc_dot, diag)``; the command is held over the step and the
+    controller state advanced by RK4 with the measurement held (timing item 4).
     """
-    nx, nc = idx["nx"], idx["nc"]
-    x = z[0:nx]
+    cmd, _, diag = law(meas, xc, t, p, k)
+    if nc:
+        xc_next = rk4(lambda xx, tt: law(meas, xx, tt, p, k)[1], xc, t, dt, t + dt)
+    else:
+        xc_next = xc
+    return cmd, xc_next, diag
+
+
+def plant_advance(ops, fn, idx, zp, t, p, w, cmd):
+    """The plant's half of a step: actuators and RK4 of the plant over dt under the held command.
+
+    ``zp`` = [plant x, actuator states] (the step state without the controller's); returns
+    ``(zp_next, y_plant)`` with y_plant = [wheel_cmd, wheel_applied, thr_duty, thr_on, env] at t_k.
+    ``fn``: callables for the plant pieces of :func:`plant_pieces`; ``idx``: :func:`step_indices`.
+    """
+    nx = idx["nx"]
+    x = zp[0:nx]
     o = nx
     hist = []
     for _ in range(DELAY_SLOTS):
-        hist.append(z[o:o + 4])
+        hist.append(zp[o:o + 4])
         o += 4
-    f = z[o:o + 16]
-    on_prev = z[o + 16:o + 32]
-    xc = z[o + 32:o + 32 + nc]
+    f = zp[o:o + 16]
+    on_prev = zp[o + 16:o + 32]
     dt = p[idx["dt"]]
     delay = p[idx["wheel_delay"]]
 
-    meas = fn["measure"](x, t, p, w)[0]
-    cmd, _, diag = fn["law"](meas, xc, t, p, k)
     # actuator model switch (0/1): wheels and PWPF thrusters, or the papers' ideal actuators
     ideal = p[idx["actuators_ideal"]]
     real = 1 - ideal
@@ -216,24 +229,36 @@ def step(ops, fn, idx, z, t, p, k, w):
     parts.append(x2[last:nx])
     x_next = ops.vcat(*parts)
 
-    if nc:
-        xc_next = rk4(lambda xx, tt: fn["law"](meas, xx, tt, p, k)[1], xc, t, dt, t_next)
-    else:
-        xc_next = xc
-
-    z_next = ops.vcat(x_next, T_new, *hist[:-1], f_next, on, xc_next)
+    zp_next = ops.vcat(x_next, T_new, *hist[:-1], f_next, on)
     env = fn["env_outputs"](x, ops.vcat(T_late, on, F_ideal, tau_ideal), t, p, w)[0]
-    y = ops.vcat(meas, cmd, T_new, T_late, duty, on, env, diag)
-    return z_next, y
+    return zp_next, ops.vcat(T_new, T_late, duty, on, env)
 
 
-def step_indices(plant: Plant, ctrl) -> dict:
-    """Integer offsets :func:`step` needs, from the layouts."""
+def step(ops, fn, idx, z, t, p, k, w):
+    """Advance the packed state z by one step dt; return (z_next, y).
+
+    The composition of the measurement, :func:`controller_update` and :func:`plant_advance`
+    (the generated C composes the same three generated functions the same way).
+    ``ops``: array backend (``vcat``, ``floor``, ``if_else``, ``sqrt``, ``fmax``, ``zeros``);
+    ``fn``: callables for the pieces of :func:`model_pieces` (``law`` for the controller's),
+    each returning a tuple of outputs; ``idx``: offsets from :func:`step_indices`.
+    """
+    nzp, nc = idx["nzp"], idx["nc"]
+    zp, xc = z[0:nzp], z[nzp:nzp + nc]
+    meas = fn["measure"](zp[0:idx["nx"]], t, p, w)[0]
+    cmd, xc_next, diag = controller_update(ops, fn["law"], meas, xc, t, p, k, p[idx["dt"]], nc)
+    zp_next, y_plant = plant_advance(ops, fn, idx, zp, t, p, w, cmd)
+    return ops.vcat(zp_next, xc_next), ops.vcat(meas, cmd, y_plant, diag)
+
+
+def step_indices(plant: Plant, ctrl=None) -> dict:
+    """Integer offsets :func:`step` and :func:`plant_advance` need, from the layouts."""
     xo = plant.x.offsets()
     po = plant.p.offsets()
     return {
         "nx": plant.x.size,
-        "nc": ctrl.xc.size,
+        "nzp": plant.x.size + actuator_layout().size,
+        "nc": ctrl.xc.size if ctrl is not None else 0,
         "dt": po["dt"][0],
         "wheel_delay": po["wheel_delay"][0],
         "actuators_ideal": po["actuators_ideal"][0],

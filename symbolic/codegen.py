@@ -69,6 +69,12 @@ class Generated:
     inputs: Sequence[str | None]
     outputs: Sequence[str | None]
     doc: str
+    #: (C source, header) written instead of CasADi's code for ``fn`` (a composition of other
+    #: generated functions, :mod:`rpo.symbolic.c_composition`); ``fn`` still gives the shapes and
+    #: the serialised function of the CasADi fallback
+    c_code: tuple[str, str] | None = None
+    #: operation count to report (default: ``fn``'s own)
+    ops: int | None = None
 
 
 @dataclass
@@ -244,8 +250,11 @@ def function_files(g: Generated, family: str, fhash: str, modules: list[str]) ->
     import casadi as ca
 
     name = g.fn.name()
-    ops = int(g.fn.n_instructions()) if g.fn.is_a("SXFunction") else int(g.fn.n_nodes())
-    banner = _banner(name, g.doc, family, fhash, modules, ops)
+    banner = _banner(name, g.doc, family, fhash, modules, _ops(g))
+    if g.c_code is not None:
+        files = {f"{name}.c": (banner + g.c_code[0]).encode(), f"{name}.h": (banner + g.c_code[1]).encode()}
+        files[f"{name}.casadi.gz"] = gzip.compress(g.fn.serialize().encode(), compresslevel=9, mtime=0)
+        return files
     with tempfile.TemporaryDirectory() as tmp:
         cwd = os.getcwd()
         os.chdir(tmp)  # CasADi writes into the working directory
@@ -261,14 +270,19 @@ def function_files(g: Generated, family: str, fhash: str, modules: list[str]) ->
     return files
 
 
+def _ops(g: Generated) -> int:
+    if g.ops is not None:
+        return g.ops
+    return int(g.fn.n_instructions()) if g.fn.is_a("SXFunction") else int(g.fn.n_nodes())
+
+
 def describe(g: Generated, family: str) -> dict:
     fn = g.fn
-    ops = int(fn.n_instructions()) if fn.is_a("SXFunction") else int(fn.n_nodes())
     return {
         "doc": g.doc,
         "family": family,
         "source": f"{fn.name()}.c",
-        "ops": ops,
+        "ops": _ops(g),
         "inputs": [{"name": fn.name_in(i), "shape": list(fn.size_in(i)), "layout": g.inputs[i]}
                    for i in range(fn.n_in())],
         "outputs": [{"name": fn.name_out(i), "shape": list(fn.size_out(i)), "layout": g.outputs[i]}

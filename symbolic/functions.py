@@ -27,7 +27,7 @@ from .codegen import Family, FamilyOutput, Generated, ModelDefinitionError
 SYMBOLIC_DIR = Path(__file__).resolve().parent
 CONTROLLERS_DIR = SYMBOLIC_DIR / "controllers"
 
-#: Plant pieces composed into each controller's step (closed_loop.step's ``fn``).
+#: Plant pieces composed into plant_advance (closed_loop.plant_advance's ``fn``).
 STEP_PIECES = ("plant_rhs", "measure", "env_outputs", "ideal_actuators", "wheel_alloc", "thruster_alloc", "pwpf",
                "pwpf_filter")
 
@@ -150,8 +150,11 @@ def _build_plant(_resolve) -> FamilyOutput:
                                    [ca.densify(ca.jacobian(xdot, xs)), ca.densify(ca.jacobian(xdot, us))],
                                    ["x", "u", "t", "p", "w"], ["dfdx", "dfdu"])
     funcs = [Generated(cas[name], *_SIGNATURES[name]) for name in _SIGNATURES]
+    funcs.append(Generated(casadi_plant_advance(cas, P), ["zp", None, "p", "w", None], ["zp", None],
+                           "plant half of a step: actuators, delay line, PWPF, RK4 of plant_rhs over dt"))
     layouts = {name: lay.describe() for name, lay in
-               (("p", P.p), ("x", P.x), ("u", P.u), ("w", P.w), ("meas", P.meas), ("env", P.env))}
+               (("p", P.p), ("x", P.x), ("u", P.u), ("w", P.w), ("meas", P.meas), ("env", P.env),
+                ("zp", cl.state_layout(P)))}
     return FamilyOutput(funcs, layouts, {"delay_slots": cl.DELAY_SLOTS,
                                          "quaternion_convention": QUATERNION_CONVENTION})
 
@@ -168,29 +171,86 @@ def _caller(f):
     return lambda *a: f.call(list(a))
 
 
-def casadi_step(cas: dict, P, ctrl):
-    """The closed-loop step composed (:func:`closed_loop.step`) from the CasADi pieces, expanded to SX
-    and common-subexpression-eliminated, so RK4 stages at equal times share the orbit (Kepler)
-    and every other time-only term."""
+def _expanded(name: str, inputs: list, outputs: list, in_names: list[str], out_names: list[str]):
+    """An MX composition expanded to one SX function and common-subexpression-eliminated, so that
+    e.g. RK4 stages at equal times share the orbit (Kepler) and every other time-only term."""
+    import casadi as ca
+
+    f = ca.Function(name, inputs, outputs, in_names, out_names).expand()
+    syms = [ca.SX.sym(n, f.size1_in(i)) for i, n in enumerate(in_names)]
+    outs = f(*syms)
+    outs = outs if isinstance(outs, (list, tuple)) else [outs]
+    return ca.Function(name, syms, [ca.cse(o) for o in outs], in_names, out_names)
+
+
+def casadi_plant_advance(cas: dict, P):
+    """:func:`closed_loop.plant_advance` composed from the plant's CasADi pieces (actuators, delay
+    line, PWPF, two RK4 sub-steps of the plant, renormalisation, environment outputs)."""
     import casadi as ca
 
     from . import closed_loop as cl
 
-    zl = cl.state_layout(P, ctrl)
-    z = ca.MX.sym("z", zl.size)
-    t = ca.MX.sym("t")
-    p = ca.MX.sym("p", P.p.size)
-    k = ca.MX.sym("k", ctrl.k.size)
-    w = ca.MX.sym("w", P.w.size)
-    fn = {name: cas[name] for name in STEP_PIECES}
-    fn["law"] = cas[f"law_{ctrl.name}"]
-    calls = {name: _caller(f) for name, f in fn.items()}
-    z_next, y = cl.step(_casadi_ops(), calls, cl.step_indices(P, ctrl), z, t, p, k, w)
-    stepf = ca.Function(f"step_{ctrl.name}", [z, t, p, k, w], [z_next, y],
-                        ["z", "t", "p", "k", "w"], ["z_next", "y"]).expand()
-    syms = [ca.SX.sym(n, stepf.size1_in(i)) for i, n in enumerate("ztpkw")]
-    outs = stepf(*syms)
-    return ca.Function(stepf.name(), syms, [ca.cse(o) for o in outs], ["z", "t", "p", "k", "w"], ["z_next", "y"])
+    zp = ca.MX.sym("zp", cl.state_layout(P).size)
+    t, p = ca.MX.sym("t"), ca.MX.sym("p", P.p.size)
+    w, cmd = ca.MX.sym("w", P.w.size), ca.MX.sym("cmd", 9)
+    calls = {name: _caller(cas[name]) for name in STEP_PIECES}
+    zp_next, y_plant = cl.plant_advance(_casadi_ops(), calls, cl.step_indices(P), zp, t, p, w, cmd)
+    return _expanded("plant_advance", [zp, t, p, w, cmd], [zp_next, y_plant], ["zp", "t", "p", "w", "cmd"],
+                     ["zp_next", "y_plant"])
+
+
+def casadi_control(cas: dict, P, ctrl):
+    """:func:`closed_loop.controller_update` of ``ctrl``: the command, the controller state after
+    one RK4 step with the measurement held, and the diagnostics."""
+    import casadi as ca
+
+    from . import closed_loop as cl
+
+    meas, xc = ca.MX.sym("meas", P.meas.size), ca.MX.sym("xc", ctrl.xc.size)
+    t, p, k = ca.MX.sym("t"), ca.MX.sym("p", P.p.size), ca.MX.sym("k", ctrl.k.size)
+    dt = p[P.p.offsets()["dt"][0]]
+    cmd, xc_next, diag = cl.controller_update(_casadi_ops(), _caller(cas[f"law_{ctrl.name}"]), meas, xc, t, p, k, dt,
+                                              ctrl.xc.size)
+    return _expanded(f"control_{ctrl.name}", [meas, xc, t, p, k], [cmd, xc_next, diag],
+                     ["meas", "xc", "t", "p", "k"], ["cmd", "xc_next", "diag"])
+
+
+def composed_step(cas: dict, P, ctrl) -> Generated:
+    """``step_<name>`` = measure -> control_<name> -> plant_advance (:func:`closed_loop.step`): C glue
+    calling the three generated functions, and the same composition as a CasADi function for the
+    fallback backend."""
+    import casadi as ca
+
+    from . import closed_loop as cl
+    from .c_composition import Call, Callee, composed_c
+
+    name = ctrl.name
+    idx = cl.step_indices(P, ctrl)
+    nzp, nc, nx = idx["nzp"], idx["nc"], idx["nx"]
+    measure, control, advance = cas["measure"], cas[f"control_{name}"], cas["plant_advance"]
+    z = ca.MX.sym("z", nzp + nc)
+    t, p = ca.MX.sym("t"), ca.MX.sym("p", P.p.size)
+    k, w = ca.MX.sym("k", ctrl.k.size), ca.MX.sym("w", P.w.size)
+    meas = measure(z[0:nx], t, p, w)
+    cmd, xc_next, diag = control(meas, z[nzp:nzp + nc], t, p, k)
+    zp_next, y_plant = advance(z[0:nzp], t, p, w, cmd)
+    fn = ca.Function(f"step_{name}", [z, t, p, k, w], [ca.vertcat(zp_next, xc_next),
+                                                       ca.vertcat(meas, cmd, y_plant, diag)],
+                     ["z", "t", "p", "k", "w"], ["z_next", "y"])
+    n_meas, n_diag, n_yp = P.meas.size, ctrl.diag.size, advance.size1_out(1)
+    c_code = composed_c(
+        f"step_{name}", [("z", nzp + nc), ("t", 1), ("p", P.p.size), ("k", ctrl.k.size), ("w", P.w.size)],
+        [("z_next", ["zp_next", "xc_next"]), ("y", ["meas", "cmd", "y_plant", "diag"])],
+        [("meas", n_meas), ("cmd", 9), ("xc_next", nc), ("diag", n_diag), ("zp_next", nzp), ("y_plant", n_yp)],
+        [Call(Callee.of(measure), [("z", 0), ("t", 0), ("p", 0), ("w", 0)], ["meas"]),
+         Call(Callee.of(control), [("meas", 0), ("z", nzp), ("t", 0), ("p", 0), ("k", 0)],
+              ["cmd", "xc_next", "diag"]),
+         Call(Callee.of(advance), [("z", 0), ("t", 0), ("p", 0), ("w", 0), ("cmd", 0)], ["zp_next", "y_plant"])])
+    ops = sum(int(f.n_instructions()) for f in (measure, control, advance))
+    zlay, ylay, klay = f"z_{name}", f"y_{name}", f"k_{name}"
+    return Generated(fn, [zlay, None, "p", klay, "w"], [zlay, ylay],
+                     f"one closed-loop step (plant + {name} + actuators), RK4 over dt: measure, control_{name}, "
+                     "plant_advance", c_code=c_code, ops=ops)
 
 
 def _controller_family(name: str) -> Family:
@@ -203,14 +263,16 @@ def _controller_family(name: str) -> Family:
         ctrl = load_controller(name)
         cas = {n: sympy_function(pc.name, pc.inputs, pc.outputs)
                for n, pc in cl.controller_pieces(P, ctrl).items()}
-        for piece in STEP_PIECES:
+        for piece in ("measure", "plant_advance"):
             cas[piece] = resolve(piece)
+        cas[f"control_{name}"] = casadi_control(cas, P, ctrl)
         klay, xlay, dlay, zlay, ylay = (f"{pre}_{name}" for pre in ("k", "xc", "diag", "z", "y"))
         funcs = [Generated(cas[f"law_{name}"], ["meas", xlay, None, "p", klay], [None, None, dlay],
                            f"control law of {name}"),
-                 Generated(casadi_step(cas, P, ctrl), [zlay, None, "p", klay, "w"], [zlay, ylay],
-                           f"one closed-loop step (plant + {name} + actuators), RK4 over dt")]
-        entry = {"step": f"step_{name}", "law": f"law_{name}", "gains": klay}
+                 Generated(cas[f"control_{name}"], ["meas", xlay, None, "p", klay], [None, xlay, dlay],
+                           f"controller half of a step of {name}: command, controller state after RK4 over dt"),
+                 composed_step(cas, P, ctrl)]
+        entry = {"step": f"step_{name}", "law": f"law_{name}", "control": f"control_{name}", "gains": klay}
         if f"xc0_{name}" in cas:
             funcs.append(Generated(cas[f"xc0_{name}"], ["meas", "p", klay], [xlay],
                                    f"initial state of {name} from the first measurement"))

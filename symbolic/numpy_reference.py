@@ -45,16 +45,47 @@ def lambdified(piece: cl.Piece):
     return call
 
 
+PLANT_PIECES = ("plant_rhs", "measure", "env_outputs", "ideal_actuators", "wheel_alloc", "thruster_alloc", "pwpf",
+                "pwpf_filter")
+
+
+def _pieces(pieces, make, names):
+    make = make or (lambda name: lambdified(pieces[name]))
+    return {name: make(name) for name in names}
+
+
+def numpy_plant_advance(pieces: dict[str, cl.Piece], plant, make=None):
+    """``plant_advance(zp, t, p, w, cmd) -> (zp_next, y_plant)`` evaluated with NumPy."""
+    fn = _pieces(pieces, make, PLANT_PIECES)
+    idx = cl.step_indices(plant)
+
+    def advance(zp, t, p, w, cmd):
+        return cl.plant_advance(NUMPY_OPS, fn, idx, np.asarray(zp, float), float(t), np.asarray(p, float),
+                                np.asarray(w, float), np.asarray(cmd, float))
+
+    return advance
+
+
+def numpy_control(pieces: dict[str, cl.Piece], plant, ctrl, make=None):
+    """``control_<name>(meas, xc, t, p, k) -> (cmd, xc_next, diag)`` evaluated with NumPy."""
+    law = _pieces(pieces, make, [f"law_{ctrl.name}"])[f"law_{ctrl.name}"]
+    i_dt = plant.p.offsets()["dt"][0]
+
+    def control(meas, xc, t, p, k):
+        p = np.asarray(p, float)
+        return cl.controller_update(NUMPY_OPS, law, np.asarray(meas, float), np.asarray(xc, float), float(t), p,
+                                    np.asarray(k, float), p[i_dt], ctrl.xc.size)
+
+    return control
+
+
 def numpy_step(pieces: dict[str, cl.Piece], plant, ctrl, make=None):
     """``step(z, t, p, k, w) -> (z_next, y)`` evaluated with NumPy.
 
     ``make(name)`` may supply already-lambdified pieces (lambdify takes ~10 s per large piece).
     """
-    make = make or (lambda name: lambdified(pieces[name]))
-    names = ("plant_rhs", "measure", "env_outputs", "ideal_actuators", "wheel_alloc", "thruster_alloc", "pwpf",
-             "pwpf_filter")
-    fn = {name: make(name) for name in names}
-    fn["law"] = make(f"law_{ctrl.name}")
+    fn = _pieces(pieces, make, (*PLANT_PIECES, f"law_{ctrl.name}"))
+    fn["law"] = fn.pop(f"law_{ctrl.name}")
     idx = cl.step_indices(plant, ctrl)
 
     def step(z, t, p, k, w):

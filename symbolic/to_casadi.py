@@ -222,5 +222,8 @@ LAMBDIFY_MODULES = [{"KeplerE": numpy_kepler, "Step": lambda x: np.where(np.asar
 
 
 def numpy_function(inputs: Sequence[sp.Basic], outputs: Sequence[sp.Basic]):
-    """``sympy.lambdify`` of the same expressions, for independent NumPy evaluation."""
-    return sp.lambdify(list(inputs), list(outputs), modules=LAMBDIFY_MODULES, cse=True)
+    """``sympy.lambdify`` of the same expressions, for independent NumPy evaluation (with the
+    sharing already in the expression graph, :func:`~rpo.symbolic.structural_cse.structural_cse`)."""
+    from .structural_cse import structural_cse
+
+    return sp.lambdify(list(inputs), list(outputs), modules=LAMBDIFY_MODULES, cse=structural_cse)

@@ -148,8 +148,62 @@ for _c in CONTROLLERS:
 
 
 def test_every_generated_function_is_covered(model):
-    covered = set(SOURCE_FUNCS) | {"plant_jac"} | {f"step_{c}" for c in CONTROLLERS}
+    covered = set(SOURCE_FUNCS) | {"plant_jac", "plant_advance"} | {f"{f}_{c}" for c in CONTROLLERS
+                                                                     for f in ("step", "control")}
     assert set(model.manifest["functions"]) == covered
+
+
+def _finite(ref) -> bool:
+    return all(np.all(np.isfinite(r_)) for r_ in ref)
+
+
+def test_generated_plant_advance_equals_numpy_composition(model, sources, numpy_piece):
+    from rpo.symbolic.numpy_reference import numpy_plant_advance
+
+    pieces, ctx = sources
+    advance = numpy_plant_advance(pieces, ctx["plant"], make=numpy_piece)
+    desc = model.manifest["functions"]["plant_advance"]
+    gen = Inputs(model, np.random.default_rng(7))
+    nzp = desc["inputs"][0]["shape"][0]
+    for _ in range(N_POINTS // 5):
+        zp = gen.value("step", "z", (nzp, 1))
+        t, p, w = gen.value("step", "t", 1), gen.p(), gen.value("step", "w", (18, 1))
+        cmd = gen.rng.normal(0, 0.2, 9)
+        got, ref = model.plant_advance(zp, t, p, w, cmd), advance(zp, t, p, w, cmd)
+        for o, g_, r_ in zip(desc["outputs"], got, ref, strict=True):
+            assert_close(model, "plant_advance", o, g_, r_)
+
+
+@pytest.mark.parametrize("ctrl", CONTROLLERS)
+def test_generated_control_equals_numpy_composition(model, sources, numpy_piece, ctrl):
+    from rpo.symbolic.numpy_reference import numpy_control
+
+    pieces, ctx = sources
+    design = next(c for c in ctx["controllers"] if c.name == ctrl)
+    control = numpy_control(pieces, ctx["plant"], design, make=numpy_piece)
+    fname = f"control_{ctrl}"
+    desc = model.manifest["functions"][fname]
+    gen = Inputs(model, np.random.default_rng(13))
+    compared = 0
+    for _ in range(20):
+        args = [gen.value(fname, i["name"], i["shape"], i["layout"]) for i in desc["inputs"]]
+        # a proximity state (as for the step): far-out states saturate some designs so hard that
+        # their auxiliary states overflow within one step
+        nx = model.layout_size("x")
+        x = gen.value("step", "z", (nx + 48, 1))[:nx]
+        args[0] = model.measure(x, args[2], args[3], gen.rng.normal(size=model.layout_size("w")))[0]
+        if desc["inputs"][1]["layout"] in model.layouts:  # controller state near its defaults
+            args[1] = model.vector(desc["inputs"][1]["layout"]) * (1 + gen.rng.uniform(-0.2, 0.2, args[1].size))
+        got, ref = model.functions[fname](*args), control(*args)
+        if not _finite(ref):
+            assert all(np.array_equal(np.isfinite(g_), np.isfinite(r_)) for g_, r_ in zip(got, ref, strict=True))
+            continue
+        for o, g_, r_ in zip(desc["outputs"], got, ref, strict=True):
+            assert_close(model, fname, o, g_, r_)
+        compared += 1
+        if compared == 5:
+            break
+    assert compared == 5, f"only {compared} of 5 random points gave a finite controller update"
 
 
 @pytest.mark.parametrize("fname", SOURCE_FUNCS)

@@ -1,0 +1,228 @@
+"""C for a function composed of other generated functions: calls in sequence, CasADi's API.
+
+A controller's closed-loop step is ``measure`` -> ``control_<name>`` -> ``plant_advance``.  The
+two large pieces are generated once each (the plant's in the plant family), and the step itself
+is this thin glue: it calls them through their C entry points, with its intermediate vectors and
+the callees' work space in the caller's ``w``.  So a controller edit recompiles the controller's
+own code, not the plant's integration (as acados wraps its generated functions).
+
+The glue has the calling convention and API of CasADi's generated functions (``<name>``,
+``<name>_work``, ``_n_in``, ``_n_out``, ``_sparsity_in``, ``_sparsity_out``, ``_name_in``,
+``_name_out``, ...), so the runtime and its loop driver call it like any generated function.
+Inputs must be non-NULL (the step has no meaning for an omitted state); a NULL output is skipped.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+EXPORT = """#ifndef casadi_real
+#define casadi_real double
+#endif
+
+#ifndef casadi_int
+#define casadi_int long long int
+#endif
+
+#ifndef CASADI_SYMBOL_EXPORT
+  #if defined(_WIN32) || defined(__WIN32__) || defined(__CYGWIN__)
+    #if defined(STATIC_LINKED)
+      #define CASADI_SYMBOL_EXPORT
+    #else
+      #define CASADI_SYMBOL_EXPORT __declspec(dllexport)
+    #endif
+  #elif defined(__GNUC__) && defined(GCC_HASCLASSVISIBILITY)
+    #define CASADI_SYMBOL_EXPORT __attribute__ ((visibility ("default")))
+  #else
+    #define CASADI_SYMBOL_EXPORT
+  #endif
+#endif
+"""
+
+
+@dataclass(frozen=True)
+class Callee:
+    """A generated function called by the glue, with its work sizes (``casadi.Function.sz_*``)."""
+
+    name: str
+    sz_arg: int
+    sz_res: int
+    sz_iw: int
+    sz_w: int
+
+    @classmethod
+    def of(cls, fn) -> Callee:
+        return cls(fn.name(), int(fn.sz_arg()), int(fn.sz_res()), int(fn.sz_iw()), int(fn.sz_w()))
+
+
+@dataclass(frozen=True)
+class Call:
+    """``callee(args...) -> results...``; each argument and result is ``(vector, offset)`` where the
+    vector is an input, an output or a buffer name."""
+
+    callee: Callee
+    args: Sequence[tuple[str, int]]
+    results: Sequence[str]
+
+
+def composed_c(name: str, inputs: Sequence[tuple[str, int]], outputs: Sequence[tuple[str, Sequence[str]]],
+               buffers: Sequence[tuple[str, int]], calls: Sequence[Call]) -> tuple[str, str]:
+    """(C source, header) of ``name(inputs) -> outputs``.
+
+    ``inputs``: (name, size) of dense column inputs; ``buffers``: (name, size) of intermediate
+    vectors, each written by one call; ``outputs``: (name, [buffer, ...]): an output is the
+    concatenation of those buffers, copied out after the last call.
+    """
+    size = dict(buffers)
+    in_size = dict(inputs)
+    offsets, o = {}, 0
+    for b, n in buffers:
+        offsets[b] = o
+        o += n
+    n_buf = o
+    max_arg = max(c.callee.sz_arg for c in calls)
+    max_res = max(c.callee.sz_res for c in calls)
+    sz_iw = max(c.callee.sz_iw for c in calls)
+    sz_w = n_buf + max(c.callee.sz_w for c in calls)
+    out_size = {o_name: sum(size[b] for b in parts) for o_name, parts in outputs}
+
+    def ptr(vec: str, off: int) -> str:
+        if vec in in_size:
+            return f"arg[{[n for n, _ in inputs].index(vec)}] + {off}"
+        return f"w + {offsets[vec] + off}"
+
+    lines = []
+    for c in {c.callee.name: c for c in calls}.values():
+        lines.append(f"int {c.callee.name}(const casadi_real** arg, casadi_real** res, casadi_int* iw, "
+                     "casadi_real* w, int mem);")
+    decls = "\n".join(lines)
+    body = []
+    body.append(f"  const casadi_real* a[{max_arg}];")
+    body.append(f"  casadi_real* r[{max_res}];")
+    body.append("  casadi_int i;")
+    body.append(f"  for (i = 0; i < {len(inputs)}; ++i) if (!arg[i]) return 1;")
+    for c in calls:
+        args = ", ".join(f"{v}{'+' + str(o) if o else ''}" for v, o in c.args)
+        res = ", ".join(c.results)
+        body.append(f"  /* ({res}) = {c.callee.name}({args}) */")
+        for i, (v, off) in enumerate(c.args):
+            body.append(f"  a[{i}] = {ptr(v, off)};")
+        for i, b in enumerate(c.results):
+            body.append(f"  r[{i}] = {ptr(b, 0)};")
+        body.append(f"  if ({c.callee.name}(a, r, iw, w + {n_buf}, 0)) return 1;")
+    for k, (o_name, parts) in enumerate(outputs):
+        body.append(f"  /* {o_name} = [{', '.join(parts)}] */")
+        body.append(f"  if (res[{k}]) {{")
+        o = 0
+        for b in parts:
+            if size[b]:
+                body.append(f"    for (i = 0; i < {size[b]}; ++i) res[{k}][{o} + i] = w[{offsets[b]} + i];")
+            o += size[b]
+        body.append("  }")
+    sparsities = [n for _, n in inputs] + [out_size[o_name] for o_name, _ in outputs]
+    sp_lines = [f"static const casadi_int {name}_s{i}[3] = {{{n}, 1, 1}};" for i, n in enumerate(sparsities)]
+    n_in, n_out = len(inputs), len(outputs)
+    names_in = "".join(f"    case {i}: return \"{n}\";\n" for i, (n, _) in enumerate(inputs))
+    names_out = "".join(f"    case {i}: return \"{n}\";\n" for i, (n, _) in enumerate(outputs))
+    sp_in = "".join(f"    case {i}: return {name}_s{i};\n" for i in range(n_in))
+    sp_out = "".join(f"    case {i}: return {name}_s{n_in + i};\n" for i in range(n_out))
+    c = f"""#ifdef __cplusplus
+extern "C" {{
+#endif
+
+{EXPORT}
+{decls}
+
+{chr(10).join(sp_lines)}
+
+CASADI_SYMBOL_EXPORT int {name}_casadi_int_size(void) {{ return (int) sizeof(casadi_int); }}
+CASADI_SYMBOL_EXPORT int {name}_casadi_real_size(void) {{ return (int) sizeof(casadi_real); }}
+
+/* w: [{', '.join(f'{b} ({n})' for b, n in buffers)}] then the callees' work space */
+CASADI_SYMBOL_EXPORT int {name}(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {{
+  (void) mem;
+{chr(10).join(body)}
+  return 0;
+}}
+
+CASADI_SYMBOL_EXPORT int {name}_alloc_mem(void) {{ return 0; }}
+CASADI_SYMBOL_EXPORT int {name}_init_mem(int mem) {{ (void) mem; return 0; }}
+CASADI_SYMBOL_EXPORT void {name}_free_mem(int mem) {{ (void) mem; }}
+CASADI_SYMBOL_EXPORT int {name}_checkout(void) {{ return 0; }}
+CASADI_SYMBOL_EXPORT void {name}_release(int mem) {{ (void) mem; }}
+CASADI_SYMBOL_EXPORT void {name}_incref(void) {{}}
+CASADI_SYMBOL_EXPORT void {name}_decref(void) {{}}
+CASADI_SYMBOL_EXPORT casadi_int {name}_n_in(void) {{ return {n_in}; }}
+CASADI_SYMBOL_EXPORT casadi_int {name}_n_out(void) {{ return {n_out}; }}
+CASADI_SYMBOL_EXPORT casadi_real {name}_default_in(casadi_int i) {{ (void) i; return 0; }}
+
+CASADI_SYMBOL_EXPORT const char* {name}_name_in(casadi_int i) {{
+  switch (i) {{
+{names_in}    default: return 0;
+  }}
+}}
+
+CASADI_SYMBOL_EXPORT const char* {name}_name_out(casadi_int i) {{
+  switch (i) {{
+{names_out}    default: return 0;
+  }}
+}}
+
+CASADI_SYMBOL_EXPORT const casadi_int* {name}_sparsity_in(casadi_int i) {{
+  switch (i) {{
+{sp_in}    default: return 0;
+  }}
+}}
+
+CASADI_SYMBOL_EXPORT const casadi_int* {name}_sparsity_out(casadi_int i) {{
+  switch (i) {{
+{sp_out}    default: return 0;
+  }}
+}}
+
+CASADI_SYMBOL_EXPORT int {name}_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w) {{
+  if (sz_arg) *sz_arg = {n_in};
+  if (sz_res) *sz_res = {n_out};
+  if (sz_iw) *sz_iw = {sz_iw};
+  if (sz_w) *sz_w = {sz_w};
+  return 0;
+}}
+
+CASADI_SYMBOL_EXPORT int {name}_work_bytes(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw,
+                                          casadi_int *sz_w) {{
+  if (sz_arg) *sz_arg = {n_in}*sizeof(const casadi_real*);
+  if (sz_res) *sz_res = {n_out}*sizeof(casadi_real*);
+  if (sz_iw) *sz_iw = {sz_iw}*sizeof(casadi_int);
+  if (sz_w) *sz_w = {sz_w}*sizeof(casadi_real);
+  return 0;
+}}
+
+#ifdef __cplusplus
+}} /* extern "C" */
+#endif
+"""
+    h = f"""#ifdef __cplusplus
+extern "C" {{
+#endif
+
+#ifndef casadi_real
+#define casadi_real double
+#endif
+
+#ifndef casadi_int
+#define casadi_int long long int
+#endif
+
+int {name}(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int {name}_work(casadi_int *sz_arg, casadi_int* sz_res, casadi_int *sz_iw, casadi_int *sz_w);
+casadi_int {name}_n_in(void);
+casadi_int {name}_n_out(void);
+const casadi_int* {name}_sparsity_in(casadi_int i);
+const casadi_int* {name}_sparsity_out(casadi_int i);
+
+#ifdef __cplusplus
+}} /* extern "C" */
+#endif
+"""
+    return c, h
