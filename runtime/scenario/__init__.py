@@ -52,10 +52,10 @@ __all__ = [
 ]
 
 
-def load_scenario(path: str | Path, manifest: dict | None = None) -> Scenario:
-    """Read and validate a scenario file (TOML, optionally ``extends`` a base file).  ``manifest``
-    defaults to the generated one."""
-    src = read_scenario(path)
+def load_scenario(path: str | Path | ScenarioSource, manifest: dict | None = None) -> Scenario:
+    """Read and validate a scenario file (TOML, optionally ``extends`` a base file), or validate one
+    already read by :func:`read_scenario`.  ``manifest`` defaults to the generated one."""
+    src = path if isinstance(path, ScenarioSource) else read_scenario(path)
     sc = validate_scenario(src.data, src.source, manifest)
     sc._text = src.text
     return sc

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from ..errors import ScenarioError
+from ..errors import RpoError, ScenarioError
 
 #: Top-level tables that a variant does not inherit from its base.
 OWN_TABLES = ("reproduction",)
@@ -23,53 +23,55 @@ OWN_TABLES = ("reproduction",)
 
 @dataclass(frozen=True)
 class ScenarioSource:
-    """A scenario file as read: ``source`` (the path as given, for messages), its own ``text`` and
-    the ``data`` table with ``extends`` resolved."""
+    """A scenario file as read: ``source`` (the path as given, for messages), its own ``text``,
+    the ``data`` table with ``extends`` resolved and ``bases``, the files it extends (nearest first)."""
 
     source: str
     text: str
     data: dict[str, Any]
+    bases: tuple[Path, ...] = ()
 
 
-def parse_toml(text: str, source: str) -> dict[str, Any]:
-    """Parse TOML text; a syntax error is a one-line :class:`ScenarioError` naming ``source``."""
+def parse_toml(text: str, source: str, error: type[RpoError] = ScenarioError) -> dict[str, Any]:
+    """Parse TOML text; a syntax error is a one-line ``error`` naming ``source``."""
     try:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise ScenarioError(f"{source}: invalid TOML: {' '.join(str(exc).split())}") from None
+        raise error(f"{source}: invalid TOML: {' '.join(str(exc).split())}") from None
 
 
-def read_text(path: Path) -> str:
+def read_text(path: Path, what: str = "the scenario", error: type[RpoError] = ScenarioError) -> str:
+    """A UTF-8 file's text; a missing or unreadable file is a one-line ``error``."""
     try:
         return path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
-        raise ScenarioError(f"{path}: cannot read the scenario: {reason}") from None
+        raise error(f"{path}: cannot read {what}: {reason}") from None
 
 
 def read_scenario(path: str | Path) -> ScenarioSource:
     """Text and table of a scenario file, with ``extends`` resolved (not validated)."""
     path = Path(path)
-    text, data = _read(path, ())
-    return ScenarioSource(str(path), text, data)
+    text, data, bases = _read(path, ())
+    return ScenarioSource(str(path), text, data, bases)
 
 
-def _read(path: Path, chain: tuple[Path, ...]) -> tuple[str, dict[str, Any]]:
+def _read(path: Path, chain: tuple[Path, ...]) -> tuple[str, dict[str, Any], tuple[Path, ...]]:
     src = str(path)
     text = read_text(path)
     data = parse_toml(text, src)
     base_name = data.pop("extends", None)
     if base_name is None:
-        return text, data
+        return text, data, ()
     if not isinstance(base_name, str):
         raise ScenarioError(f"{src}: extends = {base_name!r}: must be the file name of a base scenario")
     base_path = (path.parent / base_name).resolve()
     if base_path in chain or base_path == path.resolve():
         raise ScenarioError(f"{src}: extends = {base_name!r}: the scenarios extend each other in a cycle")
-    _base_text, base = _read(base_path, (*chain, path.resolve()))
+    _base_text, base, further = _read(base_path, (*chain, path.resolve()))
     for table in OWN_TABLES:
         base.pop(table, None)
-    return text, merge(base, data)
+    return text, merge(base, data), (base_path, *further)
 
 
 def merge(base: dict[str, Any], over: dict[str, Any]) -> dict[str, Any]:

@@ -36,11 +36,12 @@ def show(v: Any, limit: int = 70) -> str:
     return s if len(s) <= limit else s[: limit - 3] + "..."
 
 
-def dotted(loc: Sequence[int | str]) -> str:
+def dotted(loc: Sequence[int | str], index: str = "[{}]") -> str:
+    """``orbit.eccentricity``, ``chaser.inertia[1]`` (``index``: how a list position is written)."""
     out = ""
     for part in loc:
         if isinstance(part, int):
-            out += f"[{part}]"
+            out += index.format(part)
         else:
             out += ("." if out else "") + str(part)
     return out
@@ -92,16 +93,18 @@ def _message(err: ErrorDetails, root: type[BaseModel]) -> str:
     return msg[0].lower() + msg[1:] if msg else t
 
 
-def format_error(err: ErrorDetails, source: str, root: type[BaseModel], prefix: tuple[str, ...] = ()) -> str:
+def format_error(err: ErrorDetails, source: str, root: type[BaseModel], prefix: tuple[str, ...] = (),
+                 index: str = "[{}]") -> str:
     """One line: ``source: dotted.key = value: message``.  ``root`` is the model validated (for
-    the allowed keys of a table); ``prefix`` is where it sits in the file (e.g. ``("reproduction",)``)."""
+    the allowed keys of a table); ``prefix`` is where it sits in the file (e.g. ``("reproduction",)``);
+    ``index`` writes a position in an array of tables (``".{}"``: ``run.0.plant``)."""
     ctx = err.get("ctx") or {}
     loc = tuple(err["loc"])
     value = err.get("input")
     if "field" in ctx:
         loc = loc + tuple(str(ctx["field"]).split("."))
         value = ctx.get("value")
-    path = dotted(prefix + loc) or "(top level)"
+    path = dotted(prefix + loc, index) or "(top level)"
     msg = _message(err, root) if "field" not in ctx else err["msg"]
     msg = " ".join(msg.split())  # never more than one line
     if err["type"] == "missing":
@@ -112,7 +115,8 @@ def format_error(err: ErrorDetails, source: str, root: type[BaseModel], prefix: 
     return f"{source}: {path} = {show(value)}: {msg}"
 
 
-def first_error(errors: list[ErrorDetails], source: str, root: type[BaseModel], prefix: tuple[str, ...] = ()) -> str:
+def first_error(errors: list[ErrorDetails], source: str, root: type[BaseModel], prefix: tuple[str, ...] = (),
+                index: str = "[{}]") -> str:
     """The first error as one line, with the count of the others."""
     more = f" (and {len(errors) - 1} more error{'s' if len(errors) > 2 else ''})" if len(errors) > 1 else ""
-    return format_error(errors[0], source, root, prefix) + more
+    return format_error(errors[0], source, root, prefix, index) + more
