@@ -353,7 +353,7 @@ def metric_cell(r: PlannedRun | None, metric: str, unit: str | None = None, with
         text = "yes" if v else "no"
     else:
         base = UNITS.get(metric)
-        scale = _CONVERT.get((base, unit), 1.0) if unit else 1.0
+        scale = _CONVERT.get((base or "", unit), 1.0) if unit else 1.0
         text = _num(float(v) * scale) + (f" {unit or base}" if with_unit and (unit or base) else "")
     return text + (" (diverged)" if r.status == "diverged" else "")
 
@@ -374,7 +374,7 @@ def _published(c: Claim) -> str:
 def paper_rows(runs: list[PlannedRun], pid: str, paper: Paper) -> list[dict]:
     rows = []
     for c in paper.claim:
-        cells = {}
+        cells: dict[str, str | None] = {}
         for plant in ("paper", "full"):
             r = _find(runs, pid, c.case, plant, paper.controller)
             cells[plant] = metric_cell(r, c.metric, c.unit, with_unit=True)
@@ -391,6 +391,8 @@ def _vec(v, scale=1.0) -> str:
 
 def table2_rows(runs: list[PlannedRun], pid: str, paper: Paper) -> list[dict]:
     t2 = paper.table2
+    if t2 is None:
+        return []
     rows = []
     ours = {}
     for plant in ("paper", "full"):

@@ -286,7 +286,7 @@ class Scenario(_Section):
         if self.orbit.perigee_altitude is not None and self.get(key("orbit_a")) is not None:
             raise field_error(key("orbit_a"), self.get(key("orbit_a")),
                               f"give either perigee_altitude or {key('orbit_a').rsplit('.', 1)[-1]}, not both")
-        p = {k: float(v[0]) if v.size == 1 else v for k, v in self.params(manifest).items()}
+        p: dict[str, Any] = {k: float(v[0]) if v.size == 1 else v for k, v in self.params(manifest).items()}
         sim = self.simulation
 
         # orbit: the perigee must be above the surface
