@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c000: control law of c000
- * Produced by `python build.py` from family 'controller_c000' (hash 025a712305b429740ce1244b3c2488115062737c2c3c5aedc4f8ade164c8c388),
+ * Produced by `python build.py` from family 'controller_c000' (hash e6693b744fbf06f6cc59dc60aeea572833b744f4d7ed74eeebe2d830073b2a4e),
  * derived from:
  *   symbolic/actuators.py
  *   symbolic/c_composition.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c002: control law of c002
- * Produced by `python build.py` from family 'controller_c002' (hash 27d5096e611da4c75fabea64b8d737931ae46792faa97d5ba1d5cc36f226aeb6),
+ * Produced by `python build.py` from family 'controller_c002' (hash 5e996e6d59641b9eafb4ef0168aa761920823d4594d5f6267769bf5d0903013f),
  * derived from:
  *   symbolic/actuators.py
  *   symbolic/c_composition.py

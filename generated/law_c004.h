@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c004: control law of c004
- * Produced by `python build.py` from family 'controller_c004' (hash 4b1ff00f753e95ea5a6145df164968104b9bb0762486eaa73a57ca3ebcb0d4bb),
+ * Produced by `python build.py` from family 'controller_c004' (hash a770817d87e3fe99114b40210f55698b916a2686889e0ce815b2356d673ae840),
  * derived from:
  *   symbolic/actuators.py
  *   symbolic/c_composition.py

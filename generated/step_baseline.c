@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_baseline: one closed-loop step (plant + baseline + actuators), RK4 over dt: measure, control_baseline, plant_advance
- * Produced by `python build.py` from family 'controller_baseline' (hash ac57bcc7d2f0fcd50da9ffa54b6efeddf5c163888f4eab5b49fc3b7762c89119),
+ * Produced by `python build.py` from family 'controller_baseline' (hash 488e68104e80fb8b1fef140f4d5e77219681bdec88f9b5ba2522198387a3914d),
  * derived from:
  *   symbolic/actuators.py
  *   symbolic/c_composition.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * thruster_alloc: thruster duty allocation
- * Produced by `python build.py` from family 'plant' (hash 3845fb826ebcd546bc105b2b56ba3197b900853aa2fb16620c3d953a0a936d79),
+ * Produced by `python build.py` from family 'plant' (hash f22ff45fdeed6821f0a7a4d930fd40c935e33aeff85caf1a82da8f9f4af546de),
  * derived from:
  *   symbolic/actuators.py
  *   symbolic/c_composition.py

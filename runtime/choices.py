@@ -13,9 +13,11 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
-_SECTION = re.compile(r"^\s*\[([^\]]+)\]\s*(#.*)?$")
+_SECTION = re.compile(r"^\s*\[\[?([^\]]+)\]\]?\s*(#.*)?$")
 _ASSIGN = re.compile(r"^\s*([A-Za-z0-9_\-]+)\s*=\s*(.*)$")
 _MARKERS = ("chosen", "reconstructed")
+#: Tables that hold no scenario value: the report's runs and the papers' published values.
+_SKIP = ("reproduction",)
 
 
 @dataclass(frozen=True)
@@ -55,7 +57,7 @@ def collect(path: Path) -> list[Choice]:
             block = []
             continue
         m = _ASSIGN.match(line)
-        if m and section:
+        if m and section and section.split(".")[0] not in _SKIP:
             value, inline = _split_inline(m.group(2))
             text = " ".join([*block, inline]).strip()
             if any(k in text.lower() for k in _MARKERS):
@@ -91,4 +93,4 @@ def render(paths: list[Path]) -> str:
 
 
 def scenario_files(folder: Path) -> list[Path]:
-    return sorted(p for p in folder.glob("*.toml") if p.name != "reproduction.toml")
+    return sorted(folder.glob("*.toml"))

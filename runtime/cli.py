@@ -11,15 +11,19 @@ from __future__ import annotations
 import math
 import sys
 import warnings
-from datetime import UTC, datetime
+from collections.abc import Callable
 from importlib import metadata
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import click
 import numpy as np
 
 from . import frames
 from .errors import RpoError
+
+if TYPE_CHECKING:
+    from .compiled import Model
 
 EXIT_USAGE = 2
 EXIT_DIVERGED = 3
@@ -48,16 +52,6 @@ def _load_model(backend: str, quiet: bool, controllers: list[str] | None = None)
     """The model; ``controllers``: only these (a run loads, and on first use compiles, what it flies)."""
     from .compiled import load_model
     return load_model(backend, log=_loader(quiet), controllers=controllers)
-
-
-def _default_out(scenario_path: str) -> Path:
-    stamp = datetime.now(UTC).strftime("%Y%m%dT%H%M%SZ")
-    base = Path("runs") / f"{Path(scenario_path).stem}-{stamp}"
-    out, k = base, 1
-    while out.exists():
-        k += 1
-        out = base.with_name(f"{base.name}-{k}")
-    return out
 
 
 # --------------------------------------------------------------------------- commands
@@ -93,48 +87,60 @@ def cli() -> None:
 @click.option("--no-plots", is_flag=True, help="Do not write the PNG figures.")
 @click.option("--quiet", "-q", is_flag=True, help="Print only errors and the divergence message.")
 def run(scenario: str, out: str | None, duration: float | None, seed: int | None, controller: str | None,
-        plant: str, backend: str, no_plots: bool, quiet: bool) -> int:
+        plant: str | None, backend: str, no_plots: bool, quiet: bool) -> int:
     """Simulate SCENARIO (a TOML file) and write the results into a new folder.
 
     The folder gets timeseries.npz/.csv, run.json, a copy of the scenario and PNG figures.
     Exit code 3 if the simulation diverged (the results up to that point are still written).
     """
     from .metrics import format_table
-    from .output import check_out_dir
     from .runner import execute_run
-    from .scenario import load_scenario
 
-    # validate the scenario and the folder before loading (maybe compiling) the model
-    sc = load_scenario(scenario).with_overrides(duration=duration, seed=seed, controller=controller, plant=plant)
-    out_dir = check_out_dir(out if out is not None else _default_out(scenario))
-    model = _load_model(backend, quiet, controllers=[sc.simulation.controller])
-    n_steps = int(round(sc.simulation.duration / float(sc.params(model.manifest)["dt"][0])))
-    expected = n_steps * STEP_COST.get(model.backend, 2e-3)
-    show_bar = not quiet and expected > 1.0 and sys.stderr.isatty()
-    log = None if quiet else _err
-    kwargs = dict(duration=duration, seed=seed, controller=controller, plant=plant, plots=not no_plots, log=log)
-    if show_bar:
-        with click.progressbar(length=n_steps, label="simulating", file=sys.stderr, show_eta=True) as bar:
-            last = [0]
+    loaded: list[Model] = []
 
-            def progress(done, total):
-                bar.update(done - last[0])
-                last[0] = done
+    def model(controller: str) -> Model:  # called by the runner once the scenario and the folder are good
+        loaded.append(_load_model(backend, quiet, controllers=[controller]))
+        return loaded[0]
 
-            outcome = execute_run(scenario, out_dir, model, progress=progress, **kwargs)
-    else:
-        outcome = execute_run(scenario, out_dir, model, **kwargs)
-    result, inputs, t_write = outcome.result, outcome.inputs, outcome.write_time
-
+    bar = _ProgressBar(enabled=not quiet, step_cost=lambda: STEP_COST.get(loaded[0].backend, 2e-3))
+    try:
+        outcome = execute_run(scenario, out, model, duration=duration, seed=seed, controller=controller,
+                              plant=plant, plots=not no_plots, log=None if quiet else _err, progress=bar.update)
+    finally:
+        bar.close()
+    result = outcome.result
     if result.divergence is not None:
         _err(f"diverged: {result.divergence.message()}")
-        _err(f"results up to t = {result.t[-1]:.6g} s written to {out_dir}")
+        _err(f"results up to t = {result.t[-1]:.6g} s written to {outcome.out_dir}")
         return EXIT_DIVERGED
     if not quiet:
-        _summary(result, model, inputs, out_dir, t_write)
+        _summary(result, outcome.model, outcome.inputs, outcome.out_dir, outcome.write_time)
         click.echo("metrics (metrics.json; definitions in rpo.runtime.metrics):")
         click.echo(format_table(outcome.metrics))
     return 0
+
+
+class _ProgressBar:
+    """A click progress bar on stderr, opened at the first step count if the run is long enough
+    (expected > 1 s) and stderr is a terminal."""
+
+    def __init__(self, enabled: bool, step_cost: Callable[[], float]):
+        self.enabled, self.step_cost = enabled, step_cost
+        self.bar: Any = None
+        self.done = 0
+
+    def update(self, done: int, total: int) -> None:
+        if self.bar is None:
+            if not (self.enabled and total * self.step_cost() > 1.0 and sys.stderr.isatty()):
+                self.enabled = False
+                return
+            self.bar = click.progressbar(length=total, label="simulating", file=sys.stderr, show_eta=True).__enter__()
+        self.bar.update(done - self.done)
+        self.done = done
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.__exit__(None, None, None)
 
 
 def _summary(result, model, inputs, out_dir: Path, t_write: float) -> None:
@@ -148,7 +154,7 @@ def _summary(result, model, inputs, out_dir: Path, t_write: float) -> None:
 
 
 @cli.command()
-@click.argument("run_list", default="scenarios/reproduction.toml", type=click.Path(dir_okay=False, path_type=str))
+@click.argument("run_list", default="scenarios", type=click.Path(path_type=str))
 @click.option("--out", "out_base", default="runs/report", show_default=True, type=click.Path(file_okay=False),
               help="Base folder; each invocation writes its runs into a fresh <UTC time> folder inside.")
 @click.option("--md", "md_path", default="docs/reproduction.md", show_default=True, type=click.Path(dir_okay=False),
@@ -163,10 +169,12 @@ def _summary(result, model, inputs, out_dir: Path, t_write: float) -> None:
 @click.option("--quiet", "-q", is_flag=True, help="Print only errors.")
 def report(run_list: str, out_base: str, md_path: str, json_path: str, notes_path: str, only: tuple[str, ...],
            backend: str, no_plots: bool, quiet: bool) -> int:
-    """Run the declared runs of RUN_LIST (TOML; default scenarios/reproduction.toml) and render the
-    reproduction report (published values against ours) as markdown and JSON.
+    """Run the reproduction runs and render the report (published values against ours) as
+    markdown and JSON.
 
-    Each run goes through the same code as `rpo run`; see rpo.runtime.report for the file formats.
+    RUN_LIST is a folder of scenario files (default: scenarios), whose [reproduction] tables
+    declare the runs and published values, or a TOML run list.  Each run goes through the same
+    code as `rpo run`; see rpo.runtime.report for the formats.
     """
     from .report import make_report, summary_line
 
@@ -263,6 +271,8 @@ def _fmt(v) -> str:
               help="Backend to load (compiles the model into the cache if needed).")
 def info(backend: str) -> int:
     """Show the generated model: source hash, tools, library, functions, layouts, parameters."""
+    from .scenario import ScenarioParam
+
     model = _load_model(backend, quiet=False)
     m = model.manifest
     echo = click.echo
@@ -297,6 +307,11 @@ def info(backend: str) -> int:
         for f in layout:
             default = _fmt(f["default"]) if "default" in f else "-"
             echo(f"  {f['name']:<18s} {f['unit']:<9s} {default:>40s}  {f.get('doc', '')}")
+            if "scenario" in f:  # where a scenario file sets it, in which unit, and its bounds
+                prm = ScenarioParam.from_manifest(f)
+                unit = f" [{prm.unit}]" if prm.unit not in ("", "-") else ""
+                echo(f"  {'':<18s} {'':<9s} {'':>40s}  scenario: {prm.key}{unit}"
+                     + (f", {prm.allowed()}" if prm.bounds else ""))
 
     echo("\nparameters (layout p, SI):")
     echo(f"  {'name':<18s} {'unit':<9s} {'default':>40s}  description")

@@ -34,6 +34,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 from scipy.spatial.transform import Rotation
 
 #: Frames an initial attitude can be given in.
@@ -51,24 +52,24 @@ Q_LVLH_ORBIT = np.array([-0.5, -0.5, 0.5, 0.5])
 # --------------------------------------------------------------------------- quaternion algebra
 
 
-def _q(q) -> np.ndarray:
+def _q(q: ArrayLike) -> np.ndarray:
     q = np.asarray(q, dtype=float)
     if q.shape[-1] != 4:
         raise ValueError(f"a quaternion needs 4 components, got shape {q.shape}")
     return q
 
 
-def scalar_first_to_last(q_wxyz) -> np.ndarray:
+def scalar_first_to_last(q_wxyz: ArrayLike) -> np.ndarray:
     """``[w, x, y, z]`` -> ``[x, y, z, w]`` (works on (..., 4) arrays)."""
     return np.roll(_q(q_wxyz), -1, axis=-1)
 
 
-def scalar_last_to_first(q_xyzw) -> np.ndarray:
+def scalar_last_to_first(q_xyzw: ArrayLike) -> np.ndarray:
     """``[x, y, z, w]`` -> ``[w, x, y, z]`` (works on (..., 4) arrays)."""
     return np.roll(_q(q_xyzw), 1, axis=-1)
 
 
-def quat_normalize(q) -> np.ndarray:
+def quat_normalize(q: ArrayLike) -> np.ndarray:
     """Unit quaternion along ``q`` (scalar last); raises ValueError for a zero quaternion."""
     q = _q(q)
     n = np.linalg.norm(q, axis=-1, keepdims=True)
@@ -77,14 +78,14 @@ def quat_normalize(q) -> np.ndarray:
     return q / n
 
 
-def quat_conjugate(q) -> np.ndarray:
+def quat_conjugate(q: ArrayLike) -> np.ndarray:
     """Conjugate (inverse of a unit quaternion), scalar last."""
     q = _q(q).copy()
     q[..., :3] *= -1
     return q
 
 
-def quat_multiply(a, b) -> np.ndarray:
+def quat_multiply(a: ArrayLike, b: ArrayLike) -> np.ndarray:
     """Hamilton product ``a ⊗ b`` of scalar-last quaternions (broadcasts over leading axes)."""
     a, b = _q(a), _q(b)
     av, aw = a[..., :3], a[..., 3:]
@@ -94,18 +95,18 @@ def quat_multiply(a, b) -> np.ndarray:
     return np.concatenate([v, w], axis=-1)
 
 
-def dcm_from_quat(q) -> np.ndarray:
+def dcm_from_quat(q: ArrayLike) -> np.ndarray:
     """``C_{A<-B}`` for ``q = q_B_A`` (scalar last); (..., 3, 3)."""
     return Rotation.from_quat(_q(q)).as_matrix()
 
 
-def quat_from_dcm(C) -> np.ndarray:
+def quat_from_dcm(C: ArrayLike) -> np.ndarray:
     """``q_B_A`` (scalar last, w >= 0) from ``C_{A<-B}``."""
     q = Rotation.from_matrix(np.asarray(C, dtype=float)).as_quat()
     return np.where(q[..., 3:] < 0, -q, q)
 
 
-def rotation_angle(q) -> np.ndarray:
+def rotation_angle(q: ArrayLike) -> np.ndarray:
     """Angle of the rotation ``q`` in [0, pi] [rad] (sign-invariant: q and -q give the same angle)."""
     q = quat_normalize(q)
     return 2.0 * np.arccos(np.clip(np.abs(q[..., 3]), 0.0, 1.0))
@@ -117,7 +118,7 @@ def quat_from_euler(seq: str, angles: Sequence[float], degrees: bool = True) -> 
     return Rotation.from_euler(seq, angles, degrees=degrees).as_quat()
 
 
-def euler_from_quat(q, seq: str = "ZYX", degrees: bool = True) -> np.ndarray:
+def euler_from_quat(q: ArrayLike, seq: str = "ZYX", degrees: bool = True) -> np.ndarray:
     """Euler angles of ``q_B_A`` in the sequence ``seq`` (see :func:`quat_from_euler`)."""
     return Rotation.from_quat(_q(q)).as_euler(seq, degrees=degrees)
 
@@ -130,7 +131,7 @@ def _check_frame(frame: str) -> None:
         raise ValueError(f"frame must be one of {', '.join(FRAMES)}; got {frame!r}")
 
 
-def frame_attitude(frame: str, q_IL) -> np.ndarray:
+def frame_attitude(frame: str, q_IL: ArrayLike) -> np.ndarray:
     """Attitude of ``frame`` relative to ECI (scalar last), given ``q_IL`` = q_LVLH_ECI."""
     _check_frame(frame)
     if frame == "eci":
@@ -141,7 +142,7 @@ def frame_attitude(frame: str, q_IL) -> np.ndarray:
     return quat_multiply(q_IL, Q_LVLH_ORBIT)
 
 
-def attitude_to_eci(q_FB, frame: str, q_IL) -> np.ndarray:
+def attitude_to_eci(q_FB: ArrayLike, frame: str, q_IL: ArrayLike) -> np.ndarray:
     """Body attitude relative to ECI from the attitude ``q_FB`` relative to ``frame``.
 
     ``q_B_ECI = q_F_ECI ⊗ q_B_F``; ``q_IL`` is the LVLH attitude at the same instant (unused for
@@ -150,12 +151,12 @@ def attitude_to_eci(q_FB, frame: str, q_IL) -> np.ndarray:
     return quat_normalize(quat_multiply(frame_attitude(frame, q_IL), quat_normalize(q_FB)))
 
 
-def attitude_from_eci(q_IB, frame: str, q_IL) -> np.ndarray:
+def attitude_from_eci(q_IB: ArrayLike, frame: str, q_IL: ArrayLike) -> np.ndarray:
     """Inverse of :func:`attitude_to_eci`: ``q_B_F = q_F_ECI* ⊗ q_B_ECI``."""
     return quat_normalize(quat_multiply(quat_conjugate(frame_attitude(frame, q_IL)), quat_normalize(q_IB)))
 
 
-def frame_rate_eci(frame: str, q_IL, n: float) -> np.ndarray:
+def frame_rate_eci(frame: str, q_IL: ArrayLike, n: float) -> np.ndarray:
     """Angular velocity of ``frame`` relative to ECI, in ECI axes [rad/s].
 
     LVLH (and R, fixed to it) turns at the true-anomaly rate ``n`` (``target_orbit`` output)
@@ -167,7 +168,7 @@ def frame_rate_eci(frame: str, q_IL, n: float) -> np.ndarray:
     return float(n) * dcm_from_quat(quat_normalize(q_IL))[:, 2]
 
 
-def body_rate_eci(omega_rel, q_IB, frame: str, q_IL, n: float) -> np.ndarray:
+def body_rate_eci(omega_rel: ArrayLike, q_IB: ArrayLike, frame: str, q_IL: ArrayLike, n: float) -> np.ndarray:
     """Body rate relative to ECI [rad/s, body axes] from the rate ``omega_rel`` relative to ``frame``.
 
     ``w_B/I = w_B/F + C_{B<-I} w_F/I``, both in body axes.

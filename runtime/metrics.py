@@ -48,8 +48,10 @@ sample at or before each time), e.g. 001's Table 2 at 3000/4000/5000 s.
 from __future__ import annotations
 
 from collections.abc import Iterable, Mapping
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 XYZ = ("x", "y", "z")
 QUAT = ("x", "y", "z", "w")
@@ -98,7 +100,7 @@ def _block(columns: Mapping, prefix: str, comps: tuple[str, ...]) -> np.ndarray 
     return np.column_stack([np.asarray(columns[lbl], float) for lbl in labels])
 
 
-def error_signals(columns: Mapping, goal=None) -> tuple[dict, dict, dict]:
+def error_signals(columns: Mapping[str, np.ndarray], goal: ArrayLike | None = None) -> tuple[dict, dict, dict]:
     """(signals, components, sources): each error as a scalar time series (angle or norm), its
     components (or None), and a text naming the columns used; absent quantities are left out."""
     sig, comp, src = {}, {}, {}
@@ -188,8 +190,8 @@ def chatter(t: np.ndarray, u: np.ndarray, deadband: float = 0.0) -> tuple[float,
     return tv / span, changes / span
 
 
-def compute_metrics(t, columns: Mapping[str, np.ndarray], thresholds: Mapping | None = None, *, goal=None,
-                    error_times: Iterable[float] = ()) -> dict:
+def compute_metrics(t: ArrayLike, columns: Mapping[str, np.ndarray], thresholds: Mapping[str, float] | None = None, *,
+                    goal: ArrayLike | None = None, error_times: Iterable[float] = ()) -> dict[str, Any]:
     """All metrics of one run (see the module docstring); ``goal`` is the goal position [m] used
     when the controller logs no ``ctrl_pos_err``; ``error_times`` adds ``errors_at``."""
     th = {**DEFAULT_THRESHOLDS, **(thresholds or {})}
@@ -267,7 +269,8 @@ def compute_metrics(t, columns: Mapping[str, np.ndarray], thresholds: Mapping | 
     return m
 
 
-def errors_at(t, columns: Mapping[str, np.ndarray], times: Iterable[float], goal=None) -> list[dict]:
+def errors_at(t: ArrayLike, columns: Mapping[str, np.ndarray], times: Iterable[float],
+              goal: ArrayLike | None = None) -> list[dict[str, Any]]:
     """Error components at each of ``times`` [s]: the latest finite sample at or before the time.
 
     Each entry: ``t`` (requested), ``t_sample`` (used), ``att_rad``, ``q`` (``[x, y, z, w]`` of the
@@ -280,8 +283,8 @@ def errors_at(t, columns: Mapping[str, np.ndarray], times: Iterable[float], goal
     sig, comp, _ = error_signals(columns, goal)
     out = []
     for tq in times:
-        entry = {"t": float(tq), "t_sample": None, "att_rad": None, "q": None, "pos_m": None, "rate_rad_s": None,
-                 "vel_m_s": None}
+        entry: dict[str, Any] = {"t": float(tq), "t_sample": None, "att_rad": None, "q": None, "pos_m": None,
+                                 "rate_rad_s": None, "vel_m_s": None}
         for key, series in (("att_rad", sig.get("att")), ("q", comp.get("q")), ("pos_m", comp.get("pos")),
                             ("rate_rad_s", comp.get("rate")), ("vel_m_s", comp.get("vel"))):
             if series is None:
@@ -305,7 +308,7 @@ def _gap(tf: np.ndarray) -> float:
     return float(tf[-1] - tf[-2]) if len(tf) > 1 else 0.0
 
 
-def result_columns(result) -> dict[str, np.ndarray]:
+def result_columns(result: Any) -> dict[str, np.ndarray]:
     """The columns of a :class:`~rpo.runtime.simulate.RunResult` (or a loaded npz) by label."""
     cols = {lbl: result.z[:, i] for i, lbl in enumerate(result.z_labels)}
     cols.update({lbl: result.y[:, i] for i, lbl in enumerate(result.y_labels)})

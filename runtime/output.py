@@ -31,10 +31,15 @@ import warnings
 from datetime import UTC, datetime
 from importlib import metadata
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
 from .errors import OutputError
+
+if TYPE_CHECKING:
+    from .compiled import Model
+    from .simulate import RunResult
 
 CSV_FORMAT = "%.17g"  # round-trips every double: the CSV equals the NPZ
 
@@ -58,7 +63,7 @@ def check_out_dir(out_dir: str | Path) -> Path:
     return out
 
 
-def _jsonable(v):
+def _jsonable(v: Any) -> Any:
     if isinstance(v, dict):
         return {str(k): _jsonable(x) for k, x in v.items()}
     if isinstance(v, (list, tuple)):
@@ -72,7 +77,8 @@ def _jsonable(v):
     return v
 
 
-def run_record(result, model, scenario_path=None, extra_meta: dict | None = None) -> dict:
+def run_record(result: RunResult, model: Model, scenario_path: str | Path | None = None,
+               extra_meta: dict | None = None) -> dict[str, Any]:
     """The content of ``run.json`` (also stored in the npz as ``metadata``)."""
     div = result.divergence
     rec = {
@@ -111,7 +117,7 @@ def _header(result) -> list[str]:
             + [f"{n} [{u}]" for n, u in zip(result.y_labels, result.y_units, strict=True)])
 
 
-def write_run(result, out_dir: str | Path, model, scenario_path: str | Path | None = None,
+def write_run(result: RunResult, out_dir: str | Path, model: Model, scenario_path: str | Path | None = None,
               scenario_text: str | None = None, extra_meta: dict | None = None, *, plots: bool = True,
               params: dict | None = None, gains: dict | None = None, title: str = "",
               metrics: dict | None = None) -> Path:

@@ -28,12 +28,17 @@ A diverged run is plotted up to its last good step and marked with a red line.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from matplotlib.figure import Figure
 
 from . import frames
+
+if TYPE_CHECKING:
+    from .simulate import RunResult
 
 RAD2DEG = 180.0 / np.pi
 RADS2RPM = 60.0 / (2.0 * np.pi)
@@ -217,6 +222,8 @@ def _panels(d: _Data, path: Path, title: str, panels: list[tuple[str, str, float
     axes = np.atleast_1d(fig.subplots(len(present), 1, sharex=True, squeeze=False)[:, 0])
     for ax, (name, ylabel, scale, unit) in zip(axes, present, strict=True):
         f = d.field(name)
+        if f is None:  # not reached: present holds the logged fields only
+            continue
         data = d.get(name, "y") * scale
         _lines(ax, d.r.t, data, _components(f), unit, ylabel)
         if name in ("env_beta_fov", "env_beta_ca"):
@@ -260,8 +267,8 @@ def plot_diag(d: _Data, f: dict, path: Path, title: str) -> bool:
                    [(f["name"], f["name"][len("ctrl_"):], 1.0, unit)], height=4.0)
 
 
-def make_plots(result, model, out_dir: str | Path, params: dict | None = None, gains: dict | None = None,
-               title: str = "") -> list[str]:
+def make_plots(result: RunResult, model: Any, out_dir: str | Path, params: dict | None = None,
+               gains: dict | None = None, title: str = "") -> list[str]:
     """Write the figures of ``result`` into ``out_dir``; returns the file names written.
 
     ``params`` (p fields, SI) gives the wheel limits; ``gains`` the goal position ``r_goal``.
@@ -276,7 +283,7 @@ def make_plots(result, model, out_dir: str | Path, params: dict | None = None, g
 
     goal = None if not gains or "r_goal" not in gains else np.ravel(np.asarray(gains["r_goal"], float))
     title = title or result.meta.get("controller", "run")
-    jobs = [
+    jobs: list[tuple[str, Callable[[Path], object]]] = [
         ("attitude.png", lambda p: plot_attitude(d, p, title)),
         ("rates.png", lambda p: plot_rates(d, p, title)),
         ("position.png", lambda p: plot_position(d, p, title, goal)),
@@ -284,12 +291,17 @@ def make_plots(result, model, out_dir: str | Path, params: dict | None = None, g
         ("wheels.png", lambda p: plot_wheels(d, p, title, scalar("wheel_speed_max"), scalar("wheel_torque_max"))),
         ("thrusters.png", lambda p: plot_thrusters(d, p, title)),
     ]
-    optional = [
+    optional: list[tuple[str, Callable[[Path], bool]]] = [
         ("ctrl_errors.png", lambda p: plot_ctrl_errors(d, p, title)),
         ("commands.png", lambda p: plot_commands(d, p, title)),
         ("actuators.png", lambda p: plot_actuators(d, p, title)),
         ("constraints.png", lambda p: plot_constraints(d, p, title)),
-    ] + [(f"diag_{f['name'][len('ctrl_'):]}.png", lambda p, f=f: plot_diag(d, f, p, title)) for f in diag_fields(d)]
+    ]
+
+    def diag_job(f: dict) -> Callable[[Path], bool]:
+        return lambda p: plot_diag(d, f, p, title)
+
+    optional += [(f"diag_{f['name'][len('ctrl_'):]}.png", diag_job(f)) for f in diag_fields(d)]
     written = []
     for name, job in jobs:
         job(out / name)

@@ -1,10 +1,19 @@
-"""``rpo report``: run a declared list of runs and render the reproduction report from their metrics.
+"""``rpo report``: run the reproduction runs and render the report from their metrics.
 
 Inputs are data, not code:
 
-* the run list and the published claims, a TOML file (default ``scenarios/reproduction.toml``)::
+* the runs and the papers' published values.  By default they are **discovered**: every scenario
+  file of a folder (default ``scenarios/``) may carry a ``[reproduction]`` table with its own runs,
+  claims and published tables (format: :mod:`rpo.runtime.scenario.reproduction`), so adding a
+  controller and its scenario adds its runs to the report without editing a central list.  The
+  comparison of all controllers on a common scenario (``[reproduction.comparison]``) takes every
+  controller of the generated model unless it names them.  :func:`discover` turns the tables into
+  a :class:`RunList`;
 
-      [[run]]                           # one simulation; paths are relative to this file
+* or, given a TOML file instead of a folder, an explicit run list of the same content (for ad-hoc
+  reports; paths are relative to the file)::
+
+      [[run]]                           # one simulation
       label = "000-I-paper"             # required, unique: the run's folder name
       scenario = "000_scenario_I.toml"  # required
       controller = "baseline"           # default: the scenario's
@@ -29,30 +38,17 @@ Inputs are data, not code:
       title = "..."                     # the section heading
       controller = "c000"               # the paper's controller: its runs fill the paper's table
       thresholds = { pos_m = 0.3 }      # defaults for this paper's runs
-      [[paper."000".claim]]             # one row of "published | ours (paper plant) | ours (full plant)"
-      case = "I"
-      what = "attitude synchronised"    # the row's text
-      metric = "att_settling_time_s"    # a key of metrics.json
-      unit = "s"                        # display unit (rad -> deg, rad/s -> deg/s are converted)
-      published = 60.0                  # number, or
-      published_text = "about 60 s"     # text (shown when given)
-      [paper."001".table2]              # 001's Table 2 layout: errors at given times
-      case = "main"
-      times = [3000.0, 4000.0, 5000.0]
-      q = [[...], ...]                  # per time: as printed, (scalar, x, y, z)
-      pos = [[...], ...]                # m
-      rate_deg_s = [[...], ...]         # deg/s
-      vel = [[...], ...]                # m/s
-      constraints_text = "> 0 throughout"
+      [[paper."000".claim]]             # as [[reproduction.claim]]
+      [paper."001".table2]              # as [reproduction.table2]
 
 * free text per paper, ``docs/reproduction_notes.toml``: ``intro``, ``comparison`` and a table
   ``[paper]`` with one string per paper id, written by hand and copied into the report.
 
 Outputs: one folder per run under ``<out>/<UTC time>/`` (a fresh folder per invocation), the
 markdown report (default ``docs/reproduction.md``) and its JSON twin (``docs/reproduction.json``).
-A run whose controller is not in the generated model, or whose scenario file does not exist, is
-listed as "not run" with the reason; a run that fails is listed with its error; neither stops the
-report.
+Every run goes through :func:`rpo.runtime.runner.execute_run`, the path of ``rpo run``.  A run
+whose controller is not in the generated model, or whose scenario file does not exist, is listed
+as "not run" with the reason; a run that fails is listed with its error; neither stops the report.
 """
 
 from __future__ import annotations
@@ -60,18 +56,23 @@ from __future__ import annotations
 import json
 import math
 import os
-import tomllib
 import warnings
-from collections.abc import Callable
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass, field
 from datetime import UTC, datetime
 from pathlib import Path
-from typing import Literal
+from typing import Any, Literal, TypeVar
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, ValidationError
 
-from .errors import RpoError
+from .errors import RpoError, ScenarioError
+from .scenario import Reproduction, ScenarioSource, load_scenario, read_scenario
+from .scenario.loader import parse_toml, read_text
+from .scenario.messages import first_error
+from .scenario.reproduction import Claim, Table2
+
+_M = TypeVar("_M", bound=BaseModel)
 
 RAD2DEG = 180.0 / math.pi
 
@@ -110,29 +111,6 @@ class Comparison(_Strict):
     gains: dict[str, dict[str, float | list[float]]] = {}
 
 
-class Claim(_Strict):
-    case: str
-    what: str
-    metric: str
-    unit: str | None = None
-    published: float | None = None
-    published_text: str | None = None
-
-
-class Table2(_Strict):
-    case: str
-    times: list[float]
-    q: list[list[float]]
-    pos: list[list[float]]
-    rate_deg_s: list[list[float]]
-    vel: list[list[float]]
-    constraints_text: str = "> 0 throughout"
-    #: the paper's attitude error as a difference q - q_ref of logged columns, in the published
-    #: order (instead of the error quaternion): column labels and the reference, same order
-    q_columns: list[str] | None = None
-    q_reference: list[float] | None = None
-
-
 class Paper(_Strict):
     title: str = ""
     controller: str | None = None
@@ -153,19 +131,77 @@ class Notes(_Strict):
     paper: dict[str, str] = {}
 
 
-def _load_toml(path: Path, cls, what: str):
-    try:
-        data = tomllib.loads(Path(path).read_text(encoding="utf-8"))
-    except FileNotFoundError:
-        raise ReportError(f"{what} {path} not found") from None
-    except tomllib.TOMLDecodeError as exc:
-        raise ReportError(f"{path}: {exc}") from None
+def _load_toml(path: Path, cls: type[_M], what: str) -> _M:
+    """A run list or notes file, read by the scenario loader's TOML reader (one error format)."""
+    path = Path(path)
+    if not path.is_file():
+        raise ReportError(f"{what} {path} not found")
+    data = parse_toml(read_text(path, what, ReportError), str(path), ReportError)
     try:
         return cls.model_validate(data)
     except ValidationError as exc:
-        e = exc.errors()[0]
-        loc = ".".join(str(x) for x in e["loc"])
-        raise ReportError(f"{path}: {loc}: {e['msg']} (got {e.get('input')!r})") from None
+        # run.0.plant: the position in an array of tables ([[run]]) as in the run list's own dotted keys
+        raise ReportError(first_error(exc.errors(include_url=False), str(path), cls, index=".{}")) from None
+
+
+def _order(src: ScenarioSource, rep: Reproduction) -> tuple[str, int, str]:
+    """Discovery order: by paper, a base file before the variants that extend it, then by name."""
+    return (rep.paper or "~", len(src.bases), Path(src.source).name)
+
+
+def discover(folder: Path, controllers: Iterable[str]) -> RunList:
+    """The :class:`RunList` declared by the ``[reproduction]`` tables of ``folder/*.toml``.
+
+    Each run is labelled ``<paper>-<case>-<plant>`` and flies the file's own controller; a paper's
+    title, thresholds and Table 2 come from the one file of that paper that gives them, and the
+    paper's controller is that file's.  ``controllers`` (the generated ones) fill a comparison
+    that names none.
+    """
+    found: list[tuple[ScenarioSource, Reproduction]] = []
+    for path in sorted(Path(folder).glob("*.toml")):
+        src = read_scenario(path)
+        table = src.data.get("reproduction")
+        if table is None:
+            continue
+        try:
+            found.append((src, Reproduction.model_validate(table)))
+        except ValidationError as exc:
+            raise ScenarioError(first_error(exc.errors(include_url=False), src.source, Reproduction,
+                                            ("reproduction",))) from None
+    found.sort(key=lambda item: _order(*item))
+    runs: list[RunSpec] = []
+    comparisons: list[Comparison] = []
+    papers: dict[str, Paper] = {}
+    given: dict[tuple[str, str], str] = {}  # (paper, paper-level field) -> the file giving it
+    for src, rep in found:
+        name = Path(src.source).name
+        controller = str((src.data.get("simulation") or {}).get("controller", "baseline"))
+        if rep.paper is not None:
+            paper = papers.setdefault(rep.paper, Paper())
+            for attr in ("title", "thresholds", "table2"):
+                value = getattr(rep, attr)
+                if value is None:
+                    continue
+                other = given.setdefault((rep.paper, attr), src.source)
+                if other != src.source:
+                    raise ReportError(f"{src.source}: reproduction.{attr}: paper {rep.paper}'s {attr} is "
+                                      f"given in {other} already (one file per paper gives it)")
+                setattr(paper, attr, value)
+                if attr == "title":
+                    paper.controller = controller
+            paper.claim.extend(rep.claim)
+            for r in rep.run:
+                for plant in r.plants:
+                    runs.append(RunSpec(label=f"{rep.paper}-{r.case}-{plant}", scenario=name, controller=controller,
+                                        plant=plant, paper=rep.paper, case=r.case, duration=r.duration, seed=r.seed,
+                                        gains=r.gains, thresholds=r.thresholds, error_times=list(r.error_times)))
+        c = rep.comparison
+        if c is not None:
+            ctrls = sorted(controllers) if c.controllers == "all" else list(c.controllers)
+            comparisons.append(Comparison(case=c.case, scenario=name, controllers=ctrls, plants=list(c.plants),
+                                          duration=c.duration, seed=c.seed, thresholds=c.thresholds,
+                                          gains=c.gains))
+    return RunList(run=runs, comparison=comparisons, paper=papers)
 
 
 @dataclass
@@ -247,43 +283,45 @@ def fresh_folder(base: Path) -> Path:
             k += 1
 
 
-def _scenario_controller(path: Path) -> str | None:
-    try:
-        return tomllib.loads(path.read_text(encoding="utf-8")).get("simulation", {}).get("controller")
-    except (OSError, tomllib.TOMLDecodeError):
-        return None
+def scenario_controller(src: ScenarioSource) -> str:
+    """The controller a scenario file selects (``extends`` resolved; default ``baseline``)."""
+    return str((src.data.get("simulation") or {}).get("controller", "baseline"))
 
 
-def execute(runs: list[PlannedRun], model, out: Path, *, plots: bool = True,
+def execute(runs: list[PlannedRun], model: Any, out: Path, *, plots: bool = True,
             on_run: Callable[[PlannedRun], None] | None = None) -> None:
     """Run each planned run through :func:`rpo.runtime.runner.execute_run` into ``out/<label>``."""
     from .runner import execute_run
 
     available = set(model.manifest["controllers"])
     for r in runs:
-        ctrl = r.controller or _scenario_controller(r.scenario) or "baseline"
-        r.controller_used = ctrl
-        if not r.scenario.is_file():
-            r.status, r.reason = "not run", f"scenario file {r.scenario.name} does not exist"
-        elif ctrl not in available:
-            r.status, r.reason = "not run", f"controller {ctrl} not generated yet"
-        else:
-            try:
-                o = execute_run(r.scenario, out / r.label, model, duration=r.duration, seed=r.seed,
-                                controller=r.controller, plant=r.plant, gains=r.gains, plots=plots,
-                                thresholds=r.thresholds, error_times=r.error_times,
-                                extra_meta={"report_label": r.label})
-                r.metrics, r.folder = o.metrics, str(o.out_dir)
-                r.status = "diverged" if o.diverged else "ok"
-                if o.diverged:
-                    r.reason = o.result.divergence.message()
-            except RpoError as exc:
-                r.status, r.reason = "error", str(exc)
-            except Exception as exc:  # noqa: BLE001 - one broken run must not lose the others' results
-                r.status, r.reason = "error", f"{type(exc).__name__}: {exc}"
-                warnings.warn(f"run {r.label} failed: {r.reason}", RuntimeWarning, stacklevel=2)
-        if on_run:
-            on_run(r)
+        r.controller_used = r.controller
+        try:
+            if not r.scenario.is_file():
+                r.status, r.reason = "not run", f"scenario file {r.scenario.name} does not exist"
+                continue
+            src = read_scenario(r.scenario)  # the one loader: extends resolved, read once
+            ctrl = r.controller or scenario_controller(src)
+            r.controller_used = ctrl
+            if ctrl not in available:
+                r.status, r.reason = "not run", f"controller {ctrl} not generated yet"
+                continue
+            o = execute_run(load_scenario(src, model.manifest), out / r.label, model, duration=r.duration,
+                            seed=r.seed, controller=r.controller, plant=r.plant, gains=r.gains, plots=plots,
+                            thresholds=r.thresholds, error_times=r.error_times,
+                            extra_meta={"report_label": r.label})
+            r.metrics, r.folder = o.metrics, str(o.out_dir)
+            r.status = "diverged" if o.diverged else "ok"
+            if o.result.divergence is not None:
+                r.reason = o.result.divergence.message()
+        except RpoError as exc:
+            r.status, r.reason = "error", str(exc)
+        except Exception as exc:  # noqa: BLE001 - one broken run must not lose the others' results
+            r.status, r.reason = "error", f"{type(exc).__name__}: {exc}"
+            warnings.warn(f"run {r.label} failed: {r.reason}", RuntimeWarning, stacklevel=2)
+        finally:
+            if on_run:
+                on_run(r)
 
 
 # --------------------------------------------------------------------------- rendering
@@ -315,7 +353,7 @@ def metric_cell(r: PlannedRun | None, metric: str, unit: str | None = None, with
         text = "yes" if v else "no"
     else:
         base = UNITS.get(metric)
-        scale = _CONVERT.get((base, unit), 1.0) if unit else 1.0
+        scale = _CONVERT.get((base or "", unit), 1.0) if unit else 1.0
         text = _num(float(v) * scale) + (f" {unit or base}" if with_unit and (unit or base) else "")
     return text + (" (diverged)" if r.status == "diverged" else "")
 
@@ -336,7 +374,7 @@ def _published(c: Claim) -> str:
 def paper_rows(runs: list[PlannedRun], pid: str, paper: Paper) -> list[dict]:
     rows = []
     for c in paper.claim:
-        cells = {}
+        cells: dict[str, str | None] = {}
         for plant in ("paper", "full"):
             r = _find(runs, pid, c.case, plant, paper.controller)
             cells[plant] = metric_cell(r, c.metric, c.unit, with_unit=True)
@@ -353,6 +391,8 @@ def _vec(v, scale=1.0) -> str:
 
 def table2_rows(runs: list[PlannedRun], pid: str, paper: Paper) -> list[dict]:
     t2 = paper.table2
+    if t2 is None:
+        return []
     rows = []
     ours = {}
     for plant in ("paper", "full"):
@@ -444,7 +484,7 @@ def render_markdown(tables: dict, runs: list[PlannedRun], notes: Notes, info: di
     out = ["# Reproduction of the papers' results", "",
            f"Generated by `rpo report` on {info['created_utc']} (model source hash {info['model_source_hash']}); "
            f"run folders under `{info['runs_dir']}`. Do not edit: the numbers come from the runs, the published "
-           f"values and runs from `{info['run_list']}`, the text from `{info['notes']}`.", "",
+           f"values and runs from {info['origin']}, the text from `{info['notes']}`.", "",
            "Metric definitions: `rpo.runtime.metrics` (module docstring). Settling time: the first time after "
            f"which the error stays below its threshold (default {DEFAULT_THRESHOLDS['att_deg']:g} deg, "
            f"{DEFAULT_THRESHOLDS['pos_m']:g} m) until the end of the run; \"not settled\" if it ends above. "
@@ -489,19 +529,29 @@ def _atomic_write(path: Path, text: str) -> None:
     os.replace(tmp, path)
 
 
-def make_report(run_list_path: Path, model, *, out_base: Path, md_path: Path, json_path: Path,
+def load_runs(source: Path, controllers: Iterable[str]) -> tuple[RunList, Path, str]:
+    """The run list of ``source``: discovered in a folder of scenarios, or read from a TOML run
+    list; with the folder its paths are relative to and how the report names where it came from."""
+    source = Path(source)
+    if source.is_dir():
+        return discover(source, controllers), source, f"the `[reproduction]` tables of `{source / '*.toml'}`"
+    return _load_toml(source, RunList, "run list"), source.parent, f"`{source}`"
+
+
+def make_report(run_list_path: Path, model: Any, *, out_base: Path, md_path: Path, json_path: Path,
                 notes_path: Path | None, plots: bool = True, only: list[str] | None = None,
                 on_run: Callable[[PlannedRun], None] | None = None,
-                on_plan: Callable[[list[PlannedRun]], None] | None = None) -> dict:
-    """Plan, run and render; returns the JSON twin (also written to ``json_path``)."""
+                on_plan: Callable[[list[PlannedRun]], None] | None = None) -> dict[str, Any]:
+    """Plan, run and render; returns the JSON twin (also written to ``json_path``).  ``run_list_path``
+    is a folder of scenario files (their runs are discovered) or a TOML run list."""
     from .output import _jsonable
 
     run_list_path = Path(run_list_path)
-    run_list = _load_toml(run_list_path, RunList, "run list")
+    run_list, base, origin = load_runs(run_list_path, model.manifest["controllers"])
     notes = Notes()
     if notes_path is not None and Path(notes_path).exists():
         notes = _load_toml(Path(notes_path), Notes, "notes file")
-    runs = plan(run_list, run_list_path.parent)
+    runs = plan(run_list, base)
     if only:
         unknown = set(only) - {r.label for r in runs}
         if unknown:
@@ -514,7 +564,7 @@ def make_report(run_list_path: Path, model, *, out_base: Path, md_path: Path, js
     tables = build_tables(runs, run_list)
     info = {"created_utc": datetime.now(UTC).strftime("%Y-%m-%dT%H:%M:%SZ"),
             "model_source_hash": model.manifest.get("source_hash"), "runs_dir": str(out),
-            "run_list": str(run_list_path), "notes": str(notes_path) if notes_path else "-"}
+            "run_list": str(run_list_path), "origin": origin, "notes": str(notes_path) if notes_path else "-"}
     md = render_markdown(tables, runs, notes, info)
     twin = {**info, "tables": tables,
             "runs": [{"label": r.label, "scenario": str(r.scenario), "controller": r.controller_used or r.controller,

@@ -1,95 +1,108 @@
 """One run from a scenario file to a results folder: the code path of ``rpo run`` and ``rpo report``.
 
-:func:`execute_run` loads the scenario, applies the overrides (duration, seed, controller, plant,
-gains), simulates, computes the metrics (:mod:`rpo.runtime.metrics`) and writes the folder
-(:func:`rpo.runtime.output.write_run`, including ``metrics.json``).  It prints nothing itself;
-``log`` receives the progress lines and ``progress(done, total)`` the step count.
+:func:`execute_run` goes once through the stages in the order the data flows:
+
+1. **scenario**: read and validate the file (or take a validated :class:`Scenario`), apply the
+   overrides (duration, seed, controller, plant, gains) and validate again;
+2. **output folder**: refuse one that exists and is not empty, before anything slow happens;
+3. **inputs**: load the model (``model`` may be a callable, so a bad scenario or folder never
+   waits for a compile), map the scenario to SI parameters, gains and the initial state;
+4. **simulation**; 5. **metrics** (:mod:`rpo.runtime.metrics`); 6. **outputs**
+   (:func:`rpo.runtime.output.write_run`, atomic, never over existing files).
+
+It prints nothing itself; ``log`` receives the progress lines and ``progress(done, total)`` the
+step count.
 """
 
 from __future__ import annotations
 
+import time
 from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
+from datetime import UTC, datetime
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
-from .errors import ModelError
+from .compiled import Model
+from .metrics import compute_metrics, result_columns
+from .output import check_out_dir, write_run
+from .scenario import RunInputs, Scenario, load_scenario
+from .simulate import RunResult, Simulation
 
 
 @dataclass
 class RunOutcome:
     """What :func:`execute_run` produced."""
 
-    result: object          # RunResult
+    result: RunResult
     out_dir: Path
-    metrics: dict
-    inputs: object          # RunInputs (after the overrides)
-    scenario: object        # Scenario (after the overrides)
-    write_time: float
+    metrics: dict[str, Any]
+    inputs: RunInputs          # after the overrides
+    scenario: Scenario         # after the overrides
+    model: Model
+    write_time: float          # s spent writing the folder
 
     @property
     def diverged(self) -> bool:
         return self.result.divergence is not None
 
 
-def apply_gain_overrides(model, controller: str, gains: dict, overrides: Mapping | None) -> dict:
-    """``gains`` with ``overrides`` (name -> value) replaced, each checked against the layout of
-    ``controller``'s gains (unknown names and wrong sizes are a :class:`ModelError`)."""
-    if not overrides:
-        return gains
-    entry = model.manifest["controllers"][controller]
-    layout = {f["name"]: f for f in model.layouts[entry["gains"]]}
-    out = dict(gains)
-    for name, value in overrides.items():
-        if name not in layout:
-            raise ModelError(f"gain override {name!r}: controller {controller} has no such gain; "
-                             f"available: {', '.join(layout)}")
-        v = np.atleast_1d(np.asarray(value, float)).ravel()
-        if v.size != layout[name]["size"] or not np.all(np.isfinite(v)):
-            raise ModelError(f"gain override {name} = {value!r}: needs {layout[name]['size']} finite value(s)")
-        out[name] = v
+def default_out_dir(scenario_path: str | Path, base: Path = Path("runs")) -> Path:
+    """``runs/<scenario stem>-<UTC time>[-k]``: a folder name not taken yet."""
+    stamp = datetime.now(UTC).strftime("%Y%m%dT%H%M%SZ")
+    first = base / f"{Path(scenario_path).stem}-{stamp}"
+    out, k = first, 1
+    while out.exists():
+        k += 1
+        out = first.with_name(f"{first.name}-{k}")
     return out
 
 
-def execute_run(scenario: str | Path, out_dir: str | Path, model, *, duration: float | None = None,
-                seed: int | None = None, controller: str | None = None, plant: str | None = None,
-                gains: Mapping | None = None, plots: bool = True, thresholds: Mapping | None = None,
-                error_times: Iterable[float] = (), log: Callable[[str], None] | None = None,
-                progress: Callable[[int, int], None] | None = None, extra_meta: dict | None = None) -> RunOutcome:
-    """Simulate ``scenario`` with the overrides and write ``out_dir`` (must be absent or empty)."""
-    import time
-
-    from .metrics import compute_metrics, result_columns
-    from .output import check_out_dir, write_run
-    from .scenario import load_scenario
-    from .simulate import Simulation
-
-    sc = load_scenario(scenario).with_overrides(duration=duration, seed=seed, controller=controller, plant=plant)
-    out = check_out_dir(out_dir)
+def execute_run(scenario: str | Path | Scenario, out_dir: str | Path | None, model: Model | Callable[[str], Model], *,
+                duration: float | None = None, seed: int | None = None, controller: str | None = None,
+                plant: str | None = None, gains: Mapping[str, Any] | None = None, plots: bool = True,
+                thresholds: Mapping[str, float] | None = None, error_times: Iterable[float] = (),
+                log: Callable[[str], None] | None = None, progress: Callable[[int, int], None] | None = None,
+                extra_meta: dict[str, Any] | None = None) -> RunOutcome:
+    """Simulate ``scenario`` with the overrides and write ``out_dir`` (must be absent or empty;
+    None: :func:`default_out_dir`).  ``model`` is the model or a function loading it for the
+    controller the run flies (``model(name)``, so a first run compiles only what it needs), called
+    once the scenario and the folder are known to be good."""
+    # 1. scenario (validated once, then once more with the overrides)
+    manifest = model.manifest if isinstance(model, Model) else None
+    base = scenario if isinstance(scenario, Scenario) else load_scenario(scenario, manifest)
+    sc = base.with_overrides(duration=duration, seed=seed, controller=controller, plant=plant,
+                             gains=dict(gains) if gains else None)
+    # 2. output folder
+    out = check_out_dir(out_dir if out_dir is not None else default_out_dir(base.source))
+    # 3. inputs
+    model = model if isinstance(model, Model) else model(sc.simulation.controller)
     inputs = sc.to_run(model)
-    inputs.gains = apply_gain_overrides(model, inputs.controller, inputs.gains, gains)
     sim = Simulation(model, inputs.controller, params=inputs.params, gains=inputs.gains)
     z0 = sim.initial_state(inputs.plant)
     n_steps = int(round(inputs.duration / sim.dt))
     if log:
         log(f"{sc.name}: {n_steps} steps of {sim.dt:g} s ({inputs.duration:g} s), controller "
             f"{inputs.controller}, seed {inputs.seed}, backend {model.backend}")
+    # 4. simulation
     result = sim.run(z0, inputs.duration, seed=inputs.seed, record_every=inputs.record_every, progress=progress)
     if log:
         log(f"simulated {result.steps_done} steps in {result.wall_time:.3g} s; writing {out} ...")
-
+    # 5. metrics
     goal = np.ravel(inputs.gains["r_goal"]) if "r_goal" in inputs.gains else None
     metrics = compute_metrics(result.t, result_columns(result), thresholds, goal=goal, error_times=error_times)
     metrics["status"] = "ok" if result.divergence is None else "diverged"
-    overrides = {k: v for k, v in (("duration", duration), ("seed", seed), ("controller", controller),
-                                   ("plant", plant)) if v is not None}
+    # 6. outputs
+    overrides: dict[str, Any] = {k: v for k, v in (("duration", duration), ("seed", seed),
+                                                    ("controller", controller), ("plant", plant)) if v is not None}
     if gains:
         overrides["gains"] = {k: np.ravel(np.asarray(v, float)).tolist() for k, v in gains.items()}
     extra = {"scenario": sc.name, "scenario_meta": sc.meta.model_dump(), "overrides": overrides,
              "inputs": inputs.to_json(), "z0": z0, **(extra_meta or {})}
     t_write = time.perf_counter()
-    write_run(result, out, model, scenario_path=scenario, scenario_text=sc.text, extra_meta=extra,
+    write_run(result, out, model, scenario_path=base.source, scenario_text=sc.text, extra_meta=extra,
               plots=plots, params=inputs.params, gains=inputs.gains, title=sc.name, metrics=metrics)
-    return RunOutcome(result=result, out_dir=out, metrics=metrics, inputs=inputs, scenario=sc,
+    return RunOutcome(result=result, out_dir=out, metrics=metrics, inputs=inputs, scenario=sc, model=model,
                       write_time=time.perf_counter() - t_write)

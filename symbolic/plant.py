@@ -25,7 +25,7 @@ from . import actuators as act
 from . import environment as env
 from . import orbit as orb
 from .constraints import beta_ca, beta_fov
-from .layout import XYZ, XYZW, Layout
+from .layout import NON_NEGATIVE, POSITIVE, XYZ, XYZW, Bounds, Layout, ScenarioKey
 from .mass_properties import chaser_mass_properties
 from .relative_attitude import attitude_error, rate_error
 from .relative_translation import chaser_inertial_state, relative_acceleration
@@ -36,6 +36,7 @@ INERTIA_COMPONENTS = ("xx", "yy", "zz", "xy", "xz", "yz")
 WHEELS = ("1", "2", "3", "4")
 THRUSTERS = tuple(f"{j:02d}" for j in range(16))
 DEG = math.pi / 180
+RPM = 2 * math.pi / 60
 
 
 def inertia_tensor(c) -> sp.Matrix:
@@ -45,88 +46,148 @@ def inertia_tensor(c) -> sp.Matrix:
 
 
 def _params() -> Layout:
+    """Layout p: every plant parameter, SI, with its bounds and its key in a scenario file.
+
+    ``presets={"full": ...}`` marks the fields that ``rpo run --plant full`` sets: orbit on, every
+    environment term at 000's values, 000's wheels, PWPF thrusters and mass profile, the papers'
+    synthetic disturbance tables off (``"default"``: the manifest default).
+    """
     p = Layout("p")
+    S, pos, nonneg = ScenarioKey, POSITIVE, NON_NEGATIVE
+    full_default = {"full": "default"}
+
+    def switch(key):
+        return S(key, kind="switch")
+
     # constants (SPEC.md "Common constants")
-    p.add("mu", 1, "m^3/s^2", "Earth gravitational parameter", default=3.986004418e14)
-    p.add("j2", 1, "-", "Earth J2", default=1.08262668e-3)
-    p.add("r_earth", 1, "m", "Earth equatorial radius", default=6378137.0)
-    p.add("earth_flattening", 1, "-", "WGS-84 flattening, for the altitude of eq. 39", default=1 / 298.257223563)
-    p.add("omega_earth", 1, "rad/s", "Earth rotation rate (atmosphere co-rotation)", default=7.292115e-5)
-    p.add("mu_mag", 1, "T m^3", "Earth dipole strength (000 eq. 13)", default=8.1e15)
-    p.add("g0", 1, "m/s^2", "standard gravity for Isp", default=9.80665)
-    # target orbit (000 scenario III by default)
-    p.add("orbit_a", 1, "m", "target semi-major axis", default=(6378137.0 + 400e3) / (1 - 0.138))
-    p.add("orbit_e", 1, "-", "target eccentricity, 0 <= e < 1", default=0.138)
-    p.add("orbit_inc", 1, "rad", "inclination", default=55 * DEG)
-    p.add("orbit_raan", 1, "rad", "right ascension of the ascending node", default=0.0)
-    p.add("orbit_argp", 1, "rad", "argument of perigee", default=270 * DEG)
-    p.add("orbit_nu0", 1, "rad", "true anomaly at t = 0", default=0.0)
+    const = "environment.constants."
+    p.add("mu", 1, "m^3/s^2", "Earth gravitational parameter", default=3.986004418e14, bounds=pos,
+          scenario=S(const + "mu"))
+    p.add("j2", 1, "-", "Earth J2", default=1.08262668e-3, scenario=S(const + "j2"))
+    p.add("r_earth", 1, "m", "Earth equatorial radius", default=6378137.0, bounds=pos, scenario=S(const + "r_earth"))
+    p.add("earth_flattening", 1, "-", "WGS-84 flattening, for the altitude of eq. 39", default=1 / 298.257223563,
+          bounds=Bounds(0.0, 1.0, hi_open=True), scenario=S(const + "earth_flattening"))
+    p.add("omega_earth", 1, "rad/s", "Earth rotation rate (atmosphere co-rotation)", default=7.292115e-5,
+          scenario=S(const + "omega_earth"))
+    p.add("mu_mag", 1, "T m^3", "Earth dipole strength (000 eq. 13)", default=8.1e15, bounds=nonneg,
+          scenario=S(const + "mu_mag"))
+    p.add("g0", 1, "m/s^2", "standard gravity for Isp", default=9.80665, bounds=pos, scenario=S(const + "g0"))
+    # target orbit (000 scenario III by default); a scenario may give the perigee altitude instead of a
+    p.add("orbit_a", 1, "m", "target semi-major axis", default=(6378137.0 + 400e3) / (1 - 0.138), bounds=pos,
+          scenario=S("orbit.semi_major_axis"))
+    p.add("orbit_e", 1, "-", "target eccentricity, 0 <= e < 1", default=0.138, bounds=Bounds(0.0, 1.0, hi_open=True),
+          scenario=S("orbit.eccentricity"))
+    p.add("orbit_inc", 1, "rad", "inclination", default=55 * DEG, bounds=Bounds(0.0, 180 * DEG),
+          scenario=S("orbit.inclination_deg", "deg", DEG))
+    p.add("orbit_raan", 1, "rad", "right ascension of the ascending node", default=0.0,
+          scenario=S("orbit.raan_deg", "deg", DEG))
+    p.add("orbit_argp", 1, "rad", "argument of perigee", default=270 * DEG,
+          scenario=S("orbit.arg_perigee_deg", "deg", DEG))
+    p.add("orbit_nu0", 1, "rad", "true anomaly at t = 0", default=0.0, scenario=S("orbit.true_anomaly_deg", "deg", DEG))
     # model switches (0 or 1)
-    p.add("gg_on", 1, "-", "gravity-gradient torques on (1) or off (0)", default=1)
-    p.add("mag_on", 1, "-", "magnetic torques on/off", default=1)
-    p.add("j2_on", 1, "-", "differential J2 on/off", default=1)
-    p.add("drag_on", 1, "-", "differential drag on/off", default=1)
-    p.add("mass_profile_on", 1, "-", "000 time-varying chaser mass/inertia on/off", default=1)
+    p.add("gg_on", 1, "-", "gravity-gradient torques on (1) or off (0)", default=1,
+          scenario=switch("environment.gravity_gradient"), presets={"full": 1})
+    p.add("mag_on", 1, "-", "magnetic torques on/off", default=1, scenario=switch("environment.magnetic"),
+          presets={"full": 1})
+    p.add("j2_on", 1, "-", "differential J2 on/off", default=1, scenario=switch("environment.j2"), presets={"full": 1})
+    p.add("drag_on", 1, "-", "differential drag on/off", default=1, scenario=switch("environment.drag"),
+          presets={"full": 1})
+    p.add("mass_profile_on", 1, "-", "000 time-varying chaser mass/inertia on/off", default=1,
+          scenario=S("chaser.mass_profile", kind="choice", choices=(("seed000", 1.0), ("constant", 0.0))),
+          presets={"full": 1})
     p.add("gravity_on", 1, "-", "orbit on (1) or free space (0, 004's model: LVLH frozen to ECI, no gravity)",
-          default=1)
-    p.add("actuators_ideal", 1, "-", "ideal force/torque actuators (1) or wheels and thrusters (0)", default=0)
-    p.add("force_max", 1, "N", "ideal actuators: per-axis force limit, chaser body", default=1.0)
-    p.add("torque_max", 1, "N m", "ideal actuators: per-axis torque limit, chaser body", default=0.1)
+          default=1, scenario=switch("plant.gravity"), presets={"full": 1})
+    p.add("actuators_ideal", 1, "-", "ideal force/torque actuators (1) or wheels and thrusters (0)", default=0,
+          scenario=S("plant.actuators", kind="choice", choices=(("ideal", 1.0), ("wheels_thrusters", 0.0))),
+          presets={"full": 0})
+    p.add("force_max", 1, "N", "ideal actuators: per-axis force limit, chaser body", default=1.0, bounds=pos,
+          scenario=S("plant.max_force"), presets=full_default)
+    p.add("torque_max", 1, "N m", "ideal actuators: per-axis torque limit, chaser body", default=0.1, bounds=pos,
+          scenario=S("plant.max_torque"), presets=full_default)
     # Papers' own disturbance models (002, 004 eqs.; 001 sec. 7), in chaser body axes; per axis
     # d = c0 + a1 sin(w1 t) + b1 cos(w1 t) + a2 sin(w2 t) + b2 cos(w2 t) + s_nu sin(nu) + c_nu cos(nu)
     for q, unit in (("force", "N"), ("torque", "N m")):
-        for name, u_, doc in (("c0", unit, "constant term"), ("a1", unit, "sin(w1 t) amplitude"),
-                              ("b1", unit, "cos(w1 t) amplitude"), ("w1", "rad/s", "first angular frequency"),
-                              ("a2", unit, "sin(w2 t) amplitude"), ("b2", unit, "cos(w2 t) amplitude"),
-                              ("w2", "rad/s", "second angular frequency"),
-                              ("s_nu", unit, "sin(true anomaly) amplitude"),
-                              ("c_nu", unit, "cos(true anomaly) amplitude")):
+        for name, key, u_, doc in (("c0", "constant", unit, "constant term"),
+                                   ("a1", "sin1", unit, "sin(w1 t) amplitude"),
+                                   ("b1", "cos1", unit, "cos(w1 t) amplitude"),
+                                   ("w1", "omega1", "rad/s", "first angular frequency"),
+                                   ("a2", "sin2", unit, "sin(w2 t) amplitude"),
+                                   ("b2", "cos2", unit, "cos(w2 t) amplitude"),
+                                   ("w2", "omega2", "rad/s", "second angular frequency"),
+                                   ("s_nu", "sin_nu", unit, "sin(true anomaly) amplitude"),
+                                   ("c_nu", "cos_nu", unit, "cos(true anomaly) amplitude")):
             p.add(f"dist_{q}_{name}", 3, u_, f"scenario disturbance {q} on the chaser, body: {doc}", XYZ,
-                  default=(0, 0, 0))
-    p.add("meas_att_std", 1, "rad", "attitude measurement noise std (per axis, chaser)", default=0.0)
-    p.add("meas_rate_std", 1, "rad/s", "rate measurement noise std (per axis, chaser)", default=0.0)
-    p.add("meas_pos_std", 1, "m", "relative position noise std (per axis, LVLH)", default=0.0)
-    p.add("meas_vel_std", 1, "m/s", "relative velocity noise std (per axis, LVLH)", default=0.0)
-    p.add("meas_att_bias", 3, "rad", "attitude measurement bias (small rotation, chaser body)", XYZ, default=(0, 0, 0))
-    p.add("meas_rate_bias", 3, "rad/s", "rate measurement bias, chaser body", XYZ, default=(0, 0, 0))
-    p.add("meas_pos_bias", 3, "m", "relative position bias, LVLH", XYZ, default=(0, 0, 0))
-    p.add("meas_vel_bias", 3, "m/s", "relative velocity bias, LVLH", XYZ, default=(0, 0, 0))
+                  default=(0, 0, 0), scenario=S(f"disturbance.{q}.{key}"), presets=full_default)
+    p.add("meas_att_std", 1, "rad", "attitude measurement noise std (per axis, chaser)", default=0.0, bounds=nonneg,
+          scenario=S("sensors.attitude_noise_deg", "deg", DEG))
+    p.add("meas_rate_std", 1, "rad/s", "rate measurement noise std (per axis, chaser)", default=0.0, bounds=nonneg,
+          scenario=S("sensors.rate_noise_deg_s", "deg/s", DEG))
+    p.add("meas_pos_std", 1, "m", "relative position noise std (per axis, LVLH)", default=0.0, bounds=nonneg,
+          scenario=S("sensors.position_noise"))
+    p.add("meas_vel_std", 1, "m/s", "relative velocity noise std (per axis, LVLH)", default=0.0, bounds=nonneg,
+          scenario=S("sensors.velocity_noise"))
+    p.add("meas_att_bias", 3, "rad", "attitude measurement bias (small rotation, chaser body)", XYZ, default=(0, 0, 0),
+          scenario=S("sensors.attitude_bias_deg", "deg", DEG))
+    p.add("meas_rate_bias", 3, "rad/s", "rate measurement bias, chaser body", XYZ, default=(0, 0, 0),
+          scenario=S("sensors.rate_bias_deg_s", "deg/s", DEG))
+    p.add("meas_pos_bias", 3, "m", "relative position bias, LVLH", XYZ, default=(0, 0, 0),
+          scenario=S("sensors.position_bias"))
+    p.add("meas_vel_bias", 3, "m/s", "relative velocity bias, LVLH", XYZ, default=(0, 0, 0),
+          scenario=S("sensors.velocity_bias"))
     p.add("camera_half_angle", 1, "rad", "camera half field of view (001: 45 deg), camera on body +z",
-          default=45 * DEG)
-    p.add("camera_zn", 1, "m", "camera lens vertex on body +z (001 z_N)", default=1.2)
-    p.add("chaser_radius", 1, "m", "chaser envelope sphere radius (001 R_S)", default=2.1)
-    p.add("target_radius", 1, "m", "target envelope sphere radius (001 R_T)", default=1.5)
-    # chaser
-    p.add("chaser_mass", 1, "kg", "chaser nominal mass m0", default=100.0)
-    p.add("chaser_inertia", 6, "kg m^2", "chaser nominal inertia (no wheel axial inertia)",
-          INERTIA_COMPONENTS, default=(11, 14, 13, -0.09, -0.4, -0.08))
-    p.add("chaser_dipole", 3, "A m^2", "chaser residual dipole", XYZ, default=(0, 0, 0))
-    p.add("chaser_rand_std", 1, "N m", "std of the chaser random torque (000 eq. 5)", default=0.3)
-    p.add("chaser_cd", 1, "-", "chaser drag coefficient", default=2.2)
-    p.add("chaser_area", 1, "m^2", "chaser drag area", default=1.0)
-    # target
-    p.add("target_mass", 1, "kg", "target mass", default=5425.0)
-    p.add("target_inertia", 6, "kg m^2", "target inertia", INERTIA_COMPONENTS,
-          default=(3336, 3184, 2423, -135, -154, -135))
-    p.add("target_dipole", 3, "A m^2", "target residual dipole (000 eq. 12)", XYZ, default=(0.3, 0.3, 0.3))
-    p.add("target_rand_std", 1, "N m", "std of the target random torque (000 eq. 5)", default=0.3)
-    p.add("target_cd", 1, "-", "target drag coefficient", default=2.2)
-    p.add("target_area", 1, "m^2", "target drag area", default=20.0)
+          default=45 * DEG, bounds=Bounds(0.0, 90 * DEG, lo_open=True, hi_open=True),
+          scenario=S("constraints.camera_half_angle_deg", "deg", DEG))
+    p.add("camera_zn", 1, "m", "camera lens vertex on body +z (001 z_N)", default=1.2,
+          scenario=S("constraints.camera_zn"))
+    p.add("chaser_radius", 1, "m", "chaser envelope sphere radius (001 R_S)", default=2.1, bounds=nonneg,
+          scenario=S("constraints.chaser_radius"))
+    p.add("target_radius", 1, "m", "target envelope sphere radius (001 R_T)", default=1.5, bounds=nonneg,
+          scenario=S("constraints.target_radius"))
+    # chaser and target
+    for body, mass, inertia, dipole, cd, area in (
+            ("chaser", 100.0, (11, 14, 13, -0.09, -0.4, -0.08), (0, 0, 0), 2.2, 1.0),
+            ("target", 5425.0, (3336, 3184, 2423, -135, -154, -135), (0.3, 0.3, 0.3), 2.2, 20.0)):
+        doc = {"chaser": ("chaser nominal mass m0", "chaser nominal inertia (no wheel axial inertia)",
+                          "chaser residual dipole", "std of the chaser random torque (000 eq. 5)"),
+               "target": ("target mass", "target inertia", "target residual dipole (000 eq. 12)",
+                          "std of the target random torque (000 eq. 5)")}[body]
+        p.add(f"{body}_mass", 1, "kg", doc[0], default=mass, bounds=pos, scenario=S(f"{body}.mass"))
+        p.add(f"{body}_inertia", 6, "kg m^2", doc[1], INERTIA_COMPONENTS, default=inertia,
+              scenario=S(f"{body}.inertia", kind="inertia"))
+        p.add(f"{body}_dipole", 3, "A m^2", doc[2], XYZ, default=dipole, scenario=S(f"{body}.dipole"))
+        p.add(f"{body}_rand_std", 1, "N m", doc[3], default=0.3, bounds=nonneg,
+              scenario=S(f"environment.random_torque_std_{body}"), presets=full_default)
+        p.add(f"{body}_cd", 1, "-", f"{body} drag coefficient", default=cd, bounds=pos, scenario=S(f"{body}.drag_cd"))
+        p.add(f"{body}_area", 1, "m^2", f"{body} drag area", default=area, bounds=pos, scenario=S(f"{body}.drag_area"))
     # reaction wheels (000 Table 3)
-    p.add("wheel_beta", 1, "rad", "pyramid tilt (000 eq. 47)", default=30 * DEG)
-    p.add("wheel_inertia", 1, "kg m^2", "wheel axial inertia", default=0.001364)
-    p.add("wheel_torque_max", 1, "N m", "per-wheel torque limit", default=0.1)
-    p.add("wheel_speed_max", 1, "rad/s", "per-wheel speed limit (7000 rpm)", default=7000 * 2 * math.pi / 60)
-    p.add("wheel_delay", 1, "s", "wheel transport delay", default=0.002)
+    p.add("wheel_beta", 1, "rad", "pyramid tilt (000 eq. 47)", default=30 * DEG,
+          bounds=Bounds(0.0, 90 * DEG, lo_open=True, hi_open=True), scenario=S("wheels.tilt_deg", "deg", DEG),
+          presets=full_default)
+    p.add("wheel_inertia", 1, "kg m^2", "wheel axial inertia", default=0.001364, bounds=pos,
+          scenario=S("wheels.inertia"), presets=full_default)
+    p.add("wheel_torque_max", 1, "N m", "per-wheel torque limit", default=0.1, bounds=pos,
+          scenario=S("wheels.max_torque"), presets=full_default)
+    p.add("wheel_speed_max", 1, "rad/s", "per-wheel speed limit (7000 rpm)", default=7000 * 2 * math.pi / 60,
+          bounds=pos,
+          scenario=S("wheels.max_speed_rpm", "rpm", RPM), presets=full_default)
+    # upper limit: the delay line (manifest delay_slots steps), checked with the step by the runtime
+    p.add("wheel_delay", 1, "s", "wheel transport delay", default=0.002, bounds=nonneg, scenario=S("wheels.delay"),
+          presets=full_default)
     # thrusters (000 Table 3)
-    p.add("thruster_force", 1, "N", "thrust of one thruster", default=1.0)
-    p.add("thruster_isp", 1, "s", "specific impulse", default=227.0)
-    p.add("pwpf_km", 1, "-", "PWPF prefilter gain K_m", default=10.0)
-    p.add("pwpf_tm", 1, "s", "PWPF prefilter time constant T_m", default=0.2)
-    p.add("pwpf_uon", 1, "-", "Schmitt trigger on level U_on", default=0.25)
-    p.add("pwpf_uoff", 1, "-", "Schmitt trigger off level U_off", default=0.15)
+    p.add("thruster_force", 1, "N", "thrust of one thruster", default=1.0, bounds=pos,
+          scenario=S("thrusters.max_force"), presets=full_default)
+    p.add("thruster_isp", 1, "s", "specific impulse", default=227.0, bounds=pos, scenario=S("thrusters.isp"),
+          presets=full_default)
+    # u_off < u_on is checked by the runtime (a relation between two fields)
+    for name, key, unit, doc, default in (("pwpf_km", "k_m", "-", "PWPF prefilter gain K_m", 10.0),
+                                          ("pwpf_tm", "t_m", "s", "PWPF prefilter time constant T_m", 0.2),
+                                          ("pwpf_uon", "u_on", "-", "Schmitt trigger on level U_on", 0.25),
+                                          ("pwpf_uoff", "u_off", "-", "Schmitt trigger off level U_off", 0.15)):
+        p.add(name, 1, unit, doc, default=default, bounds=pos, scenario=S(f"thrusters.pwpf.{key}"),
+              presets=full_default)
     # simulation
-    p.add("dt", 1, "s", "control and integration step", default=0.01)
+    p.add("dt", 1, "s", "control and integration step", default=0.01, bounds=pos,
+          scenario=S("simulation.rate", "Hz", kind="reciprocal"))
     return p
 
 

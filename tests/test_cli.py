@@ -11,9 +11,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from rpo.runtime.scenario import paper_data
+
 ROOT = Path(__file__).resolve().parents[1]
 III = ROOT / "scenarios" / "000_scenario_III.toml"
 BASE = III.read_text()
+PAPER = paper_data(III)
 
 
 def rpo(*args, cwd=None, timeout=120) -> subprocess.CompletedProcess:
@@ -63,7 +66,8 @@ def test_info_and_validate():
         assert word in res.stdout
     res = rpo("validate", III)
     assert res.returncode == 0, res.stderr
-    assert "valid" in res.stdout and "000 scenario III" in res.stdout and "perigee altitude 400 km" in res.stdout
+    assert "valid" in res.stdout and PAPER["meta"]["name"] in res.stdout
+    assert f"perigee altitude {PAPER['orbit']['perigee_altitude'] / 1e3:g} km" in res.stdout
 
 
 def test_runtime_never_imports_sympy():
@@ -166,7 +170,8 @@ def test_short_run_writes_everything(tmp_path):
 
     assert meta["status"] == "ok" and meta["divergence"] is None
     assert meta["steps_done"] == meta["steps_requested"] == 200
-    assert meta["seed"] == 3 and meta["controller"] == "c000" and meta["backend"] == "compiled"
+    assert meta["seed"] == 3 and meta["controller"] == PAPER["simulation"]["controller"] == "c000"
+    assert meta["backend"] == "compiled"
     manifest = json.loads((ROOT / "generated" / "manifest.json").read_text())
     assert meta["model_source_hash"] == manifest["source_hash"]
     assert meta["overrides"] == {"duration": 2.0, "seed": 3}
@@ -178,7 +183,7 @@ def test_short_run_writes_everything(tmp_path):
     assert np.all(np.isfinite(z)) and np.all(np.isfinite(y[:-1])) and np.all(np.isnan(y[-1]))
     assert json.loads(str(data["metadata"]))["status"] == "ok"
     r0 = z[0, list(data["z_labels"]).index("r_x"):][:3]
-    np.testing.assert_array_equal(r0, [60, 0, 25])
+    np.testing.assert_array_equal(r0, PAPER["relative"]["position"])
 
     header = (out / "timeseries.csv").read_text().splitlines()[0].split(",")
     assert header[0] == "t [s]" and header[1] == "q_c_x [-]" and "r_x [m]" in header

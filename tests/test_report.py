@@ -186,3 +186,73 @@ def test_diag_figures_one_per_extra_field(model, tmp_path):
     assert {"diag_s_att.png", "diag_theta_hat.png", "ctrl_errors.png", "constraints.png"} <= set(written)
     for name in written:
         assert (tmp_path / name).read_bytes()[:4] == b"\x89PNG"
+
+
+# --------------------------------------------------------------------------- runs discovered in scenario files
+
+
+def test_report_reads_scenarios_through_the_one_loader():
+    """Regression: the report's own TOML reader ignored ``extends`` and found no controller in
+    000_III_no_acc_d.toml (its base selects c000); it now reads scenarios as load_scenario does."""
+    from rpo.runtime.report import PlannedRun, execute, scenario_controller
+    from rpo.runtime.scenario import load_scenario, read_scenario
+
+    path = SCEN / "000_III_no_acc_d.toml"
+    assert "controller" not in path.read_text().split("[controller.c000]")[0]  # only the base names it
+    assert scenario_controller(read_scenario(path)) == load_scenario(path).simulation.controller == "c000"
+
+    class NoControllers:  # a model that has none: the report must say which one it looked for
+        manifest = {"controllers": {}}
+
+    r = PlannedRun(label="x", scenario=path, controller=None, plant="paper", paper=None, case=None, duration=None,
+                   seed=None, gains=None, thresholds=None, error_times=[])
+    execute([r], NoControllers(), Path("unused"))
+    assert (r.status, r.reason, r.controller_used) == ("not run", "controller c000 not generated yet", "c000")
+
+
+def test_discovered_runs_are_the_committed_report_s_runs(model):
+    """The [reproduction] tables of scenarios/ declare exactly the runs of docs/reproduction.json."""
+    from rpo.runtime.report import discover, plan
+
+    run_list = discover(SCEN, model.manifest["controllers"])
+    runs = plan(run_list, SCEN)
+    twin = json.loads((ROOT / "docs" / "reproduction.json").read_text())
+    assert sorted(r.label for r in runs) == sorted(r["label"] for r in twin["runs"])
+    by_label = {r["label"]: r for r in twin["runs"]}
+    for r in runs:
+        old = by_label[r.label]
+        assert (Path(old["scenario"]).name, old["plant"], old["paper"], old["case"]) == \
+            (r.scenario.name, r.plant, r.paper, r.case), r.label
+    assert list(run_list.paper) == list(twin["tables"]["papers"])
+    for pid, paper in run_list.paper.items():
+        old = twin["tables"]["papers"][pid]
+        assert (paper.title, paper.controller) == (old["title"], old["controller"])
+        assert sorted((c.case, c.what) for c in paper.claim) == sorted((c["case"], c["what"]) for c in old["claims"])
+    ideal = next(r for r in runs if r.label == "000-III-ideal-no-acc-paper")
+    assert ideal.gains == {"acc_d_on": 0.0} and ideal.controller == "c000"
+    assert next(r for r in runs if r.label == "002-kappa3-full").thresholds == {"pos_m": 0.3}  # paper-level
+
+
+def test_a_new_scenario_file_adds_its_runs(tmp_path, model):
+    """Adding a scenario with a [reproduction] table adds its runs and claims, no list edited."""
+    from rpo.runtime.errors import RpoError
+    from rpo.runtime.report import discover, plan
+
+    base = (SCEN / "000_scenario_III.toml").read_text()
+    (tmp_path / "base.toml").write_text(base)
+    (tmp_path / "variant.toml").write_text(
+        'extends = "base.toml"\n[meta]\nname = "v"\n[reproduction]\npaper = "000"\n'
+        '[[reproduction.run]]\ncase = "V"\nplants = ["full"]\n'
+        '[[reproduction.claim]]\ncase = "V"\nwhat = "w"\nmetric = "pos_err_final_m"\n')
+    run_list = discover(tmp_path, ["baseline", "c000"])
+    labels = [r.label for r in plan(run_list, tmp_path)]
+    # the base's own runs are not inherited by the variant; its comparison takes every controller
+    assert labels == ["000-III-paper", "000-III-full", "000-V-full", "cmp-000-III-baseline-paper",
+                      "cmp-000-III-baseline-full"]
+    assert [c.case for c in run_list.paper["000"].claim] == ["III", "III", "V"]
+    (tmp_path / "other.toml").write_text(
+        base.replace('[reproduction]\npaper = "000"\n', '[reproduction]\npaper = "000"\ntitle = "again"\n'))
+    (tmp_path / "third.toml").write_text(
+        base.replace('[reproduction]\npaper = "000"\n', '[reproduction]\npaper = "000"\ntitle = "twice"\n'))
+    with pytest.raises(RpoError, match="reproduction.title: paper 000's title is given in"):
+        discover(tmp_path, ["c000"])

@@ -10,7 +10,7 @@ import pytest
 
 from rpo.runtime import frames as fr
 from rpo.runtime.errors import ScenarioError
-from rpo.runtime.scenario import load_scenario, loads_scenario
+from rpo.runtime.scenario import load_scenario, loads_scenario, paper_data, validate_scenario
 from rpo.runtime.simulate import Simulation
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -52,11 +52,13 @@ def test_three_scenarios_exist():
 @pytest.mark.parametrize("path", SCENARIOS, ids=lambda p: p.stem)
 def test_scenario_maps_to_valid_z0(model, path):
     sc = load_scenario(path)
+    sim_table = paper_data(path)["simulation"]
     run = sc.to_run(model)
     sim = Simulation(model, run.controller, params=run.params, gains=run.gains)
     z0 = sim.initial_state(run.plant)
     assert np.all(np.isfinite(z0))
-    assert run.duration == 300.0 and run.dt == pytest.approx(0.01) and run.controller == "c000"
+    assert run.duration == sim_table["duration"] and run.controller == sim_table["controller"] == "c000"
+    assert run.dt == pytest.approx(1 / sim_table["rate"])
     offs = model.offsets(f"z_{run.controller}")
     for q in ("q_c", "q_t"):
         assert np.linalg.norm(z0[offs[q]]) == pytest.approx(1.0, abs=1e-12)
@@ -74,42 +76,62 @@ def test_scenario_maps_to_valid_z0(model, path):
     np.testing.assert_allclose(np.ravel(env)[model.offsets("env")["wheel_speed"]], 0.0, atol=1e-12)
 
 
+def target_inertia(params) -> dict[str, float]:
+    return dict(zip(("xx", "yy", "zz", "xy", "xz", "yz"), np.ravel(params["target_inertia"]), strict=True))
+
+
 def test_scenario_III_values(model):
     sc = load_scenario(III)
+    paper = paper_data("000_scenario_III")
     run = sc.to_run(model)
     r_e = scalar(run.params, "r_earth")
-    assert scalar(run.params, "orbit_a") * (1 - 0.138) == pytest.approx(r_e + 400e3, rel=1e-14)
-    assert scalar(run.params, "orbit_inc") == pytest.approx(math.radians(55))
-    assert scalar(run.params, "orbit_argp") == pytest.approx(math.radians(270))
-    L = 1 - 3184 / 3336
+    orbit = paper["orbit"]
+    assert scalar(run.params, "orbit_a") * (1 - orbit["eccentricity"]) == pytest.approx(
+        r_e + orbit["perigee_altitude"], rel=1e-14)
+    assert scalar(run.params, "orbit_inc") == pytest.approx(math.radians(orbit["inclination_deg"]))
+    assert scalar(run.params, "orbit_argp") == pytest.approx(math.radians(orbit["arg_perigee_deg"]))
+    # the paper's omega_t(0) = [(1 - L) s / cos(g), 2 s L, 1.2 L], s = 0.1, g = 0.5, L = 1 - I_t22 / I_t11
+    I_t = target_inertia(run.params)
+    L = 1 - I_t["yy"] / I_t["xx"]
     np.testing.assert_allclose(run.plant["w_t"], [(1 - L) * 0.1 / math.cos(0.5), 0.2 * L, 1.2 * L], atol=1e-9)
     np.testing.assert_array_equal(run.plant["w_c"], 0.0)
-    np.testing.assert_array_equal(run.gains["r_goal"], [5, 0, 0])
+    np.testing.assert_array_equal(run.gains["r_goal"], paper["controller"]["c000"]["r_goal"])
     # attitudes were given relative to the orbit frame R
     q_IL = run.frame_info["q_IL0"]
     np.testing.assert_allclose(fr.attitude_from_eci(run.plant["q_t"], "orbit", q_IL),
-                               fr.quat_normalize([0.38831, 0.22356, -0.34408, 0.82512]), atol=1e-12)
+                               fr.quat_normalize(paper["target"]["quaternion"]), atol=1e-12)
 
 
 def test_scenario_I_target_is_nadir_pointing_in_geo(model):
     run = load_scenario(ROOT / "scenarios" / "000_scenario_I.toml").to_run(model)
+    paper = paper_data("000_scenario_I")
     mu, a = scalar(run.params, "mu"), scalar(run.params, "orbit_a")
-    assert a == 42164e3 and scalar(run.params, "orbit_e") == 0.0
+    assert a == paper["orbit"]["semi_major_axis"] and scalar(run.params, "orbit_e") == paper["orbit"]["eccentricity"]
     n = math.sqrt(mu / a**3)
     assert run.frame_info["n0"] == pytest.approx(n, rel=1e-12)
-    assert n == pytest.approx(7.2922e-5, rel=1e-4)
+    assert n == pytest.approx(7.2922e-5, rel=1e-4)  # geostationary: one turn per sidereal day
     np.testing.assert_allclose(run.plant["w_t"], [0, -n, 0], atol=1e-15)  # zero rate relative to R
     o = model.functions["target_orbit"](0.0, model.vector("p", run.params))
     r_eci = np.ravel(o[5])
     C_IT = fr.dcm_from_quat(run.plant["q_t"])
     np.testing.assert_allclose(C_IT[:, 2], -r_eci / np.linalg.norm(r_eci), atol=1e-12)  # body Z to nadir
-    np.testing.assert_allclose(run.plant["w_c"], np.radians([3, 1, 5]))
+    np.testing.assert_allclose(run.plant["w_c"], np.radians(paper["chaser"]["angular_velocity_deg_s"]))
 
 
 def test_scenario_II_goal_and_rates(model):
     run = load_scenario(ROOT / "scenarios" / "000_scenario_II.toml").to_run(model)
-    np.testing.assert_array_equal(run.gains["r_goal"], [5, 0, 0])
-    np.testing.assert_allclose(run.plant["w_t"], np.radians([3, 5, -4]))
+    paper = paper_data("000_scenario_II")
+    np.testing.assert_array_equal(run.gains["r_goal"], paper["controller"]["c000"]["r_goal"])
+    np.testing.assert_allclose(run.plant["w_t"], np.radians(paper["target"]["angular_velocity_deg_s"]))
+
+
+def test_paper_data_resolves_extends():
+    """paper_data is the merged table a run flies: a variant gets its base's values."""
+    var, base = paper_data("000_III_no_acc_d"), paper_data("000_scenario_III")
+    assert var["controller"]["c000"]["acc_d_on"] == 0.0 != base["controller"]["c000"]["acc_d_on"]
+    assert var["orbit"] == base["orbit"] and var["relative"] == base["relative"]
+    assert "reproduction" in base and var["reproduction"] != base["reproduction"]  # each file's own table
+    assert paper_data(III) == base
 
 
 # --------------------------------------------------------------------------- defaults and mapping
@@ -203,7 +225,7 @@ def replaced(old: str, new: str) -> str:
     return BASE.replace(old, new, 1)
 
 
-Q_T = "quaternion = [0.38831, 0.22356, -0.34408, 0.82512]"
+Q_T = "quaternion = [" + ", ".join(map(str, paper_data(III)["target"]["quaternion"])) + "]"
 BAD = {
     "non-unit quaternion": (replaced(Q_T, "quaternion = [0.5, 0.5, 0.5, 0.6]"),
                             "target.quaternion = [0.5, 0.5, 0.5, 0.6]: must be a unit quaternion", "1.05357"),
@@ -288,3 +310,112 @@ def test_extends_merges_tables_and_refuses_cycles(tmp_path):
     (tmp_path / "b.toml").write_text('extends = "a.toml"\n')
     with pytest.raises(ScenarioError, match="cycle"):
         load_scenario(tmp_path / "a.toml")
+
+
+# --------------------------------------------------------------------------- the schema comes from the manifest
+
+
+@pytest.fixture
+def manifest():
+    """A copy of the generated manifest, to patch what symbolic/ declared."""
+    import copy
+
+    from rpo.runtime.compiled import read_manifest
+    return copy.deepcopy(read_manifest())
+
+
+def p_field(manifest, name):
+    return next(f for f in manifest["layouts"]["p"] if f["name"] == name)
+
+
+def test_every_parameter_has_a_scenario_key_and_the_old_keys_are_kept(manifest):
+    keys = {f["name"]: f["scenario"]["key"] for f in manifest["layouts"]["p"]}
+    assert len(set(keys.values())) == len(keys)
+    assert keys["orbit_e"] == "orbit.eccentricity" and keys["dt"] == "simulation.rate"
+    assert keys["wheel_speed_max"] == "wheels.max_speed_rpm" and keys["pwpf_uoff"] == "thrusters.pwpf.u_off"
+    e = p_field(manifest, "orbit_e")
+    assert e["bounds"] == {"lo": 0.0, "hi": 1.0, "lo_open": False, "hi_open": True}
+    inc = p_field(manifest, "orbit_inc")["scenario"]
+    assert inc["unit"] == "deg" and inc["scale"] == pytest.approx(math.pi / 180)
+    assert p_field(manifest, "gg_on")["presets"] == {"full": [1.0]}
+
+
+def test_a_bound_declared_in_symbolic_is_what_validation_enforces(manifest):
+    text = replaced("eccentricity = 0.138", "eccentricity = 0.6")
+    loads_scenario(text, "s.toml", manifest)  # e < 1: valid with the generated bounds
+    p_field(manifest, "orbit_e")["bounds"]["hi"] = 0.5
+    with pytest.raises(ScenarioError) as info:
+        loads_scenario(text, "s.toml", manifest)
+    assert str(info.value) == "s.toml: orbit.eccentricity = 0.6: must be in [0, 0.5)"
+    # in the scenario's unit (deg), from the SI bound (rad)
+    p_field(manifest, "orbit_inc")["bounds"] = {"lo": 0.0, "hi": math.radians(50), "lo_open": False,
+                                                 "hi_open": False}
+    with pytest.raises(ScenarioError, match=r"^s\.toml: orbit\.inclination_deg = 55\.0: must be in \[0, 50\] deg$"):
+        loads_scenario(BASE, "s.toml", manifest)
+
+
+def test_keys_units_and_scales_come_from_the_manifest(manifest, model):
+    f = p_field(manifest, "wheel_beta")
+    f["scenario"].update(key="wheels.tilt_rad", unit="rad", scale=1.0)
+    f["bounds"] = {"lo": 0.0, "hi": 1.0, "lo_open": True, "hi_open": False}
+    text = BASE + "\n[wheels]\ntilt_rad = 0.6\n"
+    sc = loads_scenario(text, "s.toml", manifest)
+    assert scalar(sc.params(), "wheel_beta") == 0.6
+    with pytest.raises(ScenarioError, match=r"wheels\.tilt_rad = 1\.5: must be in \(0, 1\] rad$"):
+        loads_scenario(text.replace("tilt_rad = 0.6", "tilt_rad = 1.5"), "s.toml", manifest)
+    with pytest.raises(ScenarioError, match=r"wheels\.tilt_deg = 30\.0: unknown key \(.*allowed: .*tilt_rad"):
+        loads_scenario(BASE + "\n[wheels]\ntilt_deg = 30.0\n", "s.toml", manifest)
+    # a new parameter gets its table and key without an edit of runtime/
+    manifest["layouts"]["p"].append({"name": "new_p", "size": 1, "unit": "s", "doc": "new", "labels": ["new_p"],
+                                     "default": [1.0], "scenario": {"key": "extra.new_key", "kind": "number",
+                                                                     "unit": "ms", "scale": 1e-3}})
+    sc = loads_scenario(BASE + "\n[extra]\nnew_key = 250.0\n", "s.toml", manifest)
+    assert sc.param_overrides(manifest)["new_p"] == pytest.approx(0.25)
+
+
+def test_the_full_plant_preset_comes_from_the_manifest(manifest):
+    sc = load_scenario(ROOT / "scenarios" / "001_scenario.toml", manifest)
+    full = sc.with_overrides(plant="full").params()
+    defaults = {f["name"]: f["default"] for f in manifest["layouts"]["p"]}
+    for f in manifest["layouts"]["p"]:
+        if "full" in f.get("presets", {}):
+            np.testing.assert_array_equal(full[f["name"]], f["presets"]["full"], err_msg=f["name"])
+    assert scalar(full, "actuators_ideal") == 0.0 and scalar(full, "mag_on") == 1.0   # 001 flies ideal, no B
+    np.testing.assert_array_equal(full["dist_torque_s_nu"], defaults["dist_torque_s_nu"])
+    # the scenario's own bodies, orbit and constraints stay
+    assert scalar(full, "chaser_mass") == paper_data("001_scenario")["chaser"]["mass"]
+    np.testing.assert_array_equal(full["orbit_e"], sc.params()["orbit_e"])
+    # a preset value patched in the manifest is what --plant full applies
+    p_field(manifest, "mag_on")["presets"]["full"] = [0.0]
+    p_field(manifest, "wheel_inertia")["presets"]["full"] = [0.002]
+    sc = load_scenario(ROOT / "scenarios" / "001_scenario.toml", manifest)
+    full = sc.with_overrides(plant="full").params()
+    assert scalar(full, "mag_on") == 0.0 and scalar(full, "wheel_inertia") == 0.002
+    assert sc.with_overrides(plant="full").get("wheels.inertia") == 0.002
+
+
+def test_gain_bounds_from_the_manifest(manifest):
+    text = replaced("r_goal = [5.0, 0.0, 0.0]\n", "r_goal = [5.0, 0.0, 0.0]\nkp_att = -0.1\n")
+    loads_scenario(text, "s.toml", manifest)  # no bound declared on kp_att
+    kp = next(f for f in manifest["layouts"]["k_baseline"] if f["name"] == "kp_att")
+    kp["bounds"] = {"lo": 0.0, "hi": None, "lo_open": False, "hi_open": False}
+    with pytest.raises(ScenarioError, match=r"^s\.toml: controller\.baseline\.kp_att = -0\.1: must be >= 0 N m$"):
+        loads_scenario(text, "s.toml", manifest)
+
+
+def test_gain_overrides_are_validated_like_the_gains_table():
+    sc = load_scenario(III)
+    over = sc.with_overrides(gains={"acc_d_on": 0.0, "d_att": [0.01, 0.01, 0.01]})
+    assert over.controller["c000"]["acc_d_on"] == 0.0 and over.controller["c000"]["d_att"] == [0.01] * 3
+    assert over.controller["c000"]["lam_att"] == sc.controller["c000"]["lam_att"]
+    with pytest.raises(ScenarioError, match=r"controller\.c000\.nope = 1\.0: unknown key"):
+        sc.with_overrides(gains={"nope": 1.0})
+    with pytest.raises(ScenarioError, match=r"controller\.c000\.d_att = \[1\.0\]: must have 3 values, got 1"):
+        sc.with_overrides(gains={"d_att": [1.0]})
+
+
+def test_validate_scenario_reports_the_reproduction_table():
+    data = paper_data("000_scenario_I")
+    data["reproduction"]["run"][0]["plants"] = ["moon"]
+    with pytest.raises(ScenarioError, match=r'^x\.toml: reproduction\.run\[0\]\.plants\[0\] = "moon": must be one of'):
+        validate_scenario(data, "x.toml")

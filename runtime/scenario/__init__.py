@@ -1,0 +1,79 @@
+"""Scenario files: a TOML description of one run, validated into the inputs of a simulation.
+
+Every table and key is optional unless marked *required*.  Unknown keys are errors.  Two kinds of
+key exist:
+
+* **parameters** of the model (orbit, environment, bodies' mass properties, wheels, thrusters,
+  plant options, disturbances, sensors, constraints, the step): their key, unit, scale to SI and
+  admissible range are recorded per field of layout ``p`` in ``generated/manifest.json`` (declared
+  in ``symbolic/plant.py``; ``rpo info`` lists them with their keys).  An omitted parameter takes
+  the manifest default;
+* the keys written in :mod:`.schema`: ``[meta]`` (name, description, source); ``[simulation]``
+  ``duration`` (*required*, s), ``seed``, ``controller``, ``record_every``;
+  ``orbit.perigee_altitude`` (m, instead of the semi-major axis); the initial state of
+  ``[chaser]`` and ``[target]`` (*required* ``attitude_frame`` = ``"eci"``, ``"lvlh"`` or
+  ``"orbit"`` and ``quaternion`` [x, y, z, w] relative to it; ``angular_velocity`` rad/s or
+  ``angular_velocity_deg_s``, body axes, relative to ECI or, with
+  ``angular_velocity_relative_to = "attitude_frame"``, to that frame; chaser ``wheel_speed_rpm``
+  relative to the body or ``wheel_momentum`` N m s); ``[relative]`` ``position`` [m] and
+  ``velocity`` [m/s] in LVLH (*required*); ``[controller.<name>]`` gains by the names of the
+  manifest layout ``k_<name>``; ``[reproduction]`` (:mod:`.reproduction`).
+
+``extends = "<base>.toml"`` makes a variant of a base file (:mod:`.loader`).  Every error is ONE
+line naming the file, the dotted key, the offending value and the allowed range, e.g.
+``scenario.toml: orbit.eccentricity = 1.2: must be in [0, 1)``, raised as
+:class:`~rpo.runtime.errors.ScenarioError` (:mod:`.messages`).
+
+Modules: :mod:`.loader` (TOML and ``extends``), :mod:`.params` (the manifest's parameter
+entries), :mod:`.schema` (sections and validation), :mod:`.initial_state` (to the inputs of a
+run), :mod:`.messages` (error text), :mod:`.reproduction` (the report's table).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from .initial_state import RunInputs, run_inputs
+from .loader import ScenarioSource, merge, parse_toml, read_scenario
+from .messages import format_error
+from .params import Interval, ScenarioParam, manifest_defaults, scenario_params
+from .reproduction import Reproduction
+from .schema import DEG, MAX_RECORD_BYTES, QUAT_TOL, RPM, Scenario, apply_preset, scenario_model, validate_scenario
+
+#: The scenarios of this checkout (``<repo>/scenarios``); absent in an installed copy.
+SCENARIO_DIR = Path(__file__).resolve().parents[2] / "scenarios"
+
+__all__ = [
+    "DEG", "MAX_RECORD_BYTES", "QUAT_TOL", "RPM", "SCENARIO_DIR", "Interval", "Reproduction", "RunInputs",
+    "Scenario", "ScenarioParam", "ScenarioSource", "apply_preset", "format_error", "load_scenario",
+    "loads_scenario", "manifest_defaults", "merge", "paper_data", "parse_toml", "read_scenario", "run_inputs",
+    "scenario_model", "scenario_params", "validate_scenario",
+]
+
+
+def load_scenario(path: str | Path | ScenarioSource, manifest: dict | None = None) -> Scenario:
+    """Read and validate a scenario file (TOML, optionally ``extends`` a base file), or validate one
+    already read by :func:`read_scenario`.  ``manifest`` defaults to the generated one."""
+    src = path if isinstance(path, ScenarioSource) else read_scenario(path)
+    sc = validate_scenario(src.data, src.source, manifest)
+    sc._text = src.text
+    return sc
+
+
+def loads_scenario(text: str, source: str = "scenario", manifest: dict | None = None) -> Scenario:
+    """Validate a scenario given as TOML text (``source`` names it in error messages)."""
+    sc = validate_scenario(parse_toml(text, source), source, manifest)
+    sc._text = text
+    return sc
+
+
+def paper_data(name: str | Path, folder: Path | None = None) -> dict[str, Any]:
+    """The table of a scenario file as written (``extends`` resolved, not validated): the one place
+    a paper's gains, initial state and published values are typed, for tests and scripts to read
+    instead of retyping them.  ``name`` is a path, or a file stem in ``folder`` (default
+    :data:`SCENARIO_DIR`): ``paper_data("000_scenario_III")["orbit"]["eccentricity"]``."""
+    path = Path(name)
+    if not path.suffix:
+        path = (folder or SCENARIO_DIR) / f"{name}.toml"
+    return read_scenario(path).data

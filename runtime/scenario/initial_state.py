@@ -1,0 +1,122 @@
+"""From a validated scenario to the inputs of a run: SI parameters, gains and the initial state.
+
+Attitudes given relative to ``lvlh``/``orbit`` use the LVLH attitude ``q_IL`` and rate ``n`` of
+the generated ``target_orbit`` function at t = 0, and wheel speeds become absolute momenta
+through the generated ``env_outputs``: no orbit or actuator equation is retyped here.
+"""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from .. import frames
+from ..errors import ModelError, ScenarioError
+from .params import param
+from .schema import RPM, _Body
+
+if TYPE_CHECKING:
+    from ..compiled import Model
+    from .schema import Scenario
+
+
+@dataclass
+class RunInputs:
+    """Everything a run needs, in SI: ``params`` (all p fields), ``gains``, the initial ``plant``
+    state for :meth:`Simulation.initial_state` (attitudes relative to ECI, rates relative to ECI
+    in body axes, r and v in LVLH), and the run settings."""
+
+    params: dict[str, np.ndarray]
+    gains: dict[str, np.ndarray]
+    plant: dict[str, np.ndarray]
+    duration: float
+    seed: int
+    controller: str
+    record_every: int
+    dt: float
+    frame_info: dict[str, Any] = field(default_factory=dict)
+
+    def to_json(self) -> dict[str, Any]:
+        """JSON-ready copy (arrays as lists, 1-element arrays as numbers)."""
+
+        def conv(v: Any) -> Any:
+            if isinstance(v, dict):
+                return {k: conv(x) for k, x in v.items()}
+            a = np.asarray(v)
+            if a.dtype.kind == "f" or a.dtype.kind == "i":
+                return a.item() if a.size == 1 else a.tolist()
+            return v
+
+        return {k: conv(v) for k, v in asdict(self).items()}
+
+
+def run_inputs(sc: Scenario, model: Model) -> RunInputs:
+    """Inputs of :class:`~rpo.runtime.simulate.Simulation` for ``model``: all parameters in SI,
+    the gains, and the plant's initial state with attitudes relative to ECI."""
+    manifest = model.manifest
+    params = sc.params(manifest)
+    gains = sc.gains(manifest)
+    try:
+        p = model.vector("p", params)
+        orbit = model.functions["target_orbit"](0.0, p)
+    except KeyError as exc:
+        raise ModelError(f"the generated model has no function {exc}: run `python build.py`") from exc
+    _nu, _r, _r_dot, n_arr, _n_dot, _r_eci, _v_eci, q_IL_arr = orbit
+    n = float(np.ravel(n_arr)[0])
+    q_IL = np.ravel(q_IL_arr)
+    if float(params["gravity_on"][0]) == 0.0:
+        # free space: the frame of r, v ("lvlh") is fixed in ECI (symbolic/plant.py reference_frame)
+        n, q_IL = 0.0, np.array([0.0, 0.0, 0.0, 1.0])
+
+    def body(b: _Body) -> tuple[np.ndarray, np.ndarray]:
+        q_IB = frames.attitude_to_eci(b.quaternion, b.attitude_frame, q_IL)
+        rel_frame = b.attitude_frame if b.angular_velocity_relative_to == "attitude_frame" else "eci"
+        return q_IB, frames.body_rate_eci(b.rate_rad_s(), q_IB, rel_frame, q_IL, n)
+
+    q_c, w_c = body(sc.chaser)
+    q_t, w_t = body(sc.target)
+    plant = {"q_c": q_c, "w_c": w_c, "q_t": q_t, "w_t": w_t,
+             "r": np.array(sc.relative.position, float), "v": np.array(sc.relative.velocity, float)}
+    if sc.chaser.wheel_momentum is not None:
+        plant["h_w"] = np.array(sc.chaser.wheel_momentum, float)
+    else:
+        speeds = np.array(sc.chaser.wheel_speed_rpm or [0.0] * 4, float) * RPM
+        limit = float(params["wheel_speed_max"][0])
+        if np.abs(speeds).max() > limit * (1 + 1e-12):
+            key = param(manifest, "wheel_speed_max")
+            raise ScenarioError(f"{sc.source}: chaser.wheel_speed_rpm = {sc.chaser.wheel_speed_rpm}: each |speed| "
+                                f"must be <= {key.key} = {key.to_scenario([limit]):g} {key.unit}")
+        plant["h_w"] = _wheel_momentum(model, p, plant, speeds)
+    sim = sc.simulation
+    return RunInputs(params={k: v.copy() for k, v in params.items()}, gains=gains, plant=plant,
+                     duration=float(sim.duration), seed=int(sim.seed), controller=sim.controller,
+                     record_every=int(sim.record_every), dt=float(params["dt"][0]),
+                     frame_info={"q_IL0": q_IL, "n0": n})
+
+
+def _wheel_momentum(model: Model, p: np.ndarray, plant: dict[str, np.ndarray], speeds: np.ndarray) -> np.ndarray:
+    """Absolute wheel momenta h_w [N m s] giving wheel ``speeds`` [rad/s] relative to the body.
+
+    Uses the generated ``env_outputs`` (wheel speeds are affine in h_w with slope 1 / J_w):
+    no actuator equation is retyped here; the result is checked by evaluating it again.
+    """
+    try:
+        fn = model.functions["env_outputs"]
+    except KeyError as exc:
+        raise ModelError("the generated model has no function env_outputs: run `python build.py`") from exc
+    offs = model.offsets("env")["wheel_speed"]
+    J = float(p[model.offsets("p")["wheel_inertia"]][0])
+
+    def omega(h: np.ndarray) -> np.ndarray:
+        x = model.vector("x", {**plant, "h_w": h, "m_prop": 0.0})
+        u = np.zeros(model.layout_size("u"))
+        w = np.zeros(model.layout_size("w"))
+        return np.asarray(np.ravel(fn(x, u, 0.0, p, w)[0])[offs])
+
+    h = J * (speeds - omega(np.zeros(4)))
+    check = omega(h)
+    if not np.allclose(check, speeds, rtol=1e-9, atol=1e-9):
+        raise ModelError(f"wheel speeds are not affine in h_w with slope 1/J_w (got {check}, wanted {speeds})")
+    return np.asarray(h)

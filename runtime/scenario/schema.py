@@ -1,0 +1,505 @@
+"""The scenario schema: pydantic sections, half written here and half derived from the manifest.
+
+Written here are the keys that are not model parameters: ``[meta]``, the run settings of
+``[simulation]`` (duration, seed, controller, record_every), ``orbit.perigee_altitude`` (an
+alternative to the semi-major axis), the initial state of ``[chaser]``, ``[target]`` and
+``[relative]``, the gains tables ``[controller.<name>]`` (checked against the manifest's gains
+layouts) and ``[reproduction]``.  Every other key is a parameter of layout ``p`` whose key, kind,
+unit, scale and bounds the manifest records (:mod:`.params`): :func:`scenario_model` adds them
+to these sections, or makes new sections for them, so a parameter added or re-bounded in
+``symbolic/plant.py`` is validated here after ``python build.py`` with no edit of ``runtime/``.
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import math
+from pathlib import Path
+from typing import TYPE_CHECKING, Annotated, Any, Literal, cast
+
+import numpy as np
+from pydantic import (
+    AfterValidator,
+    BaseModel,
+    ConfigDict,
+    Field,
+    PrivateAttr,
+    ValidationError,
+    ValidationInfo,
+    create_model,
+    model_validator,
+)
+from pydantic_core import PydanticCustomError
+
+from ..errors import ModelError, ScenarioError
+from .messages import field_error, first_error, unknown_key
+from .params import ScenarioParam, finite, gain_bounds, manifest_defaults, param, scenario_params
+from .reproduction import Reproduction
+
+if TYPE_CHECKING:
+    from ..compiled import Model
+    from .initial_state import RunInputs
+
+DEG = math.pi / 180.0
+RPM = 2.0 * math.pi / 60.0
+#: Tolerance on |q| - 1 for a quaternion typed in a scenario (4 printed digits).
+QUAT_TOL = 1e-3
+#: Largest time history a run may record (z and y, float64), so a typo cannot exhaust memory.
+MAX_RECORD_BYTES = 2e9
+
+
+# --------------------------------------------------------------------------- value types
+
+
+def _range(lo: float, lo_open: bool = False, unit: str = "") -> AfterValidator:
+    """A lower bound on a key that is not a manifest parameter."""
+    text = f"must be {'>' if lo_open else '>='} {lo:g}" + (f" {unit}" if unit else "")
+
+    def check(v):
+        if v <= lo if lo_open else v < lo:
+            raise PydanticCustomError("range", text)
+        return v
+
+    return AfterValidator(check)
+
+
+Vec3 = Annotated[list[float], Field(min_length=3, max_length=3)]
+Vec4 = Annotated[list[float], Field(min_length=4, max_length=4)]
+Frame = Literal["eci", "lvlh", "orbit"]
+
+
+def _unit_quaternion(q: list[float]) -> list[float]:
+    n = math.sqrt(sum(c * c for c in q))
+    if not abs(n - 1.0) <= QUAT_TOL:
+        raise PydanticCustomError(
+            "quaternion", f"must be a unit quaternion [x, y, z, w] (|q| = {n:.6g}; allowed ||q| - 1| <= {QUAT_TOL:g})")
+    return [c / n for c in q]
+
+
+Quaternion = Annotated[Vec4, AfterValidator(_unit_quaternion)]
+
+
+def _physical_inertia(rows: list[list[float]]) -> list[list[float]]:
+    I = np.array(rows, dtype=float)
+    scale = float(np.max(np.abs(I))) or 1.0
+    for i, j in ((0, 1), (0, 2), (1, 2)):
+        if abs(I[i, j] - I[j, i]) > 1e-9 * scale:
+            raise PydanticCustomError(
+                "inertia", f"must be symmetric (row {i} column {j} is {I[i, j]:g}, row {j} column {i} is {I[j, i]:g})")
+    lam = np.linalg.eigvalsh(0.5 * (I + I.T))
+    shown = ", ".join(f"{x:.6g}" for x in lam)
+    if lam[0] <= 0:
+        raise PydanticCustomError(
+            "inertia", f"must be positive definite (principal moments {shown} kg m^2; all must be > 0)")
+    if lam[0] + lam[1] < lam[2] * (1 - 1e-9):
+        raise PydanticCustomError(
+            "inertia", f"principal moments {shown} kg m^2 violate the triangle inequality I1 + I2 >= I3 "
+                       "(not a physical body)")
+    return cast(list[list[float]], I.tolist())
+
+
+Inertia = Annotated[list[Vec3], Field(min_length=3, max_length=3), AfterValidator(_physical_inertia)]
+
+
+def param_type(prm: ScenarioParam) -> Any:
+    """The pydantic type of the scenario value of a manifest parameter (checked against its bounds)."""
+    if prm.kind == "switch":
+        return bool
+    if prm.kind == "choice":
+        return Literal[tuple(prm.choices)]  # type: ignore[valid-type]
+    if prm.kind == "inertia":
+        return Inertia
+    base: Any = float if prm.size == 1 else Annotated[list[float], Field(min_length=prm.size, max_length=prm.size)]
+    if prm.bounds is None:
+        return base
+    text = prm.allowed()
+
+    def check(v):
+        if not prm.in_bounds(v):
+            raise PydanticCustomError("range", text)
+        return v
+
+    return Annotated[base, AfterValidator(check)]
+
+
+# --------------------------------------------------------------------------- static sections
+
+
+class _Section(BaseModel):
+    model_config = ConfigDict(extra="forbid", strict=True, allow_inf_nan=False)
+
+
+class Meta(_Section):
+    name: str | None = None
+    description: str = ""
+    source: str = ""
+
+
+class SimulationSection(_Section):
+    duration: Annotated[float, _range(0, lo_open=True)]  # s
+    seed: Annotated[int, _range(0)] = 0
+    controller: str = "baseline"
+    record_every: Annotated[int, _range(1)] = 1
+
+
+class Orbit(_Section):
+    #: alternative to the semi-major axis: a = (R_E + perigee_altitude) / (1 - e)
+    perigee_altitude: Annotated[float, _range(0, True, "m (a lower perigee is below the surface)")] | None = None
+
+
+class _Body(_Section):
+    attitude_frame: Frame
+    quaternion: Quaternion
+    angular_velocity: Vec3 | None = None
+    angular_velocity_deg_s: Vec3 | None = None
+    angular_velocity_relative_to: Literal["eci", "attitude_frame"] = "eci"
+
+    @model_validator(mode="after")
+    def _one_rate(self):
+        if self.angular_velocity is not None and self.angular_velocity_deg_s is not None:
+            raise field_error("angular_velocity_deg_s", self.angular_velocity_deg_s,
+                              "give either angular_velocity (rad/s) or angular_velocity_deg_s, not both")
+        return self
+
+    def rate_rad_s(self) -> np.ndarray:
+        """Angular velocity as given (relative to ``angular_velocity_relative_to``), rad/s, body axes."""
+        if self.angular_velocity is not None:
+            return np.array(self.angular_velocity, float)
+        if self.angular_velocity_deg_s is not None:
+            return np.array(self.angular_velocity_deg_s, float) * DEG
+        return np.zeros(3)
+
+
+class Chaser(_Body):
+    wheel_momentum: Vec4 | None = None
+    wheel_speed_rpm: Vec4 | None = None
+
+    @model_validator(mode="after")
+    def _one_wheel_state(self):
+        if self.wheel_momentum is not None and self.wheel_speed_rpm is not None:
+            raise field_error("wheel_speed_rpm", self.wheel_speed_rpm,
+                              "give either wheel_momentum (N m s) or wheel_speed_rpm, not both")
+        return self
+
+
+class Target(_Body):
+    pass
+
+
+class Relative(_Section):
+    position: Vec3
+    velocity: Vec3
+
+
+# --------------------------------------------------------------------------- the scenario
+
+
+class Scenario(_Section):
+    """A validated scenario.  Build it with :func:`~rpo.runtime.scenario.load_scenario`; turn it
+    into the inputs of a :class:`~rpo.runtime.simulate.Simulation` with :meth:`to_run`.
+
+    The class validated is :func:`scenario_model` of the manifest, a subclass that adds the
+    parameter keys; read those with :meth:`get` (``sc.get("orbit.eccentricity")``).
+    """
+
+    meta: Meta = Field(default_factory=Meta)
+    simulation: SimulationSection
+    orbit: Orbit = Field(default_factory=Orbit)
+    chaser: Chaser
+    target: Target
+    relative: Relative
+    controller: dict[str, dict[str, Any]] = Field(default_factory=dict)
+    reproduction: Reproduction | None = None
+
+    _source: str = PrivateAttr(default="scenario")
+    _manifest: dict = PrivateAttr(default_factory=dict)
+    _data: dict = PrivateAttr(default_factory=dict)
+    _text: str | None = PrivateAttr(default=None)
+
+    # -- lookups -----------------------------------------------------------------------------
+
+    def get(self, path: str) -> Any:
+        """Value at a dotted path (``"orbit.eccentricity"``), None when omitted."""
+        obj: Any = self
+        for part in path.split("."):
+            obj = getattr(obj, part, None)
+            if obj is None:
+                return None
+        return obj
+
+    @property
+    def manifest(self) -> dict:
+        return self._manifest
+
+    @property
+    def data(self) -> dict:
+        """A copy of the table the scenario was validated from (``extends`` resolved)."""
+        return copy.deepcopy(self._data)
+
+    def param_overrides(self, manifest: dict | None = None) -> dict[str, Any]:
+        """The parameters this scenario sets, by p-field name, in SI (omitted ones are absent)."""
+        manifest = manifest or self._manifest
+        out: dict[str, Any] = {}
+        for prm in scenario_params(manifest):
+            v = self.get(prm.key)
+            if v is not None:
+                out[prm.name] = prm.to_si(v)
+        if self.orbit.perigee_altitude is not None:
+            d = manifest_defaults(manifest, "p")
+            e = out.get("orbit_e", float(d["orbit_e"][0]))
+            r_e = out.get("r_earth", float(d["r_earth"][0]))
+            out["orbit_a"] = (r_e + self.orbit.perigee_altitude) / (1.0 - e)  # perigee radius = a (1 - e)
+        return out
+
+    def params(self, manifest: dict | None = None) -> dict[str, np.ndarray]:
+        """Every parameter (defaults overridden by the scenario), by p-field name, SI."""
+        manifest = manifest or self._manifest
+        p = manifest_defaults(manifest, "p")
+        for k, v in self.param_overrides(manifest).items():
+            p[k] = np.atleast_1d(np.asarray(v, float))
+        return p
+
+    def gains(self, manifest: dict | None = None) -> dict[str, np.ndarray]:
+        """Gains of the selected controller (defaults overridden by ``[controller.<name>]``)."""
+        manifest = manifest or self._manifest
+        ctrl = self.simulation.controller
+        g = manifest_defaults(manifest, manifest["controllers"][ctrl]["gains"])
+        for k, v in self.controller.get(ctrl, {}).items():
+            g[k] = np.atleast_1d(np.asarray(v, float))
+        return g
+
+    # -- cross-field checks (need the manifest's defaults) ---------------------------------------
+
+    @model_validator(mode="after")
+    def _cross_checks(self, info: ValidationInfo):
+        manifest = (info.context or {}).get("manifest")
+        if manifest is None:
+            from ..compiled import read_manifest
+            manifest = read_manifest()
+        self._manifest = manifest
+        self._check_controller(manifest)
+
+        def key(name: str) -> str:
+            return param(manifest, name).key
+
+        if self.orbit.perigee_altitude is not None and self.get(key("orbit_a")) is not None:
+            raise field_error(key("orbit_a"), self.get(key("orbit_a")),
+                              f"give either perigee_altitude or {key('orbit_a').rsplit('.', 1)[-1]}, not both")
+        p: dict[str, Any] = {k: float(v[0]) if v.size == 1 else v for k, v in self.params(manifest).items()}
+        sim = self.simulation
+
+        # orbit: the perigee must be above the surface
+        r_p = p["orbit_a"] * (1 - p["orbit_e"])
+        if not r_p > p["r_earth"]:
+            where = next((k for k in (key("orbit_a"), key("orbit_e"), key("r_earth")) if self.get(k) is not None),
+                         key("orbit_a"))
+            raise field_error(where, self.get(where),
+                              f"perigee below the surface: perigee radius a (1 - e) = {r_p:.7g} m with "
+                              f"a = {p['orbit_a']:.7g} m, e = {p['orbit_e']:g}; must be > R_E = {p['r_earth']:.7g} m")
+
+        # time: at least one step; the wheel delay fits the delay line
+        dt = p["dt"]
+        if sim.duration < dt * (1 - 1e-9):
+            raise field_error("simulation.duration", sim.duration,
+                              f"must be at least one step (1 / rate = {dt:g} s)")
+        steps = sim.duration / dt
+        if abs(steps - round(steps)) > 1e-9 * max(1.0, steps):
+            # a fixed-step run covers whole steps; rounding silently would misreport the end time
+            raise field_error("simulation.duration", sim.duration,
+                              f"must be a whole number of steps of 1 / rate = {dt:g} s")
+        slots = int(manifest.get("delay_slots", 4))
+        if not p["wheel_delay"] < slots * dt:
+            where = key("wheel_delay") if self.get(key("wheel_delay")) is not None else key("dt")
+            raise field_error(where, self.get(where),
+                              f"the wheel delay {p['wheel_delay']:g} s must be in [0, {slots * dt:g}) s: the model's "
+                              f"delay line holds {slots} steps of 1 / rate = {dt:g} s")
+        n_rows = int(round(sim.duration / dt)) // sim.record_every + 1
+        ctrl = manifest["controllers"][sim.controller]["step"]
+        width = sum(math.prod(o["shape"]) for o in manifest["functions"][ctrl]["outputs"])
+        size = n_rows * width * 8
+        if size > MAX_RECORD_BYTES:
+            raise field_error("simulation.duration", sim.duration,
+                              f"would record {n_rows} rows ({size / 1e9:.3g} GB, limit "
+                              f"{MAX_RECORD_BYTES / 1e9:g} GB): raise simulation.record_every or shorten the run")
+
+        # ideal actuators need their limits (the defaults are placeholders, not a paper's values)
+        ideal, f_max, t_max = (param(manifest, n) for n in ("actuators_ideal", "force_max", "torque_max"))
+        if p["actuators_ideal"] == 1.0 and (self.get(f_max.key) is None or self.get(t_max.key) is None):
+            raise field_error(ideal.key, self.get(ideal.key),
+                              f"ideal actuators need {f_max.key} [{f_max.unit}] and {t_max.key} [{t_max.unit}] "
+                              "(per axis)")
+
+        # thrusters: Schmitt trigger levels
+        if not p["pwpf_uoff"] < p["pwpf_uon"]:
+            on, off = key("pwpf_uon"), key("pwpf_uoff")
+            where = off if self.get(off) is not None else on
+            a, b = off.rsplit(".", 1)[-1], on.rsplit(".", 1)[-1]
+            raise field_error(where, self.get(where),
+                              f"must satisfy 0 < {a} < {b} ({a} = {p['pwpf_uoff']:g}, {b} = {p['pwpf_uon']:g})")
+        return self
+
+    def _check_controller(self, manifest: dict) -> None:
+        ctrls = manifest["controllers"]
+        if self.simulation.controller not in ctrls:
+            raise field_error("simulation.controller", self.simulation.controller,
+                              f"unknown controller; available: {', '.join(sorted(ctrls))}")
+        for name, table in self.controller.items():
+            if name not in ctrls:
+                raise field_error(f"controller.{name}", table,
+                                  f"unknown controller; available: {', '.join(sorted(ctrls))}")
+            layout = {f["name"]: f for f in manifest["layouts"][ctrls[name]["gains"]]}
+            for k, value in table.items():
+                path = f"controller.{name}.{k}"
+                if k not in layout:
+                    raise field_error(path, value, unknown_key(k, list(layout)))
+                size, unit = layout[k]["size"], layout[k]["unit"]
+                items = value if isinstance(value, list) else [value]
+                numeric = all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in items)
+                if (size == 1) == isinstance(value, list) or not numeric:
+                    want = "a number" if size == 1 else f"an array of {size} numbers"
+                    raise field_error(path, value, f"must be {want} ({unit})")
+                if len(items) != size:
+                    raise field_error(path, value, f"must have {size} values, got {len(items)}")
+                if not finite(items):
+                    raise field_error(path, value, "must be finite")
+                bounds = gain_bounds(layout[k])
+                if bounds is not None and not all(bounds.contains(float(x)) for x in items):
+                    raise field_error(path, value, f"must be {bounds.text(unit)}")
+
+    # -- to a run ----------------------------------------------------------------------------
+
+    @property
+    def source(self) -> str:
+        return self._source
+
+    @property
+    def text(self) -> str | None:
+        """The TOML text the scenario was read from (None if built from a table)."""
+        return self._text
+
+    @property
+    def name(self) -> str:
+        return self.meta.name or Path(self._source).stem
+
+    def with_overrides(self, duration: float | None = None, seed: int | None = None,
+                       controller: str | None = None, plant: str | None = None,
+                       gains: dict[str, Any] | None = None) -> Scenario:
+        """A re-validated copy with ``simulation.duration`` / ``seed`` / ``controller`` replaced,
+        ``gains`` (name -> value) merged into the selected controller's gains table and, with
+        ``plant="full"``, the paper's plant replaced by the manifest's preset ``full``: every p
+        field with a ``presets.full`` value is set to it (removed from the scenario where that
+        value is the manifest default)."""
+        if duration is None and seed is None and controller is None and plant in (None, "paper") and not gains:
+            return self
+        data = copy.deepcopy(self._data)
+        sim = data.setdefault("simulation", {})
+        if duration is not None:
+            sim["duration"] = duration
+        if seed is not None:
+            sim["seed"] = seed
+        if controller is not None:
+            sim["controller"] = controller
+        if gains:
+            ctrl = sim.get("controller", self.simulation.controller)
+            table = data.setdefault("controller", {}).setdefault(ctrl, {})
+            entry = self._manifest["controllers"].get(ctrl)
+            sizes = {f["name"]: f["size"] for f in self._manifest["layouts"][entry["gains"]]} if entry else {}
+            for k, v in gains.items():
+                arr = np.ravel(np.asarray(v, float))
+                # as a scenario would write it: a number for a one-entry gain, else an array
+                table[k] = float(arr[0]) if sizes.get(k, arr.size) == 1 and arr.size == 1 else arr.tolist()
+        if plant not in (None, "paper"):
+            apply_preset(data, self._manifest, plant)
+        sc = validate_scenario(data, f"{self._source} (with command-line overrides)", self._manifest)
+        sc._text = self._text
+        return sc
+
+    def to_run(self, model: Model) -> RunInputs:
+        """Inputs of :class:`~rpo.runtime.simulate.Simulation` for ``model`` (see
+        :func:`~rpo.runtime.scenario.initial_state.run_inputs`)."""
+        from .initial_state import run_inputs
+        return run_inputs(self, model)
+
+
+def apply_preset(data: dict, manifest: dict, preset: str) -> None:
+    """Set, in a scenario table, every parameter of the manifest's ``preset`` (in place)."""
+    members = [prm for prm in scenario_params(manifest) if preset in prm.presets]
+    if not members:
+        raise ScenarioError(f"the generated model has no parameter preset {preset!r}")
+    for prm in members:
+        *sections, leaf = prm.key.split(".")
+        table = data
+        for s in sections:
+            table = table.setdefault(s, {})
+        value = prm.presets[preset]
+        if prm.default is not None and tuple(value) == tuple(prm.default):
+            table.pop(leaf, None)
+        else:
+            table[leaf] = prm.to_scenario(value)
+
+
+# --------------------------------------------------------------------------- derived model
+
+_MODELS: dict[str, type[Scenario]] = {}
+
+
+def scenario_model(manifest: dict) -> type[Scenario]:
+    """:class:`Scenario` with the manifest's parameter keys added (cached per parameter schema)."""
+    params = scenario_params(manifest)
+    cache_key = json.dumps([f for f in manifest["layouts"]["p"] if "scenario" in f], sort_keys=True)
+    if cache_key in _MODELS:
+        return _MODELS[cache_key]
+    tree: dict[str, Any] = {}
+    for prm in params:
+        *sections, leaf = prm.key.split(".")
+        if not sections:
+            raise ModelError(f"manifest: parameter {prm.name}: scenario key {prm.key!r} is not in a table")
+        node = tree
+        for s in sections:
+            node = node.setdefault(s, {})
+            if not isinstance(node, dict):
+                raise ModelError(f"manifest: scenario key {prm.key!r} is inside the key of another parameter")
+        if leaf in node:
+            raise ModelError(f"manifest: two parameters have the scenario key {prm.key!r}")
+        node[leaf] = prm
+    cls = cast(type[Scenario], _build("Scenario", tree, Scenario))
+    _MODELS[cache_key] = cls
+    return cls
+
+
+def _build(name: str, node: dict[str, Any], base: type[BaseModel]) -> type[BaseModel]:
+    fields: dict[str, Any] = {}
+    for k, v in node.items():
+        existing = base.model_fields.get(k)
+        if isinstance(v, ScenarioParam):
+            if existing is not None:
+                raise ModelError(f"manifest: scenario key {v.key!r} is also a key written in runtime/scenario")
+            fields[k] = (param_type(v) | None, None)
+            continue
+        sub_base: Any = _Section
+        if existing is not None:
+            ann = existing.annotation
+            if not (isinstance(ann, type) and issubclass(ann, _Section)):
+                raise ModelError(f"manifest: scenario keys under {name}.{k} clash with a key of runtime/scenario")
+            sub_base = ann
+        sub = _build(f"{name}.{k}", v, sub_base)
+        required = existing is not None and existing.is_required()
+        fields[k] = (sub, ... if required else Field(default_factory=sub))
+    return create_model(name, __base__=base, **fields)
+
+
+def validate_scenario(data: dict, source: str = "scenario", manifest: dict | None = None) -> Scenario:
+    """Validate a parsed scenario table; raises :class:`ScenarioError` with a one-line message."""
+    if manifest is None:
+        from ..compiled import read_manifest
+        manifest = read_manifest()
+    cls = scenario_model(manifest)
+    try:
+        sc = cls.model_validate(data, context={"manifest": manifest})
+    except ValidationError as exc:
+        raise ScenarioError(first_error(exc.errors(include_url=False), source, cls)) from None
+    sc._source = source
+    sc._manifest = manifest
+    sc._data = copy.deepcopy(data)
+    return sc
