@@ -6,7 +6,8 @@
                                          # docs/verification.json or a claim about rpo's code fails
     python verify.py --controller c004   # check one controller's claims and print them (writes nothing)
 
-Claims live in ``symbolic/lyapunov/<controller>.py``; the method is in ``docs/verification_method.md``.
+Claims live in ``symbolic/lyapunov/<controller>/``, discovered (a controller without one is not checked);
+the method is in ``docs/verification_method.md``.
 Like build.py, this uses *this checkout's* symbolic/ (never an installed copy).
 """
 
@@ -26,12 +27,15 @@ MD, JSON = ROOT / "docs" / "verification.md", ROOT / "docs" / "verification.json
 
 
 def main(argv: list[str] | None = None) -> int:
+    _bootstrap()
+    from rpo.symbolic.lyapunov import controllers
+
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--check", action="store_true",
                     help="compare statuses with docs/verification.json; exit 1 on any change")
     ap.add_argument("--against", type=Path, default=JSON,
                     help="the report --check compares with (default: %(default)s)")
-    ap.add_argument("--controller", choices=("c000", "c001", "c002", "c004"),
+    ap.add_argument("--controller", choices=controllers(),
                     help="only this controller's claims (prints; writes nothing)")
     ap.add_argument("--jobs", type=int, default=min(2, os.cpu_count() or 1),
                     help="claims checked in parallel (default: min(2, cores))")
@@ -41,7 +45,6 @@ def main(argv: list[str] | None = None) -> int:
         print(f"verify.py: --jobs must be >= 1 (got {args.jobs})", file=sys.stderr)
         return 2
 
-    _bootstrap()
     from rpo.symbolic.lyapunov import report
 
     t0 = time.perf_counter()

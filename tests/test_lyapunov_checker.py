@@ -12,7 +12,8 @@ from scipy.spatial.transform import Rotation
 from rpo.symbolic import rotations as rot
 from rpo.symbolic.lyapunov import core
 from rpo.symbolic.lyapunov.check import check_claim, check_statement, numeric_search
-from rpo.symbolic.lyapunov.core import Claim, Statement, ball, box, unit_quaternion
+from rpo.symbolic.lyapunov.core import Claim, Statement
+from rpo.symbolic.lyapunov.domains import ball, box, unit_quaternion
 
 a, b, x, y, z = sp.symbols("a b x y z", real=True)
 k, d = sp.symbols("k delta", positive=True)
@@ -151,11 +152,12 @@ def test_mutation_patches_and_restores_even_on_error():
 
 
 def test_rotation_domain_used_by_claims_is_a_rotation():
-    """The MRP -> matrix map the 004 claims draw R from is scipy's (independent of the model's eq. 9)."""
-    from rpo.symbolic.lyapunov.c004 import _rotation_from_mrp_box
+    """The MRP -> matrix map the claims draw R from (domains.rotation_matrix) is scipy's (independent of the
+    model's eq. 9)."""
+    from rpo.symbolic.lyapunov.domains import rotation_matrix
 
     z = np.random.default_rng(2).uniform(-1, 1, size=(50, 3))
-    R = _rotation_from_mrp_box(z, {}).reshape(-1, 3, 3)
+    R = rotation_matrix(sp.symbols("R_1:10")).draw(z, {}).reshape(-1, 3, 3)
     assert np.allclose(np.einsum("nij,nkj->nik", R, R), np.eye(3), atol=1e-12)
     assert np.allclose(np.linalg.det(R), 1.0)
     sig = z / np.maximum(np.linalg.norm(z, axis=1, keepdims=True), 1.0)

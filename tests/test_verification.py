@@ -23,11 +23,11 @@ MUTATIONS = lyapunov.mutations()
 def test_claim_ids_are_unique_and_every_controller_has_claims():
     ids = [c.id for c in lyapunov.claims()]
     assert len(ids) == len(set(ids))
-    assert {c.controller for c in lyapunov.claims()} == set(lyapunov.CONTROLLERS)
+    assert {c.controller for c in lyapunov.claims()} == set(lyapunov.controllers())
 
 
 def test_every_controller_has_mutations_in_control_and_adaptation_or_observer_laws():
-    for ctrl in lyapunov.CONTROLLERS:
+    for ctrl in lyapunov.controllers():
         muts = lyapunov.mutations(ctrl)
         assert len(muts) >= 3, ctrl
         assert all(m.affects and set(m.affects) <= set(CLAIMS) for m in muts), ctrl
