@@ -146,7 +146,11 @@ def statement(lhs, relation: Relation, rhs, domain: Sequence[Var], **kw) -> Stat
 
 @dataclass
 class Mutation:
-    """A defect injected into one function of a symbolic module; ``affects`` must all then fail."""
+    """A defect injected into one function of a symbolic module; ``affects`` must all then fail.
+
+    ``inequality_only``: the defect leaves every identity claim of the controller true (they use opaque
+    symbols for the function, or both sides absorb it), so only the inequality claims in ``affects`` can
+    catch it -- the mutations that test the adversarial search rather than the algebra."""
 
     name: str
     module: ModuleType
@@ -154,6 +158,7 @@ class Mutation:
     transform: Callable[[Callable], Callable]
     affects: tuple[str, ...]
     description: str = ""
+    inequality_only: bool = False
 
     def __enter__(self):
         self._orig = getattr(self.module, self.attr)

@@ -11,7 +11,8 @@ from pathlib import Path
 from . import claims as all_claims
 from . import mutations as all_mutations
 from . import title
-from .check import Outcome, check_claim
+from .check import LOCAL_ONLY, Outcome, check_claim, check_statement
+from .core import Mutation
 
 FORMAT = 1
 
@@ -78,6 +79,24 @@ def run_mutations(controller: str | None = None, log=print) -> list[dict]:
                      "held": held, "caught": caught, "seconds": round(time.perf_counter() - t0, 2)})
         log(f"  mutation {m.name:60s} {'caught' if caught else 'NOT CAUGHT'}")
     return recs
+
+
+def identities_failing(m: Mutation) -> list[str]:
+    """Ids of the identity claims (implementation statement ``==``) of the mutated module's controller that
+    fail with the mutation applied: empty for a mutation that only the inequality claims can catch.  Numeric
+    search only, without the global stage (a false identity fails almost everywhere).  Claims about the
+    paper's data are skipped: some of them fail without any mutation."""
+    ctrl = m.module.__name__.rsplit(".", 1)[1]
+    out = []
+    with m:
+        for cl in all_claims(ctrl):
+            if cl.about != "implementation":
+                continue
+            build = cl.corrected or cl.paper
+            st = build()
+            if st.relation == "==" and not check_statement(st, symbolic=False, search=LOCAL_ONLY).holds:
+                out.append(cl.id)
+    return out
 
 
 def summary(records: list[dict]) -> dict:

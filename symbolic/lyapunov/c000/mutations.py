@@ -90,4 +90,10 @@ MUTATIONS = [
              replace_output(_drop_wheel_regressor), ("c000.attitude.table1", _AS)),
     Mutation("c000: LVLH->body force rotation transposed (eq. 87)", c, "lvlh_to_body_force",
              replace_output(_transpose_rotation), tuple(_t(ax, "spacecraft_Vdot") for ax in AXES)),
+    # inequality-only: eq. 49's model (attitude_model) enters no identity claim; the bound on what it leaves out
+    # (products of inertia, torques within D_att) is the only check of it
+    Mutation("c000: chaser rate sign in eq. 49's model (omega_c -> -omega_c)", c, "attitude_model",
+             scale_argument("omega_c", -1), ("c000.attitude.principal_axes",), inequality_only=True,
+             description="the law's model of omega_e_dot with the chaser's rate of the wrong sign: the residual "
+                         "against the rigid bodies exceeds D_att"),
 ]

@@ -9,6 +9,7 @@ from ..core import (
     lie_derivative,
     symbols_vec,
 )
+from ..scenarios import controller_gains, scenario
 
 DELTA = sp.Rational(2785, 10000)     # Lemma 1's delta (mu = 1)
 
@@ -17,9 +18,10 @@ AHAT = sp.symbols("alphahat_1:10", real=True)
 U_R = tuple(symbols_vec("u_r"))
 
 # The paper's Section IV data (eq. 46, "The control parameters are selected as follows").
-PAPER_GAINS = {"k1": 2.0, "k2": 0.1, "kappa1": 2.0, "k3": 4.0, "k4": 0.5, "k5": 0.5, "k6": 0.001,
-               "kappa2": 2.0, "k7": 0.5, "k8": 20.0, "eps": 0.001}
-Q0_PAPER = (0.16878105, -0.05986357, 0.13299289, 0.97480367)   # Theta(0) 3-2-1, scalar last
+PAPER_GAINS = {k: v for k, v in controller_gains("002_scenario", "c002").items()
+               if k in ("k1", "k2", "kappa1", "k3", "k4", "k5", "k6", "kappa2", "k7", "k8", "eps")}
+# Theta(0) 3-2-1 as a quaternion, scalar last: the pursuer's initial attitude (the target's is the identity)
+Q0_PAPER = tuple(scenario("002_scenario")["chaser"]["quaternion"])
 R0_PAPER = (10.0, 10.0, -10.0)                                  # r~(0) [m]; v~(0) = w~(0) = 0
 
 

@@ -21,6 +21,14 @@ def _drop_alpha7(out, *a, **kw):
     return out
 
 
+def _plus_gravity(out, R, w_t, w_t_dot, v_t, v_t_dot, sigma_t, g_p):
+    return out + 2 * g_p
+
+
+def _unrotated_target_acceleration(out, R, w_t, w_t_dot, v_t, v_t_dot, sigma_t, g_p):
+    return out - R * v_t_dot + v_t_dot
+
+
 MUTATIONS = [
     Mutation("c002: k4 -> -k4 in eq. 23", c, "attitude_control", scale_argument("k4", -1),
              ("c002.V1.bound", "c002.V1.exponential_att", "c002.model.law_composition")),
@@ -64,4 +72,15 @@ MUTATIONS = [
              scale_argument("w_t", -1), ("c002.model.law_kinematics",)),
     Mutation("c002: sign of r~_dot (eq. 7)", c, "relative_position_rate", negate_output(),
              ("c002.model.s2dot_identity", "c002.V3.derivative_identity")),
+    # inequality-only: n_t enters the identity claims as opaque symbols; only the lumped bounds (eqs. 9, 22,
+    # Remark 5) evaluate the code's n_t
+    Mutation("c002: pursuer gravity sign in n_t (eq. 9: + g_p)", c, "translation_nonlinear_term",
+             replace_output(_plus_gravity), ("c002.model.remark5_nt", "c002.model.lumped_bound_position"),
+             inequality_only=True,
+             description="the gravities add instead of cancelling: ||R v_t_dot + g_p|| ~ 2 g, not the differential a4"),
+    Mutation("c002: v_t_dot not rotated into pursuer axes in n_t (eq. 9)", c, "translation_nonlinear_term",
+             replace_output(_unrotated_target_acceleration),
+             ("c002.model.remark5_nt", "c002.model.lumped_bound_position"), inequality_only=True,
+             description="target-axes acceleration used in pursuer axes: a frame error of size g where the "
+                         "attitudes differ"),
 ]

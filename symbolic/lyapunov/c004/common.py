@@ -16,10 +16,12 @@ from ..domains import (
     needing,
     upper,
 )
+from ..scenarios import scenario
 
 # The paper's data (section 5): chaser inertia J, target inertia J_t (the search domains cover them).
-J_PAPER = np.array([[598.3, -22.5, -51.5], [-22.5, 424.4, -27.0], [-51.5, -27.0, 263.6]])
-J_T = np.array([[3336.3, -135.4, -154.2], [-135.4, 3184.5, -148.5], [-154.2, -148.5, 2423.7]])
+_SCENARIO = scenario("004_scenario")                   # paper Table 1
+J_PAPER = np.array(_SCENARIO["chaser"]["inertia"])        # chaser inertia [kg m^2]
+J_T = np.array(_SCENARIO["target"]["inertia"])            # target inertia [kg m^2]
 SIGMA_E0 = (0.5, -0.6, 0.7)          # Table 1
 
 

@@ -69,4 +69,10 @@ MUTATIONS = [
     Mutation("c004: printed eq. 9 (S^T S)", c, "rotation_matrix", replace_output(lambda out, s: _printed_R(s)),
              (_id("model.eq9_rotation"), _id("model.R_dot"), _id("model.eq13"), _id("model.eq17"),
               _id("position.n1_bound"))),
+    # inequality-only: the identity claims use opaque n1, n2 (or c.norm2 on both sides); the coupling bounds
+    # under eqs. 27 and 36 are where ||.|| itself matters
+    Mutation("c004: ||a|| computed as ||a||^2 (norm2)", c, "norm2", replace_output(lambda out, a: out**2),
+             (_id("position.n1_bound"), _id("attitude.n2_bound")), inequality_only=True,
+             description="a missing square root: the coupling bounds rho ||p_t|| ||w_t||^2 fail where the norms "
+                         "are below 1"),
 ]
