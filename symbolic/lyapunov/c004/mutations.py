@@ -71,7 +71,7 @@ MUTATIONS = [
               _id("position.n1_bound"))),
     # inequality-only: the identity claims use opaque n1, n2 (or c.norm2 on both sides); the coupling bounds
     # under eqs. 27 and 36 are where ||.|| itself matters
-    Mutation("c004: ||a|| computed as ||a||^2 (norm2)", c, "norm2", replace_output(lambda out, a: out**2),
+    Mutation("c004: ‖a‖ computed as ‖a‖^2 (norm2)", c, "norm2", replace_output(lambda out, a: out**2),
              (_id("position.n1_bound"), _id("attitude.n2_bound")), inequality_only=True,
              description="a missing square root: the coupling bounds rho ||p_t|| ||w_t||^2 fail where the norms "
                          "are below 1"),
