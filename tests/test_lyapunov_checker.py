@@ -11,8 +11,18 @@ from scipy.spatial.transform import Rotation
 
 from rpo.symbolic import rotations as rot
 from rpo.symbolic.lyapunov import core
-from rpo.symbolic.lyapunov.check import check_claim, check_statement, numeric_search
-from rpo.symbolic.lyapunov.core import Claim, Statement, ball, box, unit_quaternion
+from rpo.symbolic.lyapunov.check import (
+    DEFAULT,
+    LOCAL_ONLY,
+    TOL,
+    Search,
+    _Evaluator,
+    check_claim,
+    check_statement,
+    numeric_search,
+)
+from rpo.symbolic.lyapunov.core import Claim, Statement
+from rpo.symbolic.lyapunov.domains import ball, box, unit_quaternion
 
 a, b, x, y, z = sp.symbols("a b x y z", real=True)
 k, d = sp.symbols("k delta", positive=True)
@@ -69,9 +79,9 @@ def test_inequality_proved_from_positive_gains_and_a_stated_bound():
 def test_local_optimisation_finds_what_random_sampling_misses():
     """x + y <= 1.9 on [-1, 1]^2 fails only near the corner; 8 random points miss it, L-BFGS-B does not."""
     st = Statement(x + y, "<=", 1.9, [box([x, y], -1, 1)], symbolic=False)
-    _, _, v_random, _ = numeric_search(st, seed=1, trials=8, starts=0)
+    _, _, v_random, _ = numeric_search(st, seed=1, trials=8, search=Search(starts=0, global_evals=0))
     assert v_random <= 0
-    o = check_statement(st, seed=1, trials=8)
+    o = check_statement(st, seed=1, trials=8, search=LOCAL_ONLY)
     assert not o.holds
     assert o.counterexample["x"] + o.counterexample["y"] > 1.9
 
@@ -151,11 +161,12 @@ def test_mutation_patches_and_restores_even_on_error():
 
 
 def test_rotation_domain_used_by_claims_is_a_rotation():
-    """The MRP -> matrix map the 004 claims draw R from is scipy's (independent of the model's eq. 9)."""
-    from rpo.symbolic.lyapunov.c004 import _rotation_from_mrp_box
+    """The MRP -> matrix map the claims draw R from (domains.rotation_matrix) is scipy's (independent of the
+    model's eq. 9)."""
+    from rpo.symbolic.lyapunov.domains import rotation_matrix
 
     z = np.random.default_rng(2).uniform(-1, 1, size=(50, 3))
-    R = _rotation_from_mrp_box(z, {}).reshape(-1, 3, 3)
+    R = rotation_matrix(sp.symbols("R_1:10")).draw(z, {}).reshape(-1, 3, 3)
     assert np.allclose(np.einsum("nij,nkj->nik", R, R), np.eye(3), atol=1e-12)
     assert np.allclose(np.linalg.det(R), 1.0)
     sig = z / np.maximum(np.linalg.norm(z, axis=1, keepdims=True), 1.0)
@@ -179,3 +190,72 @@ def test_roots_and_function_constraints_share_their_symbols():
     s = sp.Symbol("s", real=True)
     st = Statement(sp.sign(s) ** 2 * a, "==", a, [box([s, a], 0.1, 2)], constraints=[sp.sign(s) ** 2 - 1])
     assert check_statement(st).proved
+
+
+# --------------------------------------------------------------------------- violations in small regions
+
+_XS = sp.symbols("x1:7", real=True)
+_HAT_A, _HAT_W, _HAT_S = 0.5, 0.294, 0.005     # top-hat [0.5, 0.794] of each coordinate, edges 0.005 wide
+
+
+def _planted_small_region() -> Statement:
+    """sum_i h(x_i) <= 6.45 on [-1, 1]^6, h = 0.2 (1 - x^2) + a smooth top-hat of height 1 on [0.5, 0.794].
+
+    False only where all six coordinates are on their top-hats (each one off it costs >= 0.875, more than the
+    0.45 the broad part can give back): a region of measure ~ (0.147)^6 ~ 1e-5 of the box.  Local ascent
+    from a point with one coordinate off its top-hat climbs the broad hump at 0 instead (the top-hat's flanks
+    are 0.005 wide), so L-BFGS-B from the worst random points only finds the region if one of them already
+    lies in it; differential evolution recombines the good coordinates of different points."""
+    def h(x):
+        return (sp.Rational(1, 5) * (1 - x**2)
+                + (sp.tanh((x - _HAT_A) / _HAT_S) - sp.tanh((x - _HAT_A - _HAT_W) / _HAT_S)) / 2)
+    return Statement(sum(h(x) for x in _XS), "<=", 6 * 1.075, [box(list(_XS), -1, 1)], symbolic=False)
+
+
+def test_planted_violation_region_has_measure_about_1e_5():
+    """The planted region's measure, estimated inside the product of the top-hats (which contains it)."""
+    ev = _Evaluator(_planted_small_region())
+    rng = np.random.default_rng(0)
+    lo, hi = _HAT_A - 0.01, _HAT_A + _HAT_W + 0.01
+    inside = np.mean(ev.violation(rng.uniform(lo, hi, size=(200_000, 6))) > 0)
+    measure = inside * ((hi - lo) / 2) ** 6
+    assert 3e-6 < measure < 3e-5
+    # and off the top-hats nothing is violated: 200,000 uniform points of the box hit it about twice
+    assert np.sum(ev.violation(rng.uniform(-1, 1, size=(200_000, 6))) > 0) <= 6
+
+
+@pytest.mark.parametrize("seed", [1, 2, 3])
+def test_global_stage_finds_a_violation_that_sampling_and_local_ascent_miss(seed):
+    st = _planted_small_region()
+    tol = TOL["<="]
+    # 2000 uniform points (the default trials) miss it ...
+    _, _, v_uniform, _ = numeric_search(st, seed=seed, search=Search(starts=0, global_evals=0))
+    assert v_uniform <= tol
+    # ... and so does the search before the global stage (L-BFGS-B from the worst 6 of them)
+    _, _, v_local, _ = numeric_search(st, seed=seed, search=LOCAL_ONLY)
+    assert v_local <= tol
+    # the default search (same samples and starts, then differential evolution) finds it
+    o = check_statement(st, seed=seed, search=DEFAULT)
+    assert not o.holds
+    vals = [o.counterexample[str(x)] for x in _XS]
+    assert all(_HAT_A <= v <= _HAT_A + _HAT_W for v in vals)          # really inside the region
+    assert o.trials <= 2000 + 6 * 1500 + DEFAULT.global_evals + 1500  # within the stated budget
+
+
+def test_global_stage_is_not_run_for_identities():
+    """A true identity costs only the samples and the local starts (its proof is symbolic)."""
+    st = Statement((a + b) ** 2, "==", a**2 + 2 * a * b + b**2, [box([a, b], -3, 3)], symbolic=False)
+    _, _, _, n = numeric_search(st, search=DEFAULT)
+    assert n < DEFAULT.global_evals
+
+
+def test_scenario_data_follow_extends_and_match_the_claims():
+    """The claims read the papers' data from scenarios/*.toml; a variant inherits its base's tables."""
+    from rpo.symbolic.lyapunov.c002.common import PAPER_GAINS
+    from rpo.symbolic.lyapunov.scenarios import controller_gains, scenario
+
+    base, variant = scenario("000_scenario_III"), scenario("000_III_no_acc_d")
+    assert "extends" not in variant
+    assert variant["controller"]["c000"]["acc_d_on"] == 0.0
+    assert variant["controller"]["c000"]["lam_pos"] == base["controller"]["c000"]["lam_pos"]
+    assert PAPER_GAINS["k3"] == controller_gains("002_scenario", "c002")["k3"] == 4.0

@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import sympy as sp
-from scipy.optimize import minimize
+from scipy.optimize import differential_evolution, minimize
 
 from .core import Claim, Statement
 
@@ -147,30 +147,125 @@ class _Evaluator:
         return np.max(v, axis=0)
 
 
-def numeric_search(st: Statement, seed: int = 0, trials: int | None = None, starts: int = 6):
-    """Maximise the violation: random points, then L-BFGS-B from the worst ``starts`` of them."""
+@dataclass(frozen=True)
+class Search:
+    """Budget of the numeric adversarial search (per statement).
+
+    1. ``trials`` uniform random points of the box (default: the statement's own ``trials``);
+    2. L-BFGS-B from the worst ``starts`` distinct points (``starts + extra_starts`` for the
+       ``global_relations``; gradients by forward differences, all coordinates in one vectorised
+       evaluation);
+    3. for inequality and definiteness statements (``global_relations``), differential evolution over the
+       whole box, its first population the worst random points (so it starts where the violation is
+       largest), at most ``global_evals`` evaluations (``global_popsize`` x dim individuals per generation,
+       capped at ``global_max_pop``), then L-BFGS-B from its best point.
+
+    Every stage stops as soon as a counterexample is found, so a false statement costs little; the full
+    budget is spent only on statements that hold.  Stage 3 exists for violations confined to a small
+    region: one that needs several coordinates at once at narrow values, which uniform points hit with
+    probability ~ the region's measure and local ascent from the worst points misses when each of them
+    lies in a wrong basin; differential evolution recombines coordinates of different good points.
+    """
+
+    trials: int | None = None
+    starts: int = 6
+    extra_starts: int = 0
+    local_maxiter: int = 150
+    global_evals: int = 40_000
+    global_popsize: int = 10
+    global_max_pop: int = 400
+    global_relations: tuple[str, ...] = ("<=", ">=", ">")
+
+
+#: the search before stage 3 existed (6 local starts), kept to show what the global stage adds
+LOCAL_ONLY = Search(starts=6, extra_starts=0, global_evals=0)
+DEFAULT = Search()
+
+
+def _objective(ev: _Evaluator):
+    """-violation at each column of x (dim, S) (scipy's vectorised convention); undefined points count as
+    no violation at all (+1: worse than any defined point, whose value is >= -1)."""
+    def f(x: np.ndarray) -> np.ndarray:
+        v = ev.violation(np.atleast_2d(x.T) if x.ndim == 2 else x[None, :])
+        return np.where(np.isfinite(v), -v, 1.0)
+    return f
+
+
+def _local(ev: _Evaluator, z0: np.ndarray, maxiter: int) -> tuple[np.ndarray, float, int]:
+    """L-BFGS-B from z0 inside the box; f and its forward-difference gradient from one batch of dim + 1
+    points (the step goes inward at the upper bound)."""
+    f = _objective(ev)
+    h = 1e-7
+    n = [0]
+
+    def fg(z):
+        step = np.where(z + h <= 1.0, h, -h)
+        pts = np.vstack([z, z + np.diag(step)])
+        vals = f(pts.T)
+        n[0] += len(pts)
+        return float(vals[0]), (vals[1:] - vals[0]) / step
+
+    res = minimize(fg, z0, jac=True, method="L-BFGS-B", bounds=[(-1.0, 1.0)] * ev.dim,
+                   options={"maxiter": maxiter, "maxfun": 10 * maxiter})
+    return res.x, float(-res.fun), n[0]
+
+
+def _distinct(order: np.ndarray, z: np.ndarray, k: int, radius: float = 0.05) -> list[int]:
+    """The first ``k`` indices of ``order`` whose points differ (max-norm > radius) from the ones taken."""
+    out: list[int] = []
+    if k <= 0:
+        return out
+    for i in order:
+        if all(np.max(np.abs(z[i] - z[j])) > radius for j in out):
+            out.append(int(i))
+            if len(out) == k:
+                break
+    return out
+
+
+def numeric_search(st: Statement, seed: int = 0, trials: int | None = None, search: Search = DEFAULT):
+    """Maximise the violation (see :class:`Search`); (evaluator, best z, best violation, evaluations)."""
     ev = _Evaluator(st)
+    tol = TOL[st.relation]
     rng = np.random.default_rng(seed)
-    n = trials or st.trials
+    n = trials or search.trials or st.trials
     z = rng.uniform(-1.0, 1.0, size=(n, ev.dim))
     v = ev.violation(z)
     evaluated = n
     v = np.where(np.isfinite(v), v, -np.inf)
-    best_i = int(np.argmax(v))
-    best_z, best_v = z[best_i], float(v[best_i])
-    if ev.dim and best_v <= TOL[st.relation]:
-        def neg(zz):
-            val = ev.violation(zz[None, :])[0]
-            return -val if np.isfinite(val) else 1.0
+    order = np.argsort(v)[::-1]
+    best_z, best_v = z[order[0]], float(v[order[0]])
+    if not ev.dim or best_v > tol:
+        return ev, best_z, best_v, evaluated
+    inequality = st.relation in search.global_relations
+    for i in _distinct(order, z, search.starts + (search.extra_starts if inequality else 0)):
+        zz, vv, k = _local(ev, z[i], search.local_maxiter)
+        evaluated += k
+        if vv > best_v:
+            best_z, best_v = zz, vv
+        if best_v > tol:
+            return ev, best_z, best_v, evaluated
+    if search.global_evals and inequality:
+        pop = int(min(search.global_max_pop, max(search.global_popsize * ev.dim, 20)))
+        gens = max(1, search.global_evals // pop - 1)
+        init = np.vstack([best_z, z[order[:pop - 1]]])
+        found = []
 
-        for i in np.argsort(v)[::-1][:starts]:
-            res = minimize(neg, z[i], method="L-BFGS-B", bounds=[(-1.0, 1.0)] * ev.dim,
-                           options={"maxiter": 150, "maxfun": 1500})
-            evaluated += int(res.nfev)
-            if -res.fun > best_v:
-                best_z, best_v = res.x, float(-res.fun)
-            if best_v > TOL[st.relation]:
-                break
+        def stop(intermediate_result):      # scipy >= 1.11 passes an OptimizeResult
+            found.append(-intermediate_result.fun)
+            return bool(-intermediate_result.fun > tol)
+
+        res = differential_evolution(_objective(ev), [(-1.0, 1.0)] * ev.dim, maxiter=gens, popsize=pop,
+                                     init=init, seed=int(rng.integers(2**31)), vectorized=True,
+                                     updating="deferred", polish=False, tol=0.0, atol=0.0, callback=stop)
+        evaluated += int(res.nit + 1) * pop     # vectorised: nfev counts calls of pop points
+        if -res.fun > best_v:
+            best_z, best_v = res.x, float(-res.fun)
+        if best_v <= tol:
+            zz, vv, k = _local(ev, res.x, search.local_maxiter)
+            evaluated += k
+            if vv > best_v:
+                best_z, best_v = zz, vv
     return ev, best_z, best_v, evaluated
 
 
@@ -317,9 +412,9 @@ def _clip(txt: str, limit: int) -> str:
 # --------------------------------------------------------------------------- statements and claims
 
 def check_statement(st: Statement, seed: int = 0, symbolic: bool = True, trials: int | None = None,
-                    symbolic_seconds: float = 60.0) -> Outcome:
+                    symbolic_seconds: float = 60.0, search: Search = DEFAULT) -> Outcome:
     t0 = time.perf_counter()
-    ev, z, v, n = numeric_search(st, seed=seed, trials=trials)
+    ev, z, v, n = numeric_search(st, seed=seed, trials=trials, search=search)
     lhs, rhs = ev.lhs_rhs(z[None, :])
     k = int(np.argmax(np.abs(lhs - rhs)[:, 0])) if st.relation == "==" else 0
     if v > TOL[st.relation]:

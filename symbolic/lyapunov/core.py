@@ -26,98 +26,11 @@ from typing import Literal
 import numpy as np
 import sympy as sp
 
+from .domains import Var
+
 Relation = Literal["==", "<=", ">=", ">"]
 Status = Literal["proved", "holds-with-stated-correction", "not-disproved", "fails"]
 STATUSES: tuple[str, ...] = ("proved", "holds-with-stated-correction", "not-disproved", "fails")
-
-
-# --------------------------------------------------------------------------- search domains
-
-@dataclass(frozen=True)
-class Var:
-    """Symbols drawn together from ``dim`` box coordinates z in [-1, 1]^dim.
-
-    ``draw(z, env)`` maps an (n, dim) array of box coordinates to an (n, len(symbols)) array of values;
-    ``env`` holds the values of the variables listed before this one (for dependent bounds such as
-    ``|d| <= D``).  Every point of the box is a valid point of the claim's assumptions, so the local
-    optimiser can search the box freely.
-    """
-
-    symbols: tuple[sp.Symbol, ...]
-    dim: int
-    draw: Callable[[np.ndarray, dict], np.ndarray]
-    describe: str = ""
-
-
-def _syms(symbols) -> tuple[sp.Symbol, ...]:
-    if isinstance(symbols, sp.MatrixBase):
-        return tuple(symbols)
-    if isinstance(symbols, sp.Symbol):
-        return (symbols,)
-    return tuple(symbols)
-
-
-def box(symbols, lo: float, hi: float) -> Var:
-    """Each symbol independently in [lo, hi]."""
-    s = _syms(symbols)
-    return Var(s, len(s), lambda z, env: lo + (z + 1.0) * 0.5 * (hi - lo), f"in [{lo:g}, {hi:g}]")
-
-
-def ball(symbols, radius: float | sp.Symbol | Callable[[dict], np.ndarray]) -> Var:
-    """A vector with Euclidean norm <= radius (radius: a number, a symbol drawn earlier, or f(env))."""
-    s = _syms(symbols)
-
-    def draw(z, env):
-        n = np.linalg.norm(z, axis=1, keepdims=True)
-        unit_ball = z / np.maximum(n, 1.0)
-        return unit_ball * _radius(radius, env, len(z))[:, None]
-
-    return Var(s, len(s), draw, f"|.| <= {radius}")
-
-
-def _radius(radius, env, n):
-    if isinstance(radius, sp.Symbol):
-        return np.asarray(env[radius], dtype=float).reshape(n)
-    if callable(radius):
-        return np.asarray(radius(env), dtype=float).reshape(n)
-    return np.full(n, float(radius))
-
-
-def unit_quaternion(symbols) -> Var:
-    """Four symbols on the unit sphere (any order; normalised 4-vector)."""
-    s = _syms(symbols)
-    assert len(s) == 4
-
-    def draw(z, env):
-        n = np.linalg.norm(z, axis=1, keepdims=True)
-        return np.where(n > 1e-9, z / np.maximum(n, 1e-12), np.array([0.0, 0.0, 0.0, 1.0]))
-
-    return Var(s, 4, draw, "unit quaternion")
-
-
-def fixed(symbols, values) -> Var:
-    """Symbols held at given values (a gain set, a known inertia)."""
-    s = _syms(symbols)
-    vals = np.asarray(values, dtype=float).reshape(len(s))
-    return Var(s, 0, lambda z, env: np.broadcast_to(vals, (len(z), len(s))).copy(), "fixed")
-
-
-def derived(symbols, exprs, depends: Sequence[sp.Symbol]) -> Var:
-    """Symbols defined from earlier ones, e.g. ``rho = |d|`` (``exprs`` in terms of ``depends``)."""
-    s = _syms(symbols)
-    exprs = list(exprs) if isinstance(exprs, (list, tuple, sp.MatrixBase)) else [exprs]
-    f = sp.lambdify(list(depends), exprs, "numpy")
-
-    def draw(z, env):
-        cols = f(*[np.asarray(env[d], dtype=float) for d in depends])
-        return np.column_stack([np.broadcast_to(np.asarray(c, dtype=float), (len(z),)) for c in cols])
-
-    return Var(s, 0, draw, "derived")
-
-
-def custom(symbols, dim: int, draw: Callable[[np.ndarray, dict], np.ndarray], describe: str) -> Var:
-    """Any other parameterisation of a constraint set by box coordinates (documented by ``describe``)."""
-    return Var(_syms(symbols), dim, draw, describe)
 
 
 # --------------------------------------------------------------------------- statements and claims
@@ -172,9 +85,72 @@ class Claim:
     note: str = ""
 
 
+def claim_factory(module_name: str) -> Callable[..., Claim]:
+    """The one way to build a claim: ``claim = claim_factory(__name__)`` in a claims module of
+    ``symbolic/lyapunov/<controller>/``, then ``claim("attitude.V_definite", part, layer, equations, title,
+    paper, corrected, **kw)``.  The controller is the package's name and prefixes the id, so a copied
+    claims package only needs renaming."""
+    parts = module_name.split(".")
+    controller = parts[parts.index("lyapunov") + 1] if "lyapunov" in parts[:-1] else parts[-1]
+
+    def claim(name: str, part: str, layer: Literal["abstract", "spacecraft"], equations: str, title: str,
+              paper: Callable[[], Statement] | None, corrected: Callable[[], Statement] | None = None,
+              **kw) -> Claim:
+        return Claim(f"{controller}.{name}", controller, part, layer, equations, title, paper, corrected, **kw)
+
+    claim.controller = controller
+    return claim
+
+
+def prune(domain: Sequence[Var], *exprs) -> list[Var]:
+    """The variables of ``domain`` that ``exprs`` need: those drawing a symbol of the expressions, and,
+    transitively, those whose symbols a kept variable's draw reads (declared in ``Var.needs``, or found by a
+    trial draw, where a missing dependency raises KeyError).  A variable whose symbols are all drawn by an
+    earlier one is a duplicate and dropped.  Unused variables would only add search dimensions."""
+    seen: set = set()
+    flat = []
+    for v in domain:
+        if set(v.symbols) <= seen:
+            continue
+        seen |= set(v.symbols)
+        flat.append(v)
+    used: set = set()
+    for x in exprs:
+        used |= getattr(x, "free_symbols", set())
+    keep = set()
+    for v in reversed(flat):
+        if set(v.symbols) & used:
+            keep.add(id(v))
+            used |= v.needs
+    owner = {s: v for v in flat for s in v.symbols}
+    while True:
+        ordered = [v for v in flat if id(v) in keep]
+        env, z = {}, np.zeros((1, sum(v.dim for v in ordered)))
+        try:
+            k = 0
+            for v in ordered:
+                cols = v.draw(z[:, k:k + v.dim], env)
+                k += v.dim
+                env.update({s: cols[:, j] for j, s in enumerate(v.symbols)})
+            return ordered
+        except KeyError as exc:
+            if exc.args[0] not in owner or id(owner[exc.args[0]]) in keep:
+                raise
+            keep.add(id(owner[exc.args[0]]))
+
+
+def statement(lhs, relation: Relation, rhs, domain: Sequence[Var], **kw) -> Statement:
+    """A :class:`Statement` over the part of ``domain`` it uses (:func:`prune`)."""
+    return Statement(lhs, relation, rhs, prune(domain, lhs, rhs), **kw)
+
+
 @dataclass
 class Mutation:
-    """A defect injected into one function of a symbolic module; ``affects`` must all then fail."""
+    """A defect injected into one function of a symbolic module; ``affects`` must all then fail.
+
+    ``inequality_only``: the defect leaves every identity claim of the controller true (they use opaque
+    symbols for the function, or both sides absorb it), so only the inequality claims in ``affects`` can
+    catch it -- the mutations that test the adversarial search rather than the algebra."""
 
     name: str
     module: ModuleType
@@ -182,6 +158,7 @@ class Mutation:
     transform: Callable[[Callable], Callable]
     affects: tuple[str, ...]
     description: str = ""
+    inequality_only: bool = False
 
     def __enter__(self):
         self._orig = getattr(self.module, self.attr)

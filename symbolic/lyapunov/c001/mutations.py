@@ -1,0 +1,79 @@
+"""001: defects injected into symbolic/controllers/c001.py; each must make the claims it names fail."""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from ...controllers import c001 as c
+from ..core import (
+    Mutation,
+    drop_terms,
+    negate_output,
+    replace_output,
+    scale_argument,
+)
+
+# --------------------------------------------------------------------------- mutations
+
+def _minus_gyro(out, q, grad, w_ST, w_TI_S, J, *rest):
+    return out - c.gyroscopic_dual_force(J, w_TI_S)
+
+
+def _minus_fG(out, q, grad, w_ST, w_TI_S, J, f_G, *rest):
+    return out + f_G
+
+
+def _minus_dhat(out, q, grad, w_ST, w_TI_S, J, f_G, d_hat, *rest):
+    return out + c.J_E_times(J, d_hat)
+
+
+def _eso_without_dhat(out, model_acc, w_meas, w_hat, d_hat, *rest):
+    return out[0] - d_hat, out[1]
+
+
+def _phi_sign_flip(out, x, kappa1, kappa2):
+    sgn = x.applyfunc(sp.sign) if isinstance(x, sp.MatrixBase) else sp.sign(x)
+    return out - kappa1**2 * sgn          # + kappa1^2/2 sign -> - kappa1^2/2 sign
+
+
+def _model_without_transport(out, J, f_G, f_applied, w_SI, w_ST):
+    return out - c.dq_cross(w_ST, w_SI)
+
+
+def _model_without_fG(out, J, f_G, f_applied, w_SI, w_ST):
+    return out - c.J_E_inv_times(J, f_G)
+
+
+_LAW = ("c001.pose.Vdot_eq60", "c001.pose.Vdot_identity")
+_ESO = ("c001.eso.error_dynamics", "c001.eso.time_scaling")
+
+MUTATIONS = [
+    Mutation("c001: +k_d (E omega) in eq. 57", c, "control_dual_force", scale_argument("k_d", -1), _LAW),
+    Mutation("c001: +k_p vec(q* (E grad V_p)) in eq. 57", c, "control_dual_force", scale_argument("k_p", -1),
+             _LAW + ("c001.pose.eq61",)),
+    Mutation("c001: eq. 57 without omega_T/I x (J_E omega_T/I)", c, "control_dual_force",
+             replace_output(_minus_gyro), _LAW + ("c001.pose.eq62",)),
+    Mutation("c001: eq. 57 without -f_G", c, "control_dual_force", replace_output(_minus_fG), _LAW),
+    Mutation("c001: eq. 57 without -J_E d_hat", c, "control_dual_force", replace_output(_minus_dhat), _LAW),
+    Mutation("c001: eq. 54 with -k_r (sign of the repulsive gradient)", c, "apf_gradient",
+             scale_argument("k_r", -1), ("c001.apf.gradient", "c001.pose.Vdot_apf")),
+    Mutation("c001: eq. 55 grad beta_FOV negated", c, "grad_beta_fov", negate_output(), ("c001.apf.gradient",)),
+    Mutation("c001: ESO -K1 Theta (eq. 23, gain x -1)", c, "eso_rates", scale_argument("K1", -1),
+             _ESO + ("c001.eso.eta_dynamics", "c001.eso.V1dot_identity")),
+    Mutation("c001: ESO -K2 Phi (eq. 23, gain x -1)", c, "eso_rates", scale_argument("K2", -1),
+             _ESO + ("c001.eso.eta_dynamics", "c001.eso.V1dot_identity")),
+    Mutation("c001: ESO without d_hat in omega_hat-dot (eq. 23)", c, "eso_rates",
+             replace_output(_eso_without_dhat), _ESO + ("c001.eso.eta_dynamics",)),
+    Mutation("c001: ESO model without omega_S/T x omega_S/I (eq. 23)", c, "eso_model_acceleration",
+             replace_output(_model_without_transport), ("c001.eso.error_dynamics", "c001.pose.composed")),
+    Mutation("c001: ESO model without f_G (eq. 23)", c, "eso_model_acceleration", replace_output(_model_without_fG),
+             ("c001.eso.error_dynamics", "c001.pose.composed")),
+    Mutation("c001: applied force without the torque limit", c, "applied_dual_force",
+             replace_output(lambda out, f_C, F_max, tau_max: c.dual_force(c.dq_parts3(out)[0], c.dq_parts3(f_C)[1])),
+             ("c001.pose.saturation_impl",)),
+    Mutation("c001: Theta without kappa2 x (eq. 24)", c, "sta_theta",
+             drop_terms(lambda: sp.Symbol("kappa_2", positive=True)),
+             _ESO + ("c001.eso.phi_w_theta", "c001.eso.eta_dynamics")),
+    Mutation("c001: Phi with -kappa1^2/2 sign(x) (eq. 24)", c, "sta_phi", replace_output(_phi_sign_flip),
+             _ESO + ("c001.eso.phi_w_theta",)),
+]

@@ -1,0 +1,86 @@
+"""002: defects injected into symbolic/controllers/c002.py; each must make the claims it names fail."""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from ...controllers import c002 as c
+from ..core import (
+    Mutation,
+    drop_terms,
+    negate_output,
+    replace_output,
+    scale_argument,
+)
+from .common import AHAT, U_R
+
+
+def _drop_alpha7(out, *a, **kw):
+    out = sp.Matrix(out)
+    out[6] = 0
+    return out
+
+
+def _plus_gravity(out, R, w_t, w_t_dot, v_t, v_t_dot, sigma_t, g_p):
+    return out + 2 * g_p
+
+
+def _unrotated_target_acceleration(out, R, w_t, w_t_dot, v_t, v_t_dot, sigma_t, g_p):
+    return out - R * v_t_dot + v_t_dot
+
+
+MUTATIONS = [
+    Mutation("c002: k4 -> -k4 in eq. 23", c, "attitude_control", scale_argument("k4", -1),
+             ("c002.V1.bound", "c002.V1.exponential_att", "c002.model.law_composition")),
+    Mutation("c002: sign of eps_r (eq. 23)", c, "attitude_control", negate_output(),
+             ("c002.V1.bound", "c002.V1.exponential", "c002.V1.exponential_att", "c002.model.law_composition")),
+    Mutation("c002: alpha^_3 term dropped from eq. 23", c, "attitude_control", drop_terms(AHAT[2]),
+             ("c002.V1.bound",)),
+    Mutation("c002: k3 -> -k3 in eq. 23", c, "attitude_control", scale_argument("k3", -1),
+             ("c002.V1.bound",)),
+    Mutation("c002: k8 -> -k8 in eq. 24", c, "position_control", scale_argument("k8", -1),
+             ("c002.V1.bound", "c002.V1.exponential", "c002.V1.exponential_pos", "c002.model.law_composition")),
+    Mutation("c002: k7 -> -k7 in eq. 24", c, "position_control", scale_argument("k7", -1),
+             ("c002.V1.bound",)),
+    Mutation("c002: alpha^_9 term dropped from eq. 24", c, "position_control", drop_terms(AHAT[8]),
+             ("c002.V1.bound",)),
+    Mutation("c002: sign of eq. 25", c, "adaptive_rates", negate_output(),
+             ("c002.V1.adaptation_cancels", "c002.V1.bound")),
+    Mutation("c002: gamma -> -gamma in eq. 25", c, "adaptive_rates", scale_argument("gamma", -1),
+             ("c002.V1.adaptation_cancels", "c002.V1.bound", "c002.model.law_composition")),
+    Mutation("c002: beta -> -beta in eq. 25", c, "adaptive_rates", scale_argument("beta", -1),
+             ("c002.V1.adaptation_cancels",)),
+    Mutation("c002: alpha^_7 law dropped (as printed, eq. 25)", c, "adaptive_rates", replace_output(_drop_alpha7),
+             ("c002.V1.adaptation_cancels",)),
+    Mutation("c002: sign of eq. 17", c, "aux_attitude_rate", negate_output(),
+             ("c002.model.s1dot_identity", "c002.V1.closed_loop_identity", "c002.V2.derivative_identity",
+              "c002.V2.invariant_set")),
+    Mutation("c002: sat(eps_r) dropped from eq. 17", c, "aux_attitude_rate", drop_terms(U_R),
+             ("c002.model.s1dot_identity", "c002.V2.derivative_identity")),
+    Mutation("c002: kappa2 -> -kappa2 in eq. 18", c, "aux_position_rate", scale_argument("kappa2", -1),
+             ("c002.model.s2dot_identity", "c002.V2.derivative_identity", "c002.V2.invariant_set",
+              "c002.model.law_composition")),
+    Mutation("c002: k1 -> -k1 in the attitude surface (eq. 15)", c, "sliding_surface_attitude",
+             scale_argument("k1", -1), ("c002.model.s1dot_identity", "c002.model.law_composition")),
+    Mutation("c002: k6 -> -k6 in the position surface (eq. 16)", c, "sliding_surface_position",
+             scale_argument("k6", -1), ("c002.model.s2dot_identity", "c002.model.law_composition")),
+    Mutation("c002: saturation sign flipped (eq. 13)", c, "saturation", negate_output(),
+             ("c002.model.law_composition",)),
+    Mutation("c002: sigma_t term of v~ sign flipped (eq. 6)", c, "relative_velocity", scale_argument("sigma_t", -1),
+             ("c002.model.law_kinematics",)),
+    Mutation("c002: omega~ = omega_p + R omega_t (under eq. 3)", c, "relative_angular_velocity",
+             scale_argument("w_t", -1), ("c002.model.law_kinematics",)),
+    Mutation("c002: sign of r~_dot (eq. 7)", c, "relative_position_rate", negate_output(),
+             ("c002.model.s2dot_identity", "c002.V3.derivative_identity")),
+    # inequality-only: n_t enters the identity claims as opaque symbols; only the lumped bounds (eqs. 9, 22,
+    # Remark 5) evaluate the code's n_t
+    Mutation("c002: pursuer gravity sign in n_t (eq. 9: + g_p)", c, "translation_nonlinear_term",
+             replace_output(_plus_gravity), ("c002.model.remark5_nt", "c002.model.lumped_bound_position"),
+             inequality_only=True,
+             description="the gravities add instead of cancelling: ||R v_t_dot + g_p|| ~ 2 g, not the differential a4"),
+    Mutation("c002: v_t_dot not rotated into pursuer axes in n_t (eq. 9)", c, "translation_nonlinear_term",
+             replace_output(_unrotated_target_acceleration),
+             ("c002.model.remark5_nt", "c002.model.lumped_bound_position"), inequality_only=True,
+             description="target-axes acceleration used in pursuer axes: a frame error of size g where the "
+                         "attitudes differ"),
+]
