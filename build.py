@@ -91,7 +91,7 @@ def stale_families(gen_dir: Path = GEN, families=None, root: Path | None = None)
     fams = functions.families() if families is None else families
     hashes = codegen.family_hashes(fams, functions.SYMBOLIC_DIR if root is None else root)
     prev = codegen.read_previous(gen_dir)
-    stale = [f.name for f in fams if not codegen._reusable(prev, gen_dir, f.name, hashes[f.name]["hash"])]
+    stale = [f.name for f in fams if not codegen.reusable(prev, gen_dir, f.name, hashes[f.name]["hash"])]
     gone = sorted(set((prev or {}).get("families", {})) - set(hashes))
     return stale, gone
 
@@ -136,7 +136,11 @@ def main(argv: list[str] | None = None) -> int:
 
     t0 = time.perf_counter()
     if args.check:
-        result = codegen.generate(functions.families(), functions.SYMBOLIC_DIR, reuse=None, log=print)
+        try:
+            result = codegen.generate(functions.families(), functions.SYMBOLIC_DIR, reuse=None, log=print)
+        except ModelDefinitionError as exc:
+            print(f"error: {exc}", file=sys.stderr)
+            return 2
         files = dict(result.files)
         files["manifest.json"] = codegen.manifest_bytes(result.manifest)
         diff = compare(files, GEN)

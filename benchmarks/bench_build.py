@@ -25,6 +25,7 @@ import argparse
 import json
 import os
 import platform
+import re
 import shutil
 import statistics
 import subprocess
@@ -98,8 +99,9 @@ def main(argv: list[str] | None = None) -> int:
                 sys.exit(f"bench_build: {EDIT_FILE} no longer contains {EDIT_FROM!r}; update the benchmark")
             src.write_text(text.replace(EDIT_FROM, EDIT_FROM.replace("default=0.2)", f"default=0.2{rep + 1})")))
             dt, out = _timed([py, "build.py"], work, env)
-            if "re-derived controller_c000" not in out or "compiling 3 of" not in out:
-                sys.exit(f"bench_build: the edit rebuild did not re-derive exactly c000:\n{out}")
+            compiled = re.findall(r"\] (\S+\.c) \(", out)
+            if "re-derived controller_c000;" not in out or not compiled or not all("c000" in f for f in compiled):
+                sys.exit(f"bench_build: the edit rebuild did not re-derive and recompile exactly c000:\n{out}")
             edit.append(dt)
             say(f"[{rep + 1}/{args.repeat}] edit rebuild (one c000 gain): {dt:.1f} s")
             shutil.rmtree(work)

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_c001: controller half of a step of c001: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_c001' (hash 4a4e2b9c6052c1a06423d40bb9559a42b769991fcd15cfb5558ba323101a67d7),
+ * Produced by `python build.py` from family 'controller_c001' (hash de21607da9724b12ef24be11c00186ad9934418e185c36d2662ae1c4a739739e),
  * derived from:
  *   symbolic/actuators.py
  *   symbolic/c_composition.py

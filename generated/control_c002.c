@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_c002: controller half of a step of c002: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_c002' (hash 5e996e6d59641b9eafb4ef0168aa761920823d4594d5f6267769bf5d0903013f),
+ * Produced by `python build.py` from family 'controller_c002' (hash a84dc5bc2944a8c8e2aed68847271b00afb3bf1f3cb2649485c9cea33ace60c0),
  * derived from:
  *   symbolic/actuators.py
  *   symbolic/c_composition.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c000: control law of c000
- * Produced by `python build.py` from family 'controller_c000' (hash e6693b744fbf06f6cc59dc60aeea572833b744f4d7ed74eeebe2d830073b2a4e),
+ * Produced by `python build.py` from family 'controller_c000' (hash 61a6d0db80f7edb4aa747e9cf25e805558a5f52eedf344dbb49d2aa9c75062e3),
  * derived from:
  *   symbolic/actuators.py
  *   symbolic/c_composition.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_baseline: one closed-loop step (plant + baseline + actuators), RK4 over dt: measure, control_baseline, plant_advance
- * Produced by `python build.py` from family 'controller_baseline' (hash 488e68104e80fb8b1fef140f4d5e77219681bdec88f9b5ba2522198387a3914d),
+ * Produced by `python build.py` from family 'controller_baseline' (hash b7b872b80359729fbc22a952ea4350e883082a960e640ca5484f14d937fda734),
  * derived from:
  *   symbolic/actuators.py
  *   symbolic/c_composition.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c004: one closed-loop step (plant + c004 + actuators), RK4 over dt: measure, control_c004, plant_advance
- * Produced by `python build.py` from family 'controller_c004' (hash a770817d87e3fe99114b40210f55698b916a2686889e0ce815b2356d673ae840),
+ * Produced by `python build.py` from family 'controller_c004' (hash 13f37c74bc60c9bfbd8e2a1705828164e5b47606bdfceec4a9198c168b13ea8e),
  * derived from:
  *   symbolic/actuators.py
  *   symbolic/c_composition.py

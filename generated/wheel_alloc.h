@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * wheel_alloc: pyramid wheel allocation with saturation (inverse of 000 eq. 46)
- * Produced by `python build.py` from family 'plant' (hash f22ff45fdeed6821f0a7a4d930fd40c935e33aeff85caf1a82da8f9f4af546de),
+ * Produced by `python build.py` from family 'plant' (hash c40674e0dc272a2471cb10effc0a658dcbaba91c9c56cf81932ef795843ba5b9),
  * derived from:
  *   symbolic/actuators.py
  *   symbolic/c_composition.py

@@ -123,8 +123,8 @@ def _module_file(root: Path, parts: Sequence[str]) -> list[Path]:
 
 def _imports(path: Path, root: Path, package: str) -> set[Path]:
     """Files of ``root`` that ``path`` imports (relative imports, and absolute ones through ``package``)."""
-    rel = path.relative_to(root).with_suffix("").parts
-    here = list(rel[:-1]) if rel[-1] != "__init__" else list(rel[:-1])
+    # the package the file is in (for a package's __init__.py: the package itself), as path parts
+    here = list(path.relative_to(root).with_suffix("").parts[:-1])
     found: set[Path] = set()
     for node in ast.walk(ast.parse(path.read_bytes(), str(path))):
         if isinstance(node, ast.ImportFrom):
@@ -306,7 +306,9 @@ def read_previous(gen_dir: Path | None) -> dict | None:
     return m
 
 
-def _reusable(prev: dict | None, gen_dir: Path | None, name: str, fhash: str) -> bool:
+def reusable(prev: dict | None, gen_dir: Path | None, name: str, fhash: str) -> bool:
+    """Whether family ``name`` (hash ``fhash``) can be taken from ``gen_dir`` as it is: the previous
+    manifest records that hash and every file of the family is there with its recorded sha256."""
     if prev is None or gen_dir is None:
         return False
     fam = prev.get("families", {}).get(name)
@@ -353,7 +355,7 @@ def generate(families: Sequence[Family], root: Path, reuse: Path | None = None,
 
     for i, fam in enumerate(fams, 1):
         h = hashes[fam.name]
-        if _reusable(prev, reuse, fam.name, h["hash"]):
+        if reusable(prev, reuse, fam.name, h["hash"]):
             assert prev is not None and reuse is not None
             rec = prev["families"][fam.name]
             for fname in rec["files"]:

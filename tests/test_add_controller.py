@@ -24,11 +24,27 @@ def _git(repo: Path, *args: str) -> str:
                           capture_output=True, text=True, check=True).stdout
 
 
-def test_copy_of_baseline_is_a_new_controller(tmp_path, model):
-    repo = tmp_path / "checkout"
+def _checkout(repo: Path) -> Path:
     for d in ("symbolic", "runtime", "generated", "scenarios"):
         shutil.copytree(ROOT / d, repo / d, ignore=shutil.ignore_patterns("__pycache__", ".lock"))
     shutil.copy(ROOT / "build.py", repo / "build.py")
+    return repo
+
+
+def test_controller_module_without_design_is_one_line_exit_2(tmp_path):
+    repo = _checkout(tmp_path / "checkout")
+    (repo / "symbolic" / "controllers" / "half_done.py").write_text('"""Not finished yet."""\n')
+    before = {p.name: p.read_bytes() for p in (repo / "generated").iterdir() if p.is_file() and p.name != ".lock"}
+    res = subprocess.run([sys.executable, "build.py", "--no-compile"], cwd=repo, capture_output=True, text=True)
+    assert res.returncode == 2
+    assert res.stderr.strip() == ("error: symbolic/controllers/half_done.py defines no DESIGN "
+                                  "(the controller class to generate)")
+    assert {p.name: p.read_bytes() for p in (repo / "generated").iterdir()
+            if p.is_file() and p.name != ".lock"} == before
+
+
+def test_copy_of_baseline_is_a_new_controller(tmp_path, model):
+    repo = _checkout(tmp_path / "checkout")
     _git(repo, "init", "-q")
     _git(repo, "add", "-A")
     _git(repo, "commit", "-qm", "checkout")
