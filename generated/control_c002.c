@@ -1,7 +1,8 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_c002: controller half of a step of c002: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_c002' (hash a84dc5bc2944a8c8e2aed68847271b00afb3bf1f3cb2649485c9cea33ace60c0),
+ * Produced by `python build.py` from family 'controller_c002' (hash e29c2905704f389d00303f919b34f64f2964d1a7d037a3308252bc06cf875ec9),
  * derived from:
+ *   symbolic/__init__.py
  *   symbolic/actuators.py
  *   symbolic/c_composition.py
  *   symbolic/closed_loop.py

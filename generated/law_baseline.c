@@ -1,7 +1,8 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_baseline: control law of baseline
- * Produced by `python build.py` from family 'controller_baseline' (hash b7b872b80359729fbc22a952ea4350e883082a960e640ca5484f14d937fda734),
+ * Produced by `python build.py` from family 'controller_baseline' (hash 0d6f867862eb4d98e9e1df6f996a3fccb2a74fc2f825544610cf78c072422899),
  * derived from:
+ *   symbolic/__init__.py
  *   symbolic/actuators.py
  *   symbolic/c_composition.py
  *   symbolic/closed_loop.py

@@ -1,7 +1,8 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c000: control law of c000
- * Produced by `python build.py` from family 'controller_c000' (hash 61a6d0db80f7edb4aa747e9cf25e805558a5f52eedf344dbb49d2aa9c75062e3),
+ * Produced by `python build.py` from family 'controller_c000' (hash d186a5a63015caea4e47e0dcb5a2809b8e54f9c1279829a91badfc58c8056ca3),
  * derived from:
+ *   symbolic/__init__.py
  *   symbolic/actuators.py
  *   symbolic/c_composition.py
  *   symbolic/closed_loop.py

@@ -1,7 +1,8 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c001: control law of c001
- * Produced by `python build.py` from family 'controller_c001' (hash de21607da9724b12ef24be11c00186ad9934418e185c36d2662ae1c4a739739e),
+ * Produced by `python build.py` from family 'controller_c001' (hash bfcbcd1019ac25ba7602e8de9a68a9b3735d546feb92df91cbff9ec263822cdd),
  * derived from:
+ *   symbolic/__init__.py
  *   symbolic/actuators.py
  *   symbolic/c_composition.py
  *   symbolic/closed_loop.py

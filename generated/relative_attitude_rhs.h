@@ -1,7 +1,8 @@
 /* GENERATED FILE - DO NOT EDIT.
  * relative_attitude_rhs: relative attitude model (000 eqs. 24-29) driven by the plant state, for checks
- * Produced by `python build.py` from family 'plant' (hash c40674e0dc272a2471cb10effc0a658dcbaba91c9c56cf81932ef795843ba5b9),
+ * Produced by `python build.py` from family 'plant' (hash 38bb0dccfa1b6e5f1e9622f8269dac56e339274378339346fa80cdd850e4442f),
  * derived from:
+ *   symbolic/__init__.py
  *   symbolic/actuators.py
  *   symbolic/c_composition.py
  *   symbolic/closed_loop.py

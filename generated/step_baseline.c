@@ -1,7 +1,8 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_baseline: one closed-loop step (plant + baseline + actuators), RK4 over dt: measure, control_baseline, plant_advance
- * Produced by `python build.py` from family 'controller_baseline' (hash b7b872b80359729fbc22a952ea4350e883082a960e640ca5484f14d937fda734),
+ * Produced by `python build.py` from family 'controller_baseline' (hash 0d6f867862eb4d98e9e1df6f996a3fccb2a74fc2f825544610cf78c072422899),
  * derived from:
+ *   symbolic/__init__.py
  *   symbolic/actuators.py
  *   symbolic/c_composition.py
  *   symbolic/closed_loop.py
@@ -72,29 +73,33 @@ CASADI_SYMBOL_EXPORT int step_baseline(const casadi_real** arg, casadi_real** re
   const casadi_real* a[5];
   casadi_real* r[3];
   casadi_int i;
-  for (i = 0; i < 5; ++i) if (!arg[i]) return 1;
+  if (!arg[0]) return 1;  /* z */
+  if (!arg[1]) return 1;  /* t */
+  if (!arg[2]) return 1;  /* p */
+  if (!arg[3]) return 1;  /* k */
+  if (!arg[4]) return 1;  /* w */
   /* (meas) = measure(z, t, p, w) */
-  a[0] = arg[0] + 0;
-  a[1] = arg[1] + 0;
-  a[2] = arg[2] + 0;
-  a[3] = arg[4] + 0;
+  a[0] = arg[0];
+  a[1] = arg[1];
+  a[2] = arg[2];
+  a[3] = arg[4];
   r[0] = w + 0;
   if (measure(a, r, iw, w + 209, 0)) return 1;
   /* (cmd, xc_next, diag) = control_baseline(meas, z+73, t, p, k) */
   a[0] = w + 0;
   a[1] = arg[0] + 73;
-  a[2] = arg[1] + 0;
-  a[3] = arg[2] + 0;
-  a[4] = arg[3] + 0;
+  a[2] = arg[1];
+  a[3] = arg[2];
+  a[4] = arg[3];
   r[0] = w + 43;
   r[1] = w + 52;
   r[2] = w + 52;
   if (control_baseline(a, r, iw, w + 209, 0)) return 1;
   /* (zp_next, y_plant) = plant_advance(z, t, p, w, cmd) */
-  a[0] = arg[0] + 0;
-  a[1] = arg[1] + 0;
-  a[2] = arg[2] + 0;
-  a[3] = arg[4] + 0;
+  a[0] = arg[0];
+  a[1] = arg[1];
+  a[2] = arg[2];
+  a[3] = arg[4];
   a[4] = w + 43;
   r[0] = w + 53;
   r[1] = w + 126;

@@ -1,7 +1,8 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c000: one closed-loop step (plant + c000 + actuators), RK4 over dt: measure, control_c000, plant_advance
- * Produced by `python build.py` from family 'controller_c000' (hash 61a6d0db80f7edb4aa747e9cf25e805558a5f52eedf344dbb49d2aa9c75062e3),
+ * Produced by `python build.py` from family 'controller_c000' (hash d186a5a63015caea4e47e0dcb5a2809b8e54f9c1279829a91badfc58c8056ca3),
  * derived from:
+ *   symbolic/__init__.py
  *   symbolic/actuators.py
  *   symbolic/c_composition.py
  *   symbolic/closed_loop.py
@@ -72,29 +73,33 @@ CASADI_SYMBOL_EXPORT int step_c000(const casadi_real** arg, casadi_real** res, c
   const casadi_real* a[5];
   casadi_real* r[3];
   casadi_int i;
-  for (i = 0; i < 5; ++i) if (!arg[i]) return 1;
+  if (!arg[0]) return 1;  /* z */
+  if (!arg[1]) return 1;  /* t */
+  if (!arg[2]) return 1;  /* p */
+  if (!arg[3]) return 1;  /* k */
+  if (!arg[4]) return 1;  /* w */
   /* (meas) = measure(z, t, p, w) */
-  a[0] = arg[0] + 0;
-  a[1] = arg[1] + 0;
-  a[2] = arg[2] + 0;
-  a[3] = arg[4] + 0;
+  a[0] = arg[0];
+  a[1] = arg[1];
+  a[2] = arg[2];
+  a[3] = arg[4];
   r[0] = w + 0;
   if (measure(a, r, iw, w + 306, 0)) return 1;
   /* (cmd, xc_next, diag) = control_c000(meas, z+73, t, p, k) */
   a[0] = w + 0;
   a[1] = arg[0] + 73;
-  a[2] = arg[1] + 0;
-  a[3] = arg[2] + 0;
-  a[4] = arg[3] + 0;
+  a[2] = arg[1];
+  a[3] = arg[2];
+  a[4] = arg[3];
   r[0] = w + 43;
   r[1] = w + 52;
   r[2] = w + 85;
   if (control_c000(a, r, iw, w + 306, 0)) return 1;
   /* (zp_next, y_plant) = plant_advance(z, t, p, w, cmd) */
-  a[0] = arg[0] + 0;
-  a[1] = arg[1] + 0;
-  a[2] = arg[2] + 0;
-  a[3] = arg[4] + 0;
+  a[0] = arg[0];
+  a[1] = arg[1];
+  a[2] = arg[2];
+  a[3] = arg[4];
   a[4] = w + 43;
   r[0] = w + 150;
   r[1] = w + 223;

@@ -1,7 +1,8 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c002: one closed-loop step (plant + c002 + actuators), RK4 over dt: measure, control_c002, plant_advance
- * Produced by `python build.py` from family 'controller_c002' (hash a84dc5bc2944a8c8e2aed68847271b00afb3bf1f3cb2649485c9cea33ace60c0),
+ * Produced by `python build.py` from family 'controller_c002' (hash e29c2905704f389d00303f919b34f64f2964d1a7d037a3308252bc06cf875ec9),
  * derived from:
+ *   symbolic/__init__.py
  *   symbolic/actuators.py
  *   symbolic/c_composition.py
  *   symbolic/closed_loop.py
@@ -72,29 +73,33 @@ CASADI_SYMBOL_EXPORT int step_c002(const casadi_real** arg, casadi_real** res, c
   const casadi_real* a[5];
   casadi_real* r[3];
   casadi_int i;
-  for (i = 0; i < 5; ++i) if (!arg[i]) return 1;
+  if (!arg[0]) return 1;  /* z */
+  if (!arg[1]) return 1;  /* t */
+  if (!arg[2]) return 1;  /* p */
+  if (!arg[3]) return 1;  /* k */
+  if (!arg[4]) return 1;  /* w */
   /* (meas) = measure(z, t, p, w) */
-  a[0] = arg[0] + 0;
-  a[1] = arg[1] + 0;
-  a[2] = arg[2] + 0;
-  a[3] = arg[4] + 0;
+  a[0] = arg[0];
+  a[1] = arg[1];
+  a[2] = arg[2];
+  a[3] = arg[4];
   r[0] = w + 0;
   if (measure(a, r, iw, w + 264, 0)) return 1;
   /* (cmd, xc_next, diag) = control_c002(meas, z+73, t, p, k) */
   a[0] = w + 0;
   a[1] = arg[0] + 73;
-  a[2] = arg[1] + 0;
-  a[3] = arg[2] + 0;
-  a[4] = arg[3] + 0;
+  a[2] = arg[1];
+  a[3] = arg[2];
+  a[4] = arg[3];
   r[0] = w + 43;
   r[1] = w + 52;
   r[2] = w + 67;
   if (control_c002(a, r, iw, w + 264, 0)) return 1;
   /* (zp_next, y_plant) = plant_advance(z, t, p, w, cmd) */
-  a[0] = arg[0] + 0;
-  a[1] = arg[1] + 0;
-  a[2] = arg[2] + 0;
-  a[3] = arg[4] + 0;
+  a[0] = arg[0];
+  a[1] = arg[1];
+  a[2] = arg[2];
+  a[3] = arg[4];
   a[4] = w + 43;
   r[0] = w + 108;
   r[1] = w + 181;

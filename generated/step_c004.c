@@ -1,7 +1,8 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c004: one closed-loop step (plant + c004 + actuators), RK4 over dt: measure, control_c004, plant_advance
- * Produced by `python build.py` from family 'controller_c004' (hash 13f37c74bc60c9bfbd8e2a1705828164e5b47606bdfceec4a9198c168b13ea8e),
+ * Produced by `python build.py` from family 'controller_c004' (hash 5d825fb095ac5814c76ef01e514cf08e7cda84adb597450add34b9b3aa302c14),
  * derived from:
+ *   symbolic/__init__.py
  *   symbolic/actuators.py
  *   symbolic/c_composition.py
  *   symbolic/closed_loop.py
@@ -72,29 +73,33 @@ CASADI_SYMBOL_EXPORT int step_c004(const casadi_real** arg, casadi_real** res, c
   const casadi_real* a[5];
   casadi_real* r[3];
   casadi_int i;
-  for (i = 0; i < 5; ++i) if (!arg[i]) return 1;
+  if (!arg[0]) return 1;  /* z */
+  if (!arg[1]) return 1;  /* t */
+  if (!arg[2]) return 1;  /* p */
+  if (!arg[3]) return 1;  /* k */
+  if (!arg[4]) return 1;  /* w */
   /* (meas) = measure(z, t, p, w) */
-  a[0] = arg[0] + 0;
-  a[1] = arg[1] + 0;
-  a[2] = arg[2] + 0;
-  a[3] = arg[4] + 0;
+  a[0] = arg[0];
+  a[1] = arg[1];
+  a[2] = arg[2];
+  a[3] = arg[4];
   r[0] = w + 0;
   if (measure(a, r, iw, w + 256, 0)) return 1;
   /* (cmd, xc_next, diag) = control_c004(meas, z+73, t, p, k) */
   a[0] = w + 0;
   a[1] = arg[0] + 73;
-  a[2] = arg[1] + 0;
-  a[3] = arg[2] + 0;
-  a[4] = arg[3] + 0;
+  a[2] = arg[1];
+  a[3] = arg[2];
+  a[4] = arg[3];
   r[0] = w + 43;
   r[1] = w + 52;
   r[2] = w + 63;
   if (control_c004(a, r, iw, w + 256, 0)) return 1;
   /* (zp_next, y_plant) = plant_advance(z, t, p, w, cmd) */
-  a[0] = arg[0] + 0;
-  a[1] = arg[1] + 0;
-  a[2] = arg[2] + 0;
-  a[3] = arg[4] + 0;
+  a[0] = arg[0];
+  a[1] = arg[1];
+  a[2] = arg[2];
+  a[3] = arg[4];
   a[4] = w + 43;
   r[0] = w + 100;
   r[1] = w + 173;

@@ -1,7 +1,8 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c004: one closed-loop step (plant + c004 + actuators), RK4 over dt: measure, control_c004, plant_advance
- * Produced by `python build.py` from family 'controller_c004' (hash 13f37c74bc60c9bfbd8e2a1705828164e5b47606bdfceec4a9198c168b13ea8e),
+ * Produced by `python build.py` from family 'controller_c004' (hash 5d825fb095ac5814c76ef01e514cf08e7cda84adb597450add34b9b3aa302c14),
  * derived from:
+ *   symbolic/__init__.py
  *   symbolic/actuators.py
  *   symbolic/c_composition.py
  *   symbolic/closed_loop.py

@@ -47,7 +47,8 @@ RUNTIME_ABI = 2
 #: -O2 without -ffast-math: IEEE semantics are kept so that divergence (NaN/inf) is detected
 #: and results match the symbolic model to round-off.
 CFLAGS = ("-O2", "-fPIC")
-LDFLAGS = ("-shared",)
+#: -z defs (GNU ld): a callee missing from the link is an error now, not a library that fails to load
+LDFLAGS = ("-shared", "-Wl,-z,defs") if sys.platform.startswith("linux") else ("-shared",)
 LOOP_SOURCE = "sim_loop.c"
 #: The manifest format this runtime reads (``rpo.symbolic.codegen.FORMAT_VERSION``; a test checks they agree).
 MANIFEST_FORMAT = 2
@@ -177,20 +178,39 @@ def selected_sources(manifest: dict, controllers: Iterable[str] | None = None) -
             if d["family"] not in all_ctrl or d["family"] in keep]
 
 
-def _sources(gen_dir: Path, manifest: dict, controllers: Iterable[str] | None = None) -> list[tuple[str, Path]]:
-    """(name, path) of every C file the library is linked from: the generated ones and the loop driver."""
-    return [*((name, gen_dir / name) for name in selected_sources(manifest, controllers)),
-            (LOOP_SOURCE, loop_source())]
+def _sources(gen_dir: Path, manifest: dict, controllers: Iterable[str] | None = None) -> list[tuple[str, bytes]]:
+    """(name, bytes) of every C file the library is linked from: the generated ones, each read once
+    and checked against the manifest's sha256, and the loop driver.
+
+    The object key and the compiler see these same bytes (the compiler reads a private copy), so
+    a build.py writing generated/ while a library is built cannot file new code under an old key.
+    """
+    out = []
+    for name in selected_sources(manifest, controllers):
+        try:
+            data = (gen_dir / name).read_bytes()
+        except OSError as exc:
+            raise ModelError(f"{gen_dir / name} cannot be read ({exc.strerror}): run `python build.py`") from exc
+        if hashlib.sha256(data).hexdigest() != manifest["files"].get(name):
+            raise ModelError(f"{gen_dir / name} does not match manifest.json (edited by hand or being "
+                             "rewritten): run `python build.py`")
+        out.append((name, data))
+    out.append((LOOP_SOURCE, loop_source().read_bytes()))
+    return out
+
+
+def _library_key(sources: list[tuple[str, bytes]], manifest: dict, cc_id: str) -> str:
+    h = hashlib.sha256()
+    for name, data in sources:
+        h.update(name.encode() + b"\0" + object_key(data, cc_id).encode() + b"\0")
+    h.update(json.dumps({"ldflags": LDFLAGS, "abi": RUNTIME_ABI, "tools": manifest["tools"],
+                         "manifest": manifest["manifest_hash"]}, sort_keys=True).encode())
+    return h.hexdigest()
 
 
 def library_key(gen_dir: Path, manifest: dict, cc_id: str, controllers: Iterable[str] | None = None) -> str:
     """Cache key of the library: every object key, the link flags, the manifest and the tool versions."""
-    h = hashlib.sha256()
-    for name, path in _sources(gen_dir, manifest, controllers):
-        h.update(name.encode() + b"\0" + object_key(path.read_bytes(), cc_id).encode() + b"\0")
-    h.update(json.dumps({"ldflags": LDFLAGS, "abi": RUNTIME_ABI, "tools": manifest["tools"],
-                         "manifest": manifest["manifest_hash"]}, sort_keys=True).encode())
-    return h.hexdigest()
+    return _library_key(_sources(gen_dir, manifest, controllers), manifest, cc_id)
 
 
 @contextmanager
@@ -221,17 +241,22 @@ def _run_cc(cmd: list[str], what: str, cc: list[str]) -> None:
         raise ModelError(f"{what} failed ({' '.join(cc)}): {first}")
 
 
-def _compile_object(cc: list[str], src: Path, obj: Path) -> float:
-    """Compile ``src`` to ``obj`` through a temporary file in the same folder (atomic); return seconds."""
+def _compile_object(cc: list[str], name: str, source: bytes, obj: Path) -> float:
+    """Compile the C ``source`` (the bytes its key was computed from, written to a private copy) to
+    ``obj`` through a temporary file in the same folder (atomic rename); return seconds."""
     t0 = time.perf_counter()
     fd, tmp = tempfile.mkstemp(prefix=f".{obj.stem}.", suffix=".tmp.o", dir=obj.parent)
     os.close(fd)
+    fd, src = tempfile.mkstemp(prefix=f".{Path(name).stem}.", suffix=".c", dir=obj.parent)
+    with os.fdopen(fd, "wb") as fh:
+        fh.write(source)
     try:
-        _run_cc([*cc, *CFLAGS, "-c", str(src), "-o", tmp], f"compiling {src.name}", cc)
+        _run_cc([*cc, *CFLAGS, "-c", src, "-o", tmp], f"compiling {name}", cc)
         os.replace(tmp, obj)
     finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
+        for f in (tmp, src):
+            if os.path.exists(f):
+                os.unlink(f)
     return time.perf_counter() - t0
 
 
@@ -244,16 +269,18 @@ def default_jobs() -> int:
 
 
 def build_library(gen_dir: Path | None = None, cache: Path | None = None, log: Callable[[str], None] | None = None,
-                  jobs: int | None = None, controllers: Iterable[str] | None = None) -> tuple[Path, bool]:
+                  jobs: int | None = None, controllers: Iterable[str] | None = None,
+                  manifest: dict | None = None) -> tuple[Path, bool]:
     """Compile the generated model into the cache if needed; return (library path, compiled?).
 
     Objects missing from ``<cache>/obj`` are compiled in parallel (``jobs``, default every core),
     with a progress line per file through ``log``; then the library is linked from them.
     ``controllers``: only the plant and these controllers' functions (default: everything).
+    ``manifest``: the already verified manifest the caller will use with the library (default: read it).
     """
     controllers = None if controllers is None else sorted(set(controllers))
     gen_dir = generated_dir() if gen_dir is None else Path(gen_dir)
-    manifest = read_manifest(gen_dir)
+    manifest = read_manifest(gen_dir) if manifest is None else manifest
     cc = find_compiler()
     if cc is None:
         raise ModelError(NO_COMPILER)
@@ -265,9 +292,9 @@ def build_library(gen_dir: Path | None = None, cache: Path | None = None, log: C
         raise ModelError(f"cannot create the build cache {cache} ({exc.strerror}): set RPO_CACHE_DIR "
                          "to a writable folder") from exc
     sources = _sources(gen_dir, manifest, controllers)
-    objects = [(name, path, cache / "obj" / f"{Path(name).stem}-{object_key(path.read_bytes(), cc_id)[:24]}.o")
-               for name, path in sources]
-    key = library_key(gen_dir, manifest, cc_id, controllers)
+    objects = [(name, data, cache / "obj" / f"{Path(name).stem}-{object_key(data, cc_id)[:24]}.o")
+               for name, data in sources]
+    key = _library_key(sources, manifest, cc_id)
     lib = cache / f"rpo_model_{key[:24]}.so"
     if lib.exists():
         return lib, False
@@ -281,9 +308,9 @@ def build_library(gen_dir: Path | None = None, cache: Path | None = None, log: C
                 f"({len(objects) - len(todo)} cached) into {cache} ...")
         t0 = time.perf_counter()
         # largest first, so that the long step functions start at once and the short ones fill in
-        todo.sort(key=lambda item: -item[1].stat().st_size)
+        todo.sort(key=lambda item: -len(item[1]))
         with ThreadPoolExecutor(max_workers=n_jobs) as pool:
-            futures = {pool.submit(_compile_object, cc, src, obj): name for name, src, obj in todo}
+            futures = {pool.submit(_compile_object, cc, name, src, obj): name for name, src, obj in todo}
             for i, fut in enumerate(as_completed(futures), 1):
                 seconds = fut.result()
                 if log:
@@ -469,7 +496,7 @@ class Model:
 
 
 def _load_compiled(gen_dir: Path, manifest: dict, log=None, controllers: Iterable[str] | None = None) -> Model:
-    lib_path, _ = build_library(gen_dir, log=log, controllers=controllers)
+    lib_path, _ = build_library(gen_dir, log=log, controllers=controllers, manifest=manifest)
     sources = set(selected_sources(manifest, controllers))
     try:
         lib = ctypes.CDLL(str(lib_path))

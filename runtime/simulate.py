@@ -246,6 +246,9 @@ class Simulation:
         f = self.step_fn
         if run is None or not isinstance(f, CompiledFunction):
             return None
+        if f.sz_arg > 5 or f.sz_res > 2:  # sim_loop.c passes arg[5] and res[2]
+            raise ModelError(f"{f.name} needs {f.sz_arg} argument and {f.sz_res} result slots; the loop driver "
+                             "passes 5 and 2: rebuild with a matching runtime")
         fn_ptr = ctypes.cast(f.c_function, ctypes.c_void_p)
         bad = ctypes.c_int(0)
         p, k, bound = self.p, self.k, self.bound

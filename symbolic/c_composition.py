@@ -50,10 +50,15 @@ class Callee:
     sz_res: int
     sz_iw: int
     sz_w: int
+    #: numbers of entries of each (dense) input and output
+    in_sizes: tuple[int, ...] = ()
+    out_sizes: tuple[int, ...] = ()
 
     @classmethod
     def of(cls, fn) -> Callee:
-        return cls(fn.name(), int(fn.sz_arg()), int(fn.sz_res()), int(fn.sz_iw()), int(fn.sz_w()))
+        return cls(fn.name(), int(fn.sz_arg()), int(fn.sz_res()), int(fn.sz_iw()), int(fn.sz_w()),
+                   tuple(int(fn.nnz_in(i)) for i in range(fn.n_in())),
+                   tuple(int(fn.nnz_out(i)) for i in range(fn.n_out())))
 
 
 @dataclass(frozen=True)
@@ -66,6 +71,34 @@ class Call:
     results: Sequence[str]
 
 
+def _check(name: str, in_size: dict[str, int], size: dict[str, int],
+           outputs: Sequence[tuple[str, Sequence[str]]], calls: Sequence[Call]) -> None:
+    """Every call matches its callee's signature: argument and result counts, each argument slice
+    inside its vector, each result buffer exactly the callee's output size, each buffer written once.
+    The glue's C is only generated from a composition that passes (no hand-kept sizes can drift)."""
+    written: set[str] = set()
+    for c in calls:
+        ce = c.callee
+        if len(c.args) != len(ce.in_sizes) or len(c.results) != len(ce.out_sizes):
+            raise ValueError(f"{name}: {ce.name} takes {len(ce.in_sizes)} inputs and gives {len(ce.out_sizes)} "
+                             f"outputs; the call passes {len(c.args)} and takes {len(c.results)}")
+        for (vec, off), n in zip(c.args, ce.in_sizes, strict=True):
+            have = in_size.get(vec, size.get(vec))
+            if have is None or (vec in size and vec not in written):
+                raise ValueError(f"{name}: {ce.name} reads {vec}, which is not an input or an earlier result")
+            if off < 0 or off + n > have:
+                raise ValueError(f"{name}: {ce.name} reads {vec}[{off}:{off + n}] of a vector of {have}")
+        for b, n in zip(c.results, ce.out_sizes, strict=True):
+            if size.get(b) != n or b in written:
+                raise ValueError(f"{name}: {ce.name} writes {n} entries into buffer {b} "
+                                 f"({size.get(b)} entries{', already written' if b in written else ''})")
+            written.add(b)
+    for o_name, parts in outputs:
+        missing = [b for b in parts if b not in written]
+        if missing:
+            raise ValueError(f"{name}: output {o_name} uses buffers no call writes: {', '.join(missing)}")
+
+
 def composed_c(name: str, inputs: Sequence[tuple[str, int]], outputs: Sequence[tuple[str, Sequence[str]]],
                buffers: Sequence[tuple[str, int]], calls: Sequence[Call]) -> tuple[str, str]:
     """(C source, header) of ``name(inputs) -> outputs``.
@@ -76,6 +109,7 @@ def composed_c(name: str, inputs: Sequence[tuple[str, int]], outputs: Sequence[t
     """
     size = dict(buffers)
     in_size = dict(inputs)
+    _check(name, in_size, size, outputs, calls)
     offsets, o = {}, 0
     for b, n in buffers:
         offsets[b] = o
@@ -89,7 +123,8 @@ def composed_c(name: str, inputs: Sequence[tuple[str, int]], outputs: Sequence[t
 
     def ptr(vec: str, off: int) -> str:
         if vec in in_size:
-            return f"arg[{[n for n, _ in inputs].index(vec)}] + {off}"
+            i = [n for n, _ in inputs].index(vec)
+            return f"arg[{i}] + {off}" if off else f"arg[{i}]"
         return f"w + {offsets[vec] + off}"
 
     lines = []
@@ -101,7 +136,9 @@ def composed_c(name: str, inputs: Sequence[tuple[str, int]], outputs: Sequence[t
     body.append(f"  const casadi_real* a[{max_arg}];")
     body.append(f"  casadi_real* r[{max_res}];")
     body.append("  casadi_int i;")
-    body.append(f"  for (i = 0; i < {len(inputs)}; ++i) if (!arg[i]) return 1;")
+    for i, (n_name, n) in enumerate(inputs):
+        if n:  # an empty input may be NULL (CasADi passes NULL for 0x1): it is never read
+            body.append(f"  if (!arg[{i}]) return 1;  /* {n_name} */")
     for c in calls:
         args = ", ".join(f"{v}{'+' + str(o) if o else ''}" for v, o in c.args)
         res = ", ".join(c.results)

@@ -15,6 +15,7 @@ disturbance of eq. 45 (a_c - a_t, J2 terms of ~1.5e-2 m/s^2).  Thruster wrenches
 from __future__ import annotations
 
 import json
+import zlib
 from pathlib import Path
 
 import numpy as np
@@ -222,7 +223,7 @@ def test_generated_control_equals_numpy_composition(model, sources, numpy_piece,
 def test_generated_function_equals_sympy_source(model, numpy_piece, fname):
     desc = model.manifest["functions"][fname]
     ref_fn = numpy_piece(fname)
-    gen = Inputs(model, np.random.default_rng(abs(hash(fname)) % (1 << 32)))
+    gen = Inputs(model, np.random.default_rng(zlib.crc32(fname.encode())))  # replayable
     for _ in range(N_POINTS):
         args = [gen.value(fname, i["name"], i["shape"], i["layout"]) for i in desc["inputs"]]
         got = model.functions[fname](*args)
