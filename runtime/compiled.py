@@ -329,6 +329,51 @@ def build_library(gen_dir: Path | None = None, cache: Path | None = None, log: C
     return lib, True
 
 
+def current_cache_files(gen_dir: Path | None = None, cache: Path | None = None) -> set[Path]:
+    """The cache files the current generated/ uses: its objects, and its libraries for every
+    selection a run makes (everything, or the plant and one controller)."""
+    gen_dir = generated_dir() if gen_dir is None else Path(gen_dir)
+    cache = cache_dir() if cache is None else Path(cache)
+    manifest = read_manifest(gen_dir)
+    cc = find_compiler()
+    if cc is None:
+        raise ModelError(NO_COMPILER)
+    cc_id = compiler_identity(cc)
+    keep = set()
+    for ctrls in [None, *([c] for c in sorted(manifest.get("controllers", {})))]:
+        sources = _sources(gen_dir, manifest, ctrls)
+        keep |= {cache / "obj" / f"{Path(n).stem}-{object_key(d, cc_id)[:24]}.o" for n, d in sources}
+        keep.add(cache / f"rpo_model_{_library_key(sources, manifest, cc_id)[:24]}.so")
+    return keep
+
+
+def prune_cache(gen_dir: Path | None = None, cache: Path | None = None, dry_run: bool = False) -> tuple[int, int]:
+    """Delete the objects and libraries the current generated/ does not use; return (files, bytes).
+
+    A library still loaded by a running process keeps working (the mapping outlives the name), and
+    a library deleted here is rebuilt from cached or recompiled objects when it is needed again.
+    Runs under a lock of its own, so two prunes do not race; a build running at the same time may
+    have to recompile what was pruned, never loads anything stale.
+    """
+    cache = cache_dir() if cache is None else Path(cache)
+    if not cache.is_dir():
+        return 0, 0
+    keep = current_cache_files(gen_dir, cache)
+    n = size = 0
+    with file_lock(cache / ".prune.lock"):
+        for f in [*cache.glob("rpo_model_*.so"), *(cache / "obj").glob("*.o")]:
+            if f in keep:
+                continue
+            n += 1
+            size += f.stat().st_size
+            if not dry_run:
+                f.unlink(missing_ok=True)
+                lock = cache / f".{f.name}.lock"
+                if f.suffix == ".so" and lock.exists():
+                    lock.unlink(missing_ok=True)
+    return n, size
+
+
 # --------------------------------------------------------------------------- calling
 
 

@@ -486,3 +486,20 @@ def test_sources_are_compiled_from_the_bytes_their_key_was_computed_from(tiny, m
     lib_c = __import__("ctypes").CDLL(str(lib))
     f = compiled.CompiledFunction(lib_c, "law_a", old["functions"]["law_a"])
     assert np.allclose(f(np.array([1.0, 2.0, 3.0]))[0], [-0.5, -1.0, -1.5])
+
+
+def test_prune_keeps_what_the_current_model_uses(tiny):
+    src, gen, cache = tiny
+    old_lib, _ = compiled.build_library(gen, cache)
+    compiled.build_library(gen, cache, controllers=["a"])
+    _edit(src / "ctrl_b.py", "K = 0.25", "K = 0.35")
+    _generate(src, gen)
+    new_lib, _ = compiled.build_library(gen, cache)
+    assert compiled.prune_cache(gen, cache, dry_run=True)[0] >= 3  # old library, law_b and step_b objects
+    assert old_lib.exists()
+    n, size = compiled.prune_cache(gen, cache)
+    assert n >= 3 and size > 0 and not old_lib.exists() and new_lib.exists()
+    assert compiled.build_library(gen, cache) == (new_lib, False)  # nothing the current model needs is gone
+    lines: list[str] = []
+    compiled.build_library(gen, cache, controllers=["a"], log=lines.append)
+    assert not any("compiling" in ln for ln in lines)  # the "a" selection was kept: objects and library
