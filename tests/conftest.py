@@ -8,10 +8,14 @@ import numpy as np
 import pytest
 
 from rpo.runtime import load_model
+from rpo.runtime.scenario import paper_data
 
 DEG = np.pi / 180
-Q_C0_III = np.array([-0.3257, 0.5957, 0.6722, 0.2954])
-Q_T0_III = np.array([0.38831, 0.22356, -0.34408, 0.82512])
+#: 000 scenario III, read from its scenario file (the one place a paper's data is typed)
+SCENARIO_III = paper_data("000_scenario_III")
+#: the initial chaser and target quaternions of scenario III, used as generic attitudes
+Q_C0_III = np.array(SCENARIO_III["chaser"]["quaternion"], float)
+Q_T0_III = np.array(SCENARIO_III["target"]["quaternion"], float)
 
 
 @pytest.fixture(scope="session")

@@ -7,16 +7,18 @@ from scipy.integrate import solve_ivp
 
 from rpo.runtime.simulate import Simulation
 
-from conftest import DEG, Q_C0_III, Q_T0_III, ZERO_GAINS, quiet_params, unit
+from conftest import DEG, Q_C0_III, Q_T0_III, SCENARIO_III, ZERO_GAINS, quiet_params, unit
 
 MU = 3.986004418e14
 R_E = 6378137.0
 J2 = 1.08262668e-3
-E_III = 0.138
-A_III = (R_E + 400e3) / (1 - E_III)
-INC, RAAN, ARGP = 55 * DEG, 0.0, 270 * DEG
-R0 = np.array([60.0, 0.0, 25.0])
-V0 = np.array([3.0, -0.5, 5.0])
+# 000 scenario III's orbit and relative state, from its scenario file
+_ORBIT, _REL = SCENARIO_III["orbit"], SCENARIO_III["relative"]
+E_III = float(_ORBIT["eccentricity"])
+A_III = (R_E + float(_ORBIT["perigee_altitude"])) / (1 - E_III)
+INC, RAAN, ARGP = (float(_ORBIT[k]) * DEG for k in ("inclination_deg", "raan_deg", "arg_perigee_deg"))
+R0 = np.array(_REL["position"], float)
+V0 = np.array(_REL["velocity"], float)
 
 
 def elements_to_eci(a, e, inc, raan, argp, nu):
