@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_baseline: control law of baseline
- * Produced by `python build.py` from family 'controller_baseline' (hash 0d6f867862eb4d98e9e1df6f996a3fccb2a74fc2f825544610cf78c072422899),
+ * Produced by `python build.py` from family 'controller_baseline' (hash 9662abfc6c1aa8609fbcc291cbcdb28434830f84f9056dc8578134f8f3c6fb19),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

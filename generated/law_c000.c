@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c000: control law of c000
- * Produced by `python build.py` from family 'controller_c000' (hash d186a5a63015caea4e47e0dcb5a2809b8e54f9c1279829a91badfc58c8056ca3),
+ * Produced by `python build.py` from family 'controller_c000' (hash a7df07aa3b4c90699a74ab230cc7d8aa138fcc2e9f082b34431dfec854b86271),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

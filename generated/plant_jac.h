@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * plant_jac: Jacobians of plant_rhs w.r.t. x and u (CasADi AD)
- * Produced by `python build.py` from family 'plant' (hash 38bb0dccfa1b6e5f1e9622f8269dac56e339274378339346fa80cdd850e4442f),
+ * Produced by `python build.py` from family 'plant' (hash 0fa0164cb843fa983149cf2cbc26ef9fd5e654fab1da3152686da135a7fef7cb),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

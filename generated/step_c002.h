@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c002: one closed-loop step (plant + c002 + actuators), RK4 over dt: measure, control_c002, plant_advance
- * Produced by `python build.py` from family 'controller_c002' (hash e29c2905704f389d00303f919b34f64f2964d1a7d037a3308252bc06cf875ec9),
+ * Produced by `python build.py` from family 'controller_c002' (hash 705cbc745d2883f7326ad8ed6c703ec866de6b06d0f9ab291d2d8f7321325913),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

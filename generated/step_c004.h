@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c004: one closed-loop step (plant + c004 + actuators), RK4 over dt: measure, control_c004, plant_advance
- * Produced by `python build.py` from family 'controller_c004' (hash 5d825fb095ac5814c76ef01e514cf08e7cda84adb597450add34b9b3aa302c14),
+ * Produced by `python build.py` from family 'controller_c004' (hash e4cac357b593f77c063c91d4f35cc3068585b5e9d1bdcca910e0e8e2cc80c281),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

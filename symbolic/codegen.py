@@ -472,4 +472,8 @@ def update_folder(result: GenerateResult, gen_dir: Path, keep: Iterable[str] = (
         if f.is_file() and is_generated_name(f.name) and f.name not in wanted and f.name not in keep:
             f.unlink()
             written.append(f.name)
+        elif f.is_file() and f.name.startswith(".") and is_generated_name(f.name[1:].rsplit(".", 1)[0]):
+            # a temporary file of a build that died mid-write (the caller holds the lock: no live
+            # build is writing one now); never loaded, but not left to accumulate either
+            f.unlink()
     return written

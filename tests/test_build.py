@@ -503,3 +503,13 @@ def test_prune_keeps_what_the_current_model_uses(tiny):
     lines: list[str] = []
     compiled.build_library(gen, cache, controllers=["a"], log=lines.append)
     assert not any("compiling" in ln for ln in lines)  # the "a" selection was kept: objects and library
+
+
+def test_a_dead_build_s_temporary_files_are_cleaned_up(tiny):
+    src, gen, _ = tiny
+    (gen / ".law_a.c.k3j9x_2").write_bytes(b"half")  # as update_folder names them (mkstemp prefix)
+    (gen / ".manifest.json.abc123").write_bytes(b"{")
+    _edit(src / "ctrl_a.py", "K = 0.5", "K = 0.55")
+    _generate(src, gen)
+    assert sorted(f.name for f in gen.iterdir() if f.name.startswith(".")) == []
+    compiled.read_manifest(gen)
