@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_baseline: controller half of a step of baseline: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_baseline' (hash 9662abfc6c1aa8609fbcc291cbcdb28434830f84f9056dc8578134f8f3c6fb19),
+ * Produced by `python build.py` from family 'controller_baseline' (hash 16d8fdf045c61b43244bbabf64f754e79dcf6474e018cd55c6f6b63986656bb0),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

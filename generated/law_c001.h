@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c001: control law of c001
- * Produced by `python build.py` from family 'controller_c001' (hash bcb9f92955aee20cb12b73733b88e429344b52face82d835d0d271fb79d6eec5),
+ * Produced by `python build.py` from family 'controller_c001' (hash 3d1c241695018442dd29e424428ac3ed6399a631d072003a8a8fa7e17c6cbebf),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c002: control law of c002
- * Produced by `python build.py` from family 'controller_c002' (hash 705cbc745d2883f7326ad8ed6c703ec866de6b06d0f9ab291d2d8f7321325913),
+ * Produced by `python build.py` from family 'controller_c002' (hash 46c25753237164abc55cd9ef296e7dbc98087b5c6ed4af7a157e22d9d8f81e52),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * pwpf: PWPF Schmitt trigger
- * Produced by `python build.py` from family 'plant' (hash 0fa0164cb843fa983149cf2cbc26ef9fd5e654fab1da3152686da135a7fef7cb),
+ * Produced by `python build.py` from family 'plant' (hash 5156fbcf2093391c8729d77662958260b74c0ec8352faf3a6e5b1d779ef34b04),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c000: one closed-loop step (plant + c000 + actuators), RK4 over dt: measure, control_c000, plant_advance
- * Produced by `python build.py` from family 'controller_c000' (hash a7df07aa3b4c90699a74ab230cc7d8aa138fcc2e9f082b34431dfec854b86271),
+ * Produced by `python build.py` from family 'controller_c000' (hash 88598ed44db89ac8cb1047031709b55eb086a9e5c0b520233fc989ce63c21e07),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

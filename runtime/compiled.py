@@ -55,8 +55,6 @@ MANIFEST_FORMAT = 2
 
 _DOUBLE_P = ctypes.POINTER(ctypes.c_double)
 _INT_P = ctypes.POINTER(ctypes.c_longlong)
-_CASADI_SIG = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.POINTER(_DOUBLE_P), ctypes.POINTER(_DOUBLE_P),
-                               _INT_P, _DOUBLE_P, ctypes.c_int)
 
 
 def generated_dir() -> Path:
@@ -208,6 +206,22 @@ def _library_key(sources: list[tuple[str, bytes]], manifest: dict, cc_id: str) -
     return h.hexdigest()
 
 
+def _compiler() -> tuple[list[str], str]:
+    """The C compiler command and its identity, or the error that says what to install."""
+    cc = find_compiler()
+    if cc is None:
+        raise ModelError(NO_COMPILER)
+    return cc, compiler_identity(cc)
+
+
+def _object_path(cache: Path, name: str, source: bytes, cc_id: str) -> Path:
+    return cache / "obj" / f"{Path(name).stem}-{object_key(source, cc_id)[:24]}.o"
+
+
+def _library_path(cache: Path, sources: list[tuple[str, bytes]], manifest: dict, cc_id: str) -> Path:
+    return cache / f"rpo_model_{_library_key(sources, manifest, cc_id)[:24]}.so"
+
+
 def library_key(gen_dir: Path, manifest: dict, cc_id: str, controllers: Iterable[str] | None = None) -> str:
     """Cache key of the library: every object key, the link flags, the manifest and the tool versions."""
     return _library_key(_sources(gen_dir, manifest, controllers), manifest, cc_id)
@@ -228,8 +242,6 @@ def file_lock(path: Path) -> Iterator[None]:
         finally:
             fcntl.flock(fh, fcntl.LOCK_UN)
 
-
-_file_lock = file_lock  # the name earlier code used
 
 
 def _run_cc(cmd: list[str], what: str, cc: list[str]) -> None:
@@ -281,10 +293,7 @@ def build_library(gen_dir: Path | None = None, cache: Path | None = None, log: C
     controllers = None if controllers is None else sorted(set(controllers))
     gen_dir = generated_dir() if gen_dir is None else Path(gen_dir)
     manifest = read_manifest(gen_dir) if manifest is None else manifest
-    cc = find_compiler()
-    if cc is None:
-        raise ModelError(NO_COMPILER)
-    cc_id = compiler_identity(cc)
+    cc, cc_id = _compiler()
     cache = cache_dir() if cache is None else Path(cache)
     try:
         (cache / "obj").mkdir(parents=True, exist_ok=True)
@@ -292,10 +301,8 @@ def build_library(gen_dir: Path | None = None, cache: Path | None = None, log: C
         raise ModelError(f"cannot create the build cache {cache} ({exc.strerror}): set RPO_CACHE_DIR "
                          "to a writable folder") from exc
     sources = _sources(gen_dir, manifest, controllers)
-    objects = [(name, data, cache / "obj" / f"{Path(name).stem}-{object_key(data, cc_id)[:24]}.o")
-               for name, data in sources]
-    key = _library_key(sources, manifest, cc_id)
-    lib = cache / f"rpo_model_{key[:24]}.so"
+    objects = [(name, data, _object_path(cache, name, data, cc_id)) for name, data in sources]
+    lib = _library_path(cache, sources, manifest, cc_id)
     if lib.exists():
         return lib, False
     with file_lock(cache / f".{lib.name}.lock"):
@@ -335,15 +342,12 @@ def current_cache_files(gen_dir: Path | None = None, cache: Path | None = None) 
     gen_dir = generated_dir() if gen_dir is None else Path(gen_dir)
     cache = cache_dir() if cache is None else Path(cache)
     manifest = read_manifest(gen_dir)
-    cc = find_compiler()
-    if cc is None:
-        raise ModelError(NO_COMPILER)
-    cc_id = compiler_identity(cc)
+    _cc, cc_id = _compiler()
     keep = set()
     for ctrls in [None, *([c] for c in sorted(manifest.get("controllers", {})))]:
         sources = _sources(gen_dir, manifest, ctrls)
-        keep |= {cache / "obj" / f"{Path(n).stem}-{object_key(d, cc_id)[:24]}.o" for n, d in sources}
-        keep.add(cache / f"rpo_model_{_library_key(sources, manifest, cc_id)[:24]}.so")
+        keep |= {_object_path(cache, n, d, cc_id) for n, d in sources}
+        keep.add(_library_path(cache, sources, manifest, cc_id))
     return keep
 
 

@@ -1,9 +1,10 @@
 """One closed-loop step: measurement, controller, actuators, and fixed-step RK4 of the plant.
 
 The *pieces* (plant right-hand side, measurement, control law, allocations, PWPF) are SymPy
-expressions defined once in :func:`model_pieces`.  :func:`step` composes them over an array
-backend (``ops``): with CasADi for the generated C, with NumPy for the reference baseline of
-``benchmarks/``.  The composition is written once here, so both run the same algorithm.
+expressions defined once in :func:`plant_pieces` and :func:`controller_pieces`.  :func:`step`
+composes them over an array backend (``ops``): with CasADi for the generated C, with NumPy
+for the reference baseline of ``benchmarks/`` and the tests.  The composition is written once
+here, so both run the same algorithm.
 
 Timing within a step of length dt starting at t_k (zero-order hold):
 
@@ -48,6 +49,11 @@ class Piece:
     name: str
     inputs: list[tuple[str, sp.Basic]]
     outputs: list[tuple[str, sp.Basic]]
+
+
+#: The controller-independent pieces a step is composed of (the keys of :func:`plant_pieces`).
+PLANT_PIECES = ("plant_rhs", "measure", "env_outputs", "ideal_actuators", "wheel_alloc", "thruster_alloc", "pwpf",
+                "pwpf_filter")
 
 
 def plant_pieces(plant: Plant) -> dict[str, Piece]:
@@ -103,11 +109,6 @@ def controller_pieces(plant: Plant, ctrl) -> dict[str, Piece]:
         out[f"xc0_{ctrl.name}"] = Piece(f"xc0_{ctrl.name}", [("meas", meas), ("p", p), ("k", k)],
                                         [("xc0", ctrl.xc0(P.meas, P.p))])
     return out
-
-
-def model_pieces(plant: Plant, ctrl) -> dict[str, Piece]:
-    """All SymPy pieces a closed-loop step with ``ctrl`` is made of."""
-    return {**plant_pieces(plant), **controller_pieces(plant, ctrl)}
 
 
 def output_layout(plant: Plant, ctrl) -> Layout:
@@ -240,7 +241,7 @@ def step(ops, fn, idx, z, t, p, k, w):
     The composition of the measurement, :func:`controller_update` and :func:`plant_advance`
     (the generated C composes the same three generated functions the same way).
     ``ops``: array backend (``vcat``, ``floor``, ``if_else``, ``sqrt``, ``fmax``, ``zeros``);
-    ``fn``: callables for the pieces of :func:`model_pieces` (``law`` for the controller's),
+    ``fn``: callables for the pieces of :data:`PLANT_PIECES` plus ``law`` (the controller's),
     each returning a tuple of outputs; ``idx``: offsets from :func:`step_indices`.
     """
     nzp, nc = idx["nzp"], idx["nc"]

@@ -128,26 +128,20 @@ def _imports(path: Path, root: Path, package: str) -> set[Path]:
     found: set[Path] = set()
     for node in ast.walk(ast.parse(path.read_bytes(), str(path))):
         if isinstance(node, ast.ImportFrom):
-            if node.level:
-                base = here[: len(here) - (node.level - 1)] if node.level > 1 else list(here)
-            elif node.module and (node.module == package or node.module.startswith(package + ".")):
-                base = []
-                node_module = node.module[len(package):].lstrip(".")
-                mod = node_module.split(".") if node_module else []
-                found.update(_module_file(root, mod))
-                for alias in node.names:
-                    found.update(_module_file(root, [*mod, alias.name]))
-                continue
+            if node.level:  # from . import x / from ..pkg.mod import y
+                base = here[: len(here) - (node.level - 1)]
+                mod = [*base, *(node.module.split(".") if node.module else [])]
+            elif node.module == package or (node.module or "").startswith(package + "."):
+                mod = [m for m in node.module[len(package):].split(".") if m]
             else:
                 continue
-            mod = [*base, *(node.module.split(".") if node.module else [])]
             found.update(_module_file(root, mod))
             for alias in node.names:  # `from . import x` / `from .pkg import submodule`
                 found.update(_module_file(root, [*mod, alias.name]))
         elif isinstance(node, ast.Import):
             for alias in node.names:
                 if alias.name == package or alias.name.startswith(package + "."):
-                    found.update(_module_file(root, alias.name[len(package):].lstrip(".").split(".")))
+                    found.update(_module_file(root, [m for m in alias.name[len(package):].split(".") if m]))
     found.discard(path)
     return {f for f in found if f.is_file()}
 
@@ -433,13 +427,6 @@ def generate(families: Sequence[Family], root: Path, reuse: Path | None = None,
 
 def manifest_bytes(manifest: dict) -> bytes:
     return (json.dumps(manifest, indent=1, sort_keys=True) + "\n").encode()
-
-
-def write_all(result: GenerateResult, out_dir: Path) -> None:
-    """Write every file and the manifest into ``out_dir`` (which must exist)."""
-    for name, data in result.files.items():
-        (out_dir / name).write_bytes(data)
-    (out_dir / "manifest.json").write_bytes(manifest_bytes(result.manifest))
 
 
 def is_generated_name(name: str) -> bool:

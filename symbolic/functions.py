@@ -27,10 +27,6 @@ from .codegen import Family, FamilyOutput, Generated, ModelDefinitionError
 SYMBOLIC_DIR = Path(__file__).resolve().parent
 CONTROLLERS_DIR = SYMBOLIC_DIR / "controllers"
 
-#: Plant pieces composed into plant_advance (closed_loop.plant_advance's ``fn``).
-STEP_PIECES = ("plant_rhs", "measure", "env_outputs", "ideal_actuators", "wheel_alloc", "thruster_alloc", "pwpf",
-               "pwpf_filter")
-
 #: Manifest layout names of each plant function's inputs and outputs, and its description.
 _SIGNATURES = {
     "plant_rhs": (["x", "u", None, "p", "w"], ["x"], "plant right-hand side dx/dt (000 eqs. 6, 10, 24, 30, 45-47)"),
@@ -193,7 +189,7 @@ def casadi_plant_advance(cas: dict, P):
     zp = ca.MX.sym("zp", cl.state_layout(P).size)
     t, p = ca.MX.sym("t"), ca.MX.sym("p", P.p.size)
     w, cmd = ca.MX.sym("w", P.w.size), ca.MX.sym("cmd", 9)
-    calls = {name: _caller(cas[name]) for name in STEP_PIECES}
+    calls = {name: _caller(cas[name]) for name in cl.PLANT_PIECES}
     zp_next, y_plant = cl.plant_advance(_casadi_ops(), calls, cl.step_indices(P), zp, t, p, w, cmd)
     return _expanded("plant_advance", [zp, t, p, w, cmd], [zp_next, y_plant], ["zp", "t", "p", "w", "cmd"],
                      ["zp_next", "y_plant"])

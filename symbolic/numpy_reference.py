@@ -45,10 +45,6 @@ def lambdified(piece: cl.Piece):
     return call
 
 
-PLANT_PIECES = ("plant_rhs", "measure", "env_outputs", "ideal_actuators", "wheel_alloc", "thruster_alloc", "pwpf",
-                "pwpf_filter")
-
-
 def _pieces(pieces, make, names):
     make = make or (lambda name: lambdified(pieces[name]))
     return {name: make(name) for name in names}
@@ -56,7 +52,7 @@ def _pieces(pieces, make, names):
 
 def numpy_plant_advance(pieces: dict[str, cl.Piece], plant, make=None):
     """``plant_advance(zp, t, p, w, cmd) -> (zp_next, y_plant)`` evaluated with NumPy."""
-    fn = _pieces(pieces, make, PLANT_PIECES)
+    fn = _pieces(pieces, make, cl.PLANT_PIECES)
     idx = cl.step_indices(plant)
 
     def advance(zp, t, p, w, cmd):
@@ -84,7 +80,7 @@ def numpy_step(pieces: dict[str, cl.Piece], plant, ctrl, make=None):
 
     ``make(name)`` may supply already-lambdified pieces (lambdify takes ~10 s per large piece).
     """
-    fn = _pieces(pieces, make, (*PLANT_PIECES, f"law_{ctrl.name}"))
+    fn = _pieces(pieces, make, (*cl.PLANT_PIECES, f"law_{ctrl.name}"))
     fn["law"] = fn.pop(f"law_{ctrl.name}")
     idx = cl.step_indices(plant, ctrl)
 
