@@ -43,10 +43,17 @@ import numpy as np
 from .errors import ModelError
 
 #: Bump when the loop driver's calling convention or the library layout changes.
-RUNTIME_ABI = 2
+RUNTIME_ABI = 3
 #: -O2 without -ffast-math: IEEE semantics are kept so that divergence (NaN/inf) is detected
-#: and results match the symbolic model to round-off.
-CFLAGS = ("-O2", "-fPIC")
+#: and results match the symbolic model to round-off.  -ffp-contract=off and rpo's own math
+#: functions (rpo_math_scalar.h, forced in before the generated code) make the scalar objects
+#: compute exactly what the lane objects compute in every lane.
+CFLAGS = ("-O2", "-fPIC", "-ffp-contract=off")
+#: The lane objects (runtime/lanes.py): the same IEEE rules, for the machine's vector unit
+#: (``-march=native`` where the compiler has it: the lane width follows the target).
+LANE_CFLAGS = (os.environ.get("RPO_LANE_OPT", "-O2"), "-fPIC", "-ffp-contract=off", "-fno-strict-aliasing")
+SCALAR_MATH = "rpo_math_scalar.h"
+LANE_LOOP_SOURCE = "lanes_loop.c"
 #: -z defs (GNU ld): a callee missing from the link is an error now, not a library that fails to load
 LDFLAGS = ("-shared", "-Wl,-z,defs") if sys.platform.startswith("linux") else ("-shared",)
 LOOP_SOURCE = "sim_loop.c"
@@ -62,8 +69,26 @@ def generated_dir() -> Path:
     return Path(str(resources.files("rpo.generated")))
 
 
+def csrc_dir() -> Path:
+    """The hand-written C of the runtime: the loop drivers and the math headers."""
+    return Path(str(resources.files("rpo.runtime"))) / "csrc"
+
+
 def loop_source() -> Path:
-    return Path(str(resources.files("rpo.runtime"))) / "csrc" / LOOP_SOURCE
+    return csrc_dir() / LOOP_SOURCE
+
+
+def headers_digest() -> str:
+    """sha256 over the runtime's C headers (rpo_math.h and friends), which every object includes:
+    a header edit must change every object key."""
+    h = hashlib.sha256()
+    for f in sorted(csrc_dir().glob("*.h")):
+        h.update(f.name.encode() + b"\0" + f.read_bytes() + b"\0")
+    return h.hexdigest()
+
+
+def _scalar_flags() -> list[str]:
+    return [*CFLAGS, "-I", str(csrc_dir()), "-include", SCALAR_MATH]
 
 
 def read_manifest(gen_dir: Path | None = None, verify: bool = True) -> dict:
@@ -147,11 +172,12 @@ def cache_dir() -> Path:
     return Path(base) / "rpo"
 
 
-def object_key(source: bytes, cc_id: str) -> str:
-    """Cache key of one object file: the C source's bytes, the compiler identity and the flags."""
+def object_key(source: bytes, cc_id: str, flags: Iterable[str] = CFLAGS) -> str:
+    """Cache key of one object file: the C source's bytes, the headers it includes, the compiler
+    identity and the flags."""
     h = hashlib.sha256(source)
-    h.update(json.dumps({"cc": cc_id, "flags": CFLAGS, "abi": RUNTIME_ABI, "platform": sys.platform,
-                         "machine": platform.machine()}, sort_keys=True).encode())
+    h.update(json.dumps({"cc": cc_id, "flags": list(flags), "abi": RUNTIME_ABI, "platform": sys.platform,
+                         "machine": platform.machine(), "headers": headers_digest()}, sort_keys=True).encode())
     return h.hexdigest()
 
 
@@ -253,7 +279,7 @@ def _run_cc(cmd: list[str], what: str, cc: list[str]) -> None:
         raise ModelError(f"{what} failed ({' '.join(cc)}): {first}")
 
 
-def _compile_object(cc: list[str], name: str, source: bytes, obj: Path) -> float:
+def _compile_object(cc: list[str], name: str, source: bytes, obj: Path, flags: list[str] | None = None) -> float:
     """Compile the C ``source`` (the bytes its key was computed from, written to a private copy) to
     ``obj`` through a temporary file in the same folder (atomic rename); return seconds."""
     t0 = time.perf_counter()
@@ -263,7 +289,8 @@ def _compile_object(cc: list[str], name: str, source: bytes, obj: Path) -> float
     with os.fdopen(fd, "wb") as fh:
         fh.write(source)
     try:
-        _run_cc([*cc, *CFLAGS, "-c", src, "-o", tmp], f"compiling {name}", cc)
+        _run_cc([*cc, *(flags if flags is not None else _scalar_flags()), "-c", src, "-o", tmp],
+                f"compiling {name}", cc)
         os.replace(tmp, obj)
     finally:
         for f in (tmp, src):
@@ -303,6 +330,14 @@ def build_library(gen_dir: Path | None = None, cache: Path | None = None, log: C
     sources = _sources(gen_dir, manifest, controllers)
     objects = [(name, data, _object_path(cache, name, data, cc_id)) for name, data in sources]
     lib = _library_path(cache, sources, manifest, cc_id)
+    return _compile_and_link(cc, objects, lib, cache, log, jobs, None, "the generated model")
+
+
+def _compile_and_link(cc: list[str], objects: list[tuple[str, bytes, Path]], lib: Path, cache: Path,
+                      log: Callable[[str], None] | None, jobs: int | None, flags: list[str] | None,
+                      what: str) -> tuple[Path, bool]:
+    """Compile the missing ``objects`` (name, source bytes, object path) in parallel and link ``lib``
+    from all of them, under the library's lock; (lib, compiled?)."""
     if lib.exists():
         return lib, False
     with file_lock(cache / f".{lib.name}.lock"):
@@ -311,13 +346,13 @@ def build_library(gen_dir: Path | None = None, cache: Path | None = None, log: C
         todo = [(name, src, obj) for name, src, obj in objects if not obj.exists()]
         n_jobs = max(1, min(jobs or default_jobs(), len(todo) or 1))
         if log and todo:
-            log(f"compiling {len(todo)} of {len(objects)} C files on {n_jobs} core{'s' * (n_jobs > 1)} "
+            log(f"compiling {len(todo)} of {len(objects)} C files of {what} on {n_jobs} core{'s' * (n_jobs > 1)} "
                 f"({len(objects) - len(todo)} cached) into {cache} ...")
         t0 = time.perf_counter()
         # largest first, so that the long step functions start at once and the short ones fill in
         todo.sort(key=lambda item: -len(item[1]))
         with ThreadPoolExecutor(max_workers=n_jobs) as pool:
-            futures = {pool.submit(_compile_object, cc, name, src, obj): name for name, src, obj in todo}
+            futures = {pool.submit(_compile_object, cc, name, src, obj, flags): name for name, src, obj in todo}
             for i, fut in enumerate(as_completed(futures), 1):
                 seconds = fut.result()
                 if log:
@@ -326,7 +361,7 @@ def build_library(gen_dir: Path | None = None, cache: Path | None = None, log: C
         os.close(fd)
         try:
             _run_cc([*cc, *LDFLAGS, "-o", tmp, *(str(obj) for _n, _s, obj in objects), "-lm"],
-                    "linking the generated model", cc)
+                    f"linking {what}", cc)
             os.replace(tmp, lib)
         finally:
             if os.path.exists(tmp):
@@ -334,6 +369,88 @@ def build_library(gen_dir: Path | None = None, cache: Path | None = None, log: C
         if log:
             log(f"linked {lib.name} from {len(objects)} objects ({time.perf_counter() - t0:.1f} s)")
     return lib, True
+
+
+_NATIVE: dict[tuple[str, ...], tuple[list[str], str]] = {}
+
+
+def native_target(cc: list[str]) -> tuple[list[str], str]:
+    """The flags that select the build machine's vector unit (``-march=native`` when the compiler
+    takes it, else none: the lane width is then the baseline target's) and an identity of that
+    target (the compiler's predefined macros under those flags) for the lane objects' keys."""
+    key = tuple(cc)
+    if key not in _NATIVE:
+        flags: list[str] = []
+        for cand in (["-march=native"], []):
+            res = subprocess.run([*cc, *cand, "-dM", "-E", "-x", "c", os.devnull], capture_output=True,
+                                 text=True, check=False)
+            if res.returncode == 0:
+                flags = cand
+                break
+        else:
+            raise ModelError(f"the C compiler {' '.join(cc)} cannot preprocess an empty file")
+        _NATIVE[key] = (flags, hashlib.sha256(res.stdout.encode()).hexdigest())
+    return _NATIVE[key]
+
+
+def _lane_flags(native: list[str]) -> list[str]:
+    return [*LANE_CFLAGS, *native, *os.environ.get("RPO_LANE_EXTRA", "").split(), "-I", str(csrc_dir())]
+
+
+def lane_sources(gen_dir: Path, manifest: dict, controllers: Iterable[str] | None = None
+                 ) -> tuple[list[tuple[str, bytes]], dict[str, str]]:
+    """The lane forms (runtime/lanes.py) of the selected generated files whose every operation has
+    one, and of the composed steps whose callees all have one; plus {file: why not} for the rest."""
+    from .lanes import LaneError, lane_source
+
+    done: dict[str, tuple[bytes, list[str]]] = {}
+    skipped: dict[str, str] = {}
+    for name, data in _sources(gen_dir, manifest, controllers)[:-1]:  # the last one is the loop driver
+        try:
+            text, callees = lane_source(name, data.decode())
+        except LaneError as exc:
+            skipped[name] = str(exc)
+            continue
+        done[name] = (text.encode(), callees)
+    stem_to_file = {Path(n).stem: n for n in done}
+    for name, (_text, callees) in list(done.items()):
+        missing = [c for c in callees if c not in stem_to_file]
+        if missing:
+            skipped[name] = f"calls {', '.join(missing)}, which has no lane form"
+            del done[name]
+    out = [(f"{Path(n).stem}.lanes.c", text) for n, (text, _c) in sorted(done.items())]
+    out.append((LANE_LOOP_SOURCE, (csrc_dir() / LANE_LOOP_SOURCE).read_bytes()))
+    return out, skipped
+
+
+def build_lane_library(gen_dir: Path | None = None, cache: Path | None = None,
+                       log: Callable[[str], None] | None = None, jobs: int | None = None,
+                       controllers: Iterable[str] | None = None, manifest: dict | None = None
+                       ) -> tuple[Path, bool, dict[str, str]]:
+    """Compile the lane forms of the generated model for this machine's vector width into the cache
+    if needed; return (library path, compiled?, {file: why it has no lane form})."""
+    from .lanes import LANES_VERSION
+
+    controllers = None if controllers is None else sorted(set(controllers))
+    gen_dir = generated_dir() if gen_dir is None else Path(gen_dir)
+    manifest = read_manifest(gen_dir) if manifest is None else manifest
+    cc, cc_id = _compiler()
+    native, target_id = native_target(cc)
+    flags = _lane_flags(native)
+    lane_id = f"{cc_id}\ntarget {target_id}\nlanes {LANES_VERSION}"
+    cache = cache_dir() if cache is None else Path(cache)
+    (cache / "obj").mkdir(parents=True, exist_ok=True)
+    sources, skipped = lane_sources(gen_dir, manifest, controllers)
+    keyflags = [*LANE_CFLAGS, *native, *os.environ.get("RPO_LANE_EXTRA", "").split()]
+    objects = [(n, d, cache / "obj" / f"{Path(n).stem}-{object_key(d, lane_id, keyflags)[:24]}.o") for n, d in sources]
+    h = hashlib.sha256()
+    for n, _d, obj in objects:
+        h.update(n.encode() + b"\0" + obj.name.encode() + b"\0")
+    h.update(json.dumps({"ldflags": LDFLAGS, "abi": RUNTIME_ABI, "manifest": manifest["manifest_hash"]},
+                        sort_keys=True).encode())
+    lib = cache / f"rpo_lanes_{h.hexdigest()[:24]}.so"
+    path, compiled = _compile_and_link(cc, objects, lib, cache, log, jobs, flags, "the lane model")
+    return path, compiled, skipped
 
 
 def current_cache_files(gen_dir: Path | None = None, cache: Path | None = None) -> set[Path]:
@@ -384,9 +501,15 @@ def prune_cache(gen_dir: Path | None = None, cache: Path | None = None, dry_run:
 class CompiledFunction:
     """A generated function called through ctypes with preallocated buffers.
 
-    ``f(*inputs)`` copies the inputs into the function's own buffers and returns fresh arrays
-    shaped as in the manifest.  Not thread-safe: use one instance per thread (``clone()``).
+    ``f(*inputs)`` returns fresh arrays shaped as in the manifest (a tuple, one per output);
+    ``f(*inputs, out=arrays)`` writes into ``arrays`` (one array, or a tuple with one per output;
+    float64, contiguous; a matrix output as a Fortran-ordered (rows, cols) array or flat) and
+    returns them.  With the fast-call extension (:mod:`rpo.runtime.fastcall`) the inputs are read
+    in place and the same arrays passed again cost nothing to check.  ``f.batch(...)`` evaluates
+    many points in one C call.  Not thread-safe: use one instance per thread (``clone()``).
     """
+
+    _model: Model | None = None
 
     def __init__(self, lib: ctypes.CDLL, name: str, desc: dict):
         self.name = name
@@ -400,10 +523,14 @@ class CompiledFunction:
         sz = [ctypes.c_longlong() for _ in range(4)]
         getattr(lib, f"{name}_work")(*[ctypes.byref(s) for s in sz])
         self.sz_arg, self.sz_res, self.sz_iw, self.sz_w = (s.value for s in sz)
+        self.in_names = [i["name"] for i in desc["inputs"]]
+        self.out_names = [o["name"] for o in desc["outputs"]]
         self.in_shapes = [tuple(i["shape"]) for i in desc["inputs"]]
         self.out_shapes = [tuple(o["shape"]) for o in desc["outputs"]]
-        self.inputs = [np.zeros(int(np.prod(s))) for s in self.in_shapes]
-        self.outputs = [np.zeros(int(np.prod(s))) for s in self.out_shapes]
+        self.in_sizes = [int(np.prod(s)) for s in self.in_shapes]
+        self.out_sizes = [int(np.prod(s)) for s in self.out_shapes]
+        self.inputs = [np.zeros(n) for n in self.in_sizes]
+        self.outputs = [np.zeros(n) for n in self.out_sizes]
         self.iw = np.zeros(max(self.sz_iw, 1), dtype=np.int64)
         self.work = np.zeros(max(self.sz_w, 1))
         self._arg = (_DOUBLE_P * max(self.sz_arg, 1))(*[b.ctypes.data_as(_DOUBLE_P) for b in self.inputs])
@@ -429,23 +556,185 @@ class CompiledFunction:
                     raise ModelError(f"{name}: {kind}put {item['name']} is {nrow}x{ncol} (dense={dense}) in the "
                                      f"library but {item['shape']} in manifest.json: run `python build.py`")
 
-    def __call__(self, *args):
+    # -- one call ----------------------------------------------------------------------------
+
+    def _wanted(self, i: int) -> str:
+        r, c = self.in_shapes[i]
+        return f"({r},)" if c == 1 else f"({r}, {c})"
+
+    def _input(self, i: int, a) -> np.ndarray:
+        """Input i as a flat float64 array in CasADi's (column-major) order, or a clear error."""
+        r, c = self.in_shapes[i]
+        try:
+            arr = np.asarray(a, dtype=float)
+        except (TypeError, ValueError) as exc:
+            raise TypeError(f"{self.name}: input {self.in_names[i]} must be numbers of shape {self._wanted(i)}, "
+                            f"got {type(a).__name__}") from exc
+        ok = arr.shape in {(r, c), (r * c,)} or (c == 1 and arr.shape == (r, 1)) or (r * c == 1 and arr.ndim == 0)
+        if not ok:
+            extra = " or a number" if r * c == 1 else (f" or ({r}, 1)" if c == 1 else "")
+            raise ValueError(f"{self.name}: input {self.in_names[i]} must have shape {self._wanted(i)}{extra}, "
+                             f"got {arr.shape}")
+        return np.ravel(arr, order="F")
+
+    def _out_views(self, out) -> list[np.ndarray]:
+        """The out= arrays as flat views in CasADi's order, or a clear error."""
+        outs = list(out) if isinstance(out, (tuple, list)) else [out]
+        if len(outs) != len(self.out_shapes):
+            raise ValueError(f"{self.name}: out= needs {len(self.out_shapes)} arrays "
+                             f"({', '.join(self.out_names)}), got {len(outs)}")
+        views = []
+        for j, (o, (r, c)) in enumerate(zip(outs, self.out_shapes, strict=True)):
+            want = f"({r},)" if c == 1 else f"({r}, {c}) in Fortran order (np.empty(({r}, {c}), order='F')) or ({r * c},)"
+            if not isinstance(o, np.ndarray) or o.dtype != np.float64 or not o.flags.writeable:
+                raise TypeError(f"{self.name}: out for {self.out_names[j]} must be a writable float64 array of "
+                                f"shape {want}")
+            if c == 1 and o.shape in {(r,), (r, 1)} and o.flags.c_contiguous:
+                views.append(o.reshape(-1))
+            elif c > 1 and o.shape == (r, c) and o.flags.f_contiguous:
+                views.append(o.reshape(-1, order="F"))
+            elif o.shape == (r * c,) and o.flags.c_contiguous:
+                views.append(o)
+            else:
+                raise ValueError(f"{self.name}: out for {self.out_names[j]} must have shape {want} "
+                                 f"(contiguous), got {o.shape}")
+        return views
+
+    def _py_call(self, args, out=None):
+        """The ctypes path (also the fast path's fallback, which explains what is wrong)."""
         if len(args) != len(self.inputs):
-            raise TypeError(f"{self.name} takes {len(self.inputs)} inputs, got {len(args)}")
-        for buf, a, d in zip(self.inputs, args, self.desc["inputs"], strict=True):
+            raise TypeError(f"{self.name} takes {len(self.inputs)} inputs ({', '.join(self.in_names)}), "
+                            f"got {len(args)}")
+        for i, (buf, a) in enumerate(zip(self.inputs, args, strict=True)):
             if isinstance(a, float | int) and buf.size == 1:
                 buf[0] = a
                 continue
-            a = np.ravel(a, order="F")  # a view for contiguous vectors: no per-call allocation
-            if a.size != buf.size:
-                raise ValueError(f"{self.name}: input {d['name']} needs {buf.size} values, got {a.size}")
-            buf[:] = a
+            buf[:] = self._input(i, a)
+        views = None if out is None else self._out_views(out)
         if self.c_function(self._arg, self._res, self._iw_p, self._w_p, 0) != 0:
             raise FloatingPointError(f"{self.name} reported an evaluation error")
+        if views is not None:
+            for v, o in zip(views, self.outputs, strict=True):
+                v[:] = o
+            return out
+        return self._finish()
+
+    def _finish(self):
         return tuple(o.reshape(s, order="F").copy() if s[1] > 1 else o.copy() for o, s in self._out_pairs)
 
+    def __call__(self, *args, out=None):
+        return self._py_call(args, out)
+
+    # -- many points -------------------------------------------------------------------------
+
+    def batch(self, *args, out=None):
+        """Evaluate at N points in one C call (K at a time in SIMD lanes where the lane library
+        has this function), bit-identical to N single calls.
+
+        Each input is either per point, with the leading axis N (``(N, n)``, or ``(N,)`` for a
+        size-1 input), or one value shared by every point (``(n,)``, or a number).  Returns one
+        array per output, ``(N, n)`` (``(N, rows, cols)`` for a matrix); ``out=`` takes such arrays
+        (C-contiguous; a matrix output ``o`` with ``o.transpose(0, 2, 1)`` C-contiguous).
+        """
+        if len(args) != len(self.in_sizes):
+            raise TypeError(f"{self.name}.batch takes {len(self.in_sizes)} inputs ({', '.join(self.in_names)}), "
+                            f"got {len(args)}")
+        n_points = None
+        ins, strides = [], []
+        for i, (a, n) in enumerate(zip(args, self.in_sizes, strict=True)):
+            arr = np.asarray(a, dtype=float)
+            r, c = self.in_shapes[i]
+            if c > 1:
+                per_point, shared = arr.ndim == 3 and arr.shape[1:] == (r, c), arr.shape == (r, c)
+                if per_point:
+                    arr = arr.transpose(0, 2, 1)
+            else:
+                per_point = (arr.ndim == 2 and arr.shape[1] == n) or (n == 1 and arr.ndim == 1)
+                shared = (arr.ndim == 1 and arr.shape[0] == n and n > 1) or (n == 1 and arr.ndim == 0)
+            if per_point:
+                if n_points is not None and arr.shape[0] != n_points:
+                    raise ValueError(f"{self.name}.batch: input {self.in_names[i]} has {arr.shape[0]} points, an "
+                                     f"earlier input {n_points}")
+                n_points = arr.shape[0]
+                ins.append(np.ascontiguousarray(arr).reshape(n_points, n))
+                strides.append(n)
+            elif shared:
+                ins.append(np.ascontiguousarray(arr).reshape(n, order="F"))
+                strides.append(0)
+            else:
+                one = f"({r}, {c})" if c > 1 else f"({n},)" if n > 1 else "a number"
+                many = f"(N, {r}, {c})" if c > 1 else f"(N, {n})" if n > 1 else "(N,)"
+                raise ValueError(f"{self.name}.batch: input {self.in_names[i]} must have shape {many} (one per "
+                                 f"point) or {one} (shared), got {arr.shape}")
+        if n_points is None:
+            raise ValueError(f"{self.name}.batch: no input has the leading axis N (use the single call)")
+        N = n_points
+        shapes = [(N, r) if c == 1 else (N, c, r) for r, c in self.out_shapes]  # per point: CasADi's column order
+        if out is None:
+            bufs = [np.empty(s) for s in shapes]
+        else:
+            outs = list(out) if isinstance(out, (tuple, list)) else [out]
+            if len(outs) != len(shapes):
+                raise ValueError(f"{self.name}.batch: out= needs {len(shapes)} arrays, got {len(outs)}")
+            bufs = []
+            for j, (o, s) in enumerate(zip(outs, shapes, strict=True)):
+                o2 = o.transpose(0, 2, 1) if isinstance(o, np.ndarray) and o.ndim == 3 else o
+                if not (isinstance(o2, np.ndarray) and o2.dtype == np.float64 and o2.shape == s
+                        and o2.flags.c_contiguous and o2.flags.writeable):
+                    want = s if len(s) == 2 else (N, s[2], s[1])
+                    raise ValueError(f"{self.name}.batch: out for {self.out_names[j]} must be a writable, contiguous "
+                                     f"float64 array of shape {want}")
+                bufs.append(o2)
+        in_p = (_DOUBLE_P * len(ins))(*[a.ctypes.data_as(_DOUBLE_P) for a in ins])
+        in_n = (ctypes.c_longlong * len(ins))(*self.in_sizes)
+        in_s = (ctypes.c_longlong * len(ins))(*strides)
+        out_p = (_DOUBLE_P * len(bufs))(*[b.ctypes.data_as(_DOUBLE_P) for b in bufs])
+        out_n = (ctypes.c_longlong * len(bufs))(*self.out_sizes)
+        lanes = self._model.lanes() if self._model is not None else None
+        if lanes is not None and lanes.has(self.name):
+            rc = lanes.batch(ctypes.c_void_p(lanes.pointers[self.name]), ctypes.c_longlong(lanes.work[self.name]),
+                             ctypes.c_int(len(ins)), in_p, in_n, in_s, ctypes.c_int(len(bufs)), out_p, out_n,
+                             ctypes.c_longlong(N))
+        else:
+            f = self._lib.rpo_batch_scalar
+            f.restype = ctypes.c_longlong
+            rc = f(ctypes.cast(self.c_function, ctypes.c_void_p), self._iw_p, self._w_p, ctypes.c_int(len(ins)),
+                   in_p, in_s, ctypes.c_int(len(bufs)), out_p, out_n, ctypes.c_longlong(N))
+        if rc == -1:
+            raise MemoryError(f"{self.name}.batch: no memory for the lane buffers")
+        if rc != 0:
+            raise FloatingPointError(f"{self.name} reported an evaluation error at point {rc - 1}")
+        if out is not None:
+            return out
+        return tuple(b if b.ndim == 2 else b.transpose(0, 2, 1) for b in bufs)
+
     def clone(self) -> CompiledFunction:
-        return CompiledFunction(self._lib, self.name, self.desc)
+        other = type(self)(self._lib, self.name, self.desc)
+        other._model = self._model
+        return other
+
+
+_FAST_CLASS: dict[int, type] = {}
+
+
+def _function_class(ext) -> type:
+    """CompiledFunction with its single call done by the fast-call extension's ``Caller``."""
+    if ext is None:
+        return CompiledFunction
+    if id(ext) not in _FAST_CLASS:
+        class FastCompiledFunction(ext.Caller, CompiledFunction):  # type: ignore[misc, name-defined]
+            __doc__ = CompiledFunction.__doc__
+
+            def __init__(self, lib: ctypes.CDLL, name: str, desc: dict):
+                CompiledFunction.__init__(self, lib, name, desc)
+                ext.Caller.__init__(
+                    self, ctypes.cast(self.c_function, ctypes.c_void_p).value, self.in_sizes, self.out_sizes,
+                    [s[1] > 1 for s in self.out_shapes], self.iw.ctypes.data, self.work.ctypes.data,
+                    tuple(self.outputs), self._py_call, self._finish)
+
+        ext.enable_vectorcall(FastCompiledFunction)
+        _FAST_CLASS[id(ext)] = FastCompiledFunction
+    return _FAST_CLASS[id(ext)]
 
 
 class CasadiFunction:
@@ -471,12 +760,29 @@ class Model:
     """The generated model: manifest, layouts and callable functions (compiled or CasADi)."""
 
     def __init__(self, manifest: dict, functions: dict, backend: str, library: Path | None = None,
-                 lib: ctypes.CDLL | None = None):
+                 lib: ctypes.CDLL | None = None, gen_dir: Path | None = None,
+                 controllers: Iterable[str] | None = None, log: Callable[[str], None] | None = None):
         self.manifest = manifest
         self.functions = functions
         self.backend = backend
         self.library = library
         self._lib = lib
+        self._gen_dir = gen_dir
+        self._controllers = None if controllers is None else sorted(set(controllers))
+        self._log = log
+        self._lanes: LaneLibrary | None = None
+        for f in functions.values():
+            if isinstance(f, CompiledFunction):
+                f._model = self
+
+    def lanes(self) -> LaneLibrary | None:
+        """The lane library (K runs per call, K = this machine's vector width), built on first use
+        (compiled backend only; None for the CasADi backend)."""
+        if self._lanes is None and self.backend == "compiled":
+            path, _compiled, skipped = build_lane_library(self._gen_dir, log=self._log,
+                                                          controllers=self._controllers, manifest=self.manifest)
+            self._lanes = LaneLibrary(path, skipped, self.manifest)
+        return self._lanes
 
     def __getattr__(self, name):
         try:
@@ -544,6 +850,35 @@ class Model:
         return f
 
 
+class LaneLibrary:
+    """The lane forms of the generated functions, loaded: ``width`` runs per call."""
+
+    def __init__(self, path: Path, skipped: dict[str, str], manifest: dict):
+        try:
+            self.lib = ctypes.CDLL(str(path))
+        except OSError as exc:
+            raise ModelError(f"cannot load {path} ({exc}): delete it and run again to rebuild") from exc
+        self.path = path
+        self.skipped = skipped
+        self.width = int(self.lib.rpo_lanes_width())
+        self.pointers: dict[str, int] = {}
+        self.work: dict[str, int] = {}
+        for name, desc in manifest["functions"].items():
+            if desc["source"] in skipped or not hasattr(self.lib, f"{name}_lanes"):
+                continue
+            self.pointers[name] = ctypes.cast(getattr(self.lib, f"{name}_lanes"), ctypes.c_void_p).value or 0
+            work = getattr(self.lib, f"{name}_lanes_work")
+            work.restype = ctypes.c_longlong
+            self.work[name] = int(work())
+        self.batch = self.lib.rpo_batch_lanes
+        self.batch.restype = ctypes.c_longlong
+        self.run = self.lib.rpo_run_lanes
+        self.run.restype = ctypes.c_int
+
+    def has(self, name: str) -> bool:
+        return name in self.pointers
+
+
 def _load_compiled(gen_dir: Path, manifest: dict, log=None, controllers: Iterable[str] | None = None) -> Model:
     lib_path, _ = build_library(gen_dir, log=log, controllers=controllers, manifest=manifest)
     sources = set(selected_sources(manifest, controllers))
@@ -562,9 +897,12 @@ def _load_compiled(gen_dir: Path, manifest: dict, log=None, controllers: Iterabl
         int_size.restype = ctypes.c_int
         if int_size() != 8:
             raise ModelError(f"generated/{source} uses a casadi_int that is not 64-bit: run `python build.py`")
-    funcs = {name: CompiledFunction(lib, name, desc) for name, desc in manifest["functions"].items()
+    from . import fastcall
+
+    cls = _function_class(fastcall.load())
+    funcs = {name: cls(lib, name, desc) for name, desc in manifest["functions"].items()
              if desc["source"] in sources}
-    return Model(manifest, funcs, "compiled", lib_path, lib)
+    return Model(manifest, funcs, "compiled", lib_path, lib, gen_dir=gen_dir, controllers=controllers, log=log)
 
 
 def _load_casadi(gen_dir: Path, manifest: dict) -> Model:

@@ -105,6 +105,7 @@ class Simulation:
         self.model = model
         self.controller = controller
         entry = ctrls[controller]
+        self._params_given, self._gains_given = dict(params or {}), dict(gains or {})
         self.p = model.vector("p", params)
         self.k = model.vector(entry["gains"], gains)
         self.z_layout = f"z_{controller}"
@@ -116,17 +117,32 @@ class Simulation:
         self.dt = float(self.p[model.offsets("p")["dt"]][0])
         if not self.dt > 0:
             raise ModelError(f"dt must be > 0, got {self.dt}")
-        delay = float(self.p[model.offsets("p")["wheel_delay"]][0])
-        slots = int(model.manifest["delay_slots"])
-        if not 0 <= delay < slots * self.dt:
-            # the delay line holds `slots` past commands; a longer delay cannot be represented
-            raise ModelError(f"wheel_delay = {delay} s must be in [0, {slots} dt) = [0, {slots * self.dt:g}) s")
+        self._check_delay(self.p)
         self.bound = np.full(self.nz, np.inf)
         offs = model.offsets(self.z_layout)
         for name, b in {**DEFAULT_BOUNDS, **(bounds or {})}.items():
             if name not in offs:
                 raise ModelError(f"bounds: unknown state field {name!r}")
             self.bound[offs[name]] = b
+
+    def _check_delay(self, p: np.ndarray) -> None:
+        delay = float(p[self.model.offsets("p")["wheel_delay"]][0])
+        slots = int(self.model.manifest["delay_slots"])
+        if not 0 <= delay < slots * self.dt:
+            # the delay line holds `slots` past commands; a longer delay cannot be represented
+            raise ModelError(f"wheel_delay = {delay} s must be in [0, {slots} dt) = [0, {slots * self.dt:g}) s")
+
+    def _check_run_args(self, z0, duration, t0, record_every, chunk) -> tuple[int, int, int]:
+        if not np.isfinite(duration) or not np.isfinite(t0):
+            raise ModelError(f"duration and t0 must be finite, got {duration}, {t0}")
+        n_total = int(round(duration / self.dt))
+        if n_total < 1:
+            raise ModelError(f"duration {duration} s is shorter than one step ({self.dt} s)")
+        if int(record_every) != record_every or record_every < 1 or int(chunk) != chunk or chunk < 1:
+            raise ModelError(f"record_every and chunk must be integers >= 1, got {record_every}, {chunk}")
+        if not np.all(np.isfinite(z0)):
+            raise ModelError("initial state has non-finite entries")
+        return n_total, int(record_every), int(chunk)
 
     def initial_state(self, plant: dict, controller: dict | None = None) -> np.ndarray:
         """Packed z0 from plant fields (q_c, w_c, h_w, q_t, w_t, r, v) and controller states.
@@ -165,16 +181,7 @@ class Simulation:
         Records every ``record_every``-th state and always the final one; if the run diverges, the
         last good state (with the output of the failing step) is the final row.
         """
-        if not np.isfinite(duration) or not np.isfinite(t0):
-            raise ModelError(f"duration and t0 must be finite, got {duration}, {t0}")
-        n_total = int(round(duration / self.dt))
-        if n_total < 1:
-            raise ModelError(f"duration {duration} s is shorter than one step ({self.dt} s)")
-        if int(record_every) != record_every or record_every < 1 or int(chunk) != chunk or chunk < 1:
-            raise ModelError(f"record_every and chunk must be integers >= 1, got {record_every}, {chunk}")
-        if not np.all(np.isfinite(z0)):
-            raise ModelError("initial state has non-finite entries")
-        record_every, chunk = int(record_every), int(chunk)
+        n_total, record_every, chunk = self._check_run_args(z0, duration, t0, record_every, chunk)
         rng = np.random.default_rng(seed)
         nz, ny, nw = self.nz, self.ny, self.nw
         Zc = np.empty((chunk + 1, nz))
@@ -235,6 +242,168 @@ class Simulation:
             y_labels=self.model.labels(self.y_layout), y_units=self.model.units(self.y_layout),
             steps_done=done, steps_requested=n_total, dt=self.dt,
             wall_time=time.perf_counter() - wall0, divergence=divergence,
+            meta={"controller": self.controller, "seed": seed, "record_every": record_every,
+                  "backend": self.model.backend},
+        )
+
+    def run_batch(self, Z0: np.ndarray, duration: float, seeds, params=None, gains=None, t0: float = 0.0,
+                  record_every: int = 1, chunk: int = 1024,
+                  progress: Callable[[int, int], None] | None = None) -> list[RunResult]:
+        """Run N cases in lockstep, K at a time (K = :attr:`lanes`, the machine's vector width).
+
+        ``Z0`` (N, nz) initial states; ``seeds`` N random-torque seeds; ``params`` / ``gains``:
+        None (this simulation's), one dict of field overrides for every case, or a sequence of N
+        such dicts (per-case parameters and gains, over this simulation's).  Every case must have
+        this simulation's ``dt``.  Returns one :class:`RunResult` per case, each bit-identical to
+        ``run(Z0[i], duration, seeds[i], ...)`` with that case's parameters and gains; a case that
+        diverges stops (its result says where) and the others go on.  ``progress(done, total)``
+        counts run-steps.
+        """
+        Z0 = np.atleast_2d(np.asarray(Z0, float))
+        if Z0.ndim != 2 or Z0.shape[1] != self.nz:
+            raise ModelError(f"run_batch: Z0 must have shape (N, {self.nz}), got {np.shape(Z0)}")
+        n_runs = Z0.shape[0]
+        seeds = list(seeds)
+        if len(seeds) != n_runs:
+            raise ModelError(f"run_batch: {n_runs} initial states but {len(seeds)} seeds")
+        P = self._per_case("params", params, n_runs, "p", self._params_given)
+        G = self._per_case("gains", gains, n_runs, self.model.manifest["controllers"][self.controller]["gains"],
+                           self._gains_given)
+        dt_col = self.model.offsets("p")["dt"].start
+        for i in range(n_runs):
+            if P[i, dt_col] != self.dt:
+                raise ModelError(f"run_batch: case {i} has dt = {P[i, dt_col]:g} s; all cases of a batch step "
+                                 f"together with dt = {self.dt:g} s")
+            self._check_delay(P[i])
+        n_total, record_every, chunk = self._check_run_args(Z0, duration, t0, record_every, chunk)
+        lanes = self.model.lanes() if self.model.backend == "compiled" else None
+        name = self.step_fn.name
+        if lanes is None or not lanes.has(name):
+            # no lane form (CasADi backend, or an operation rpo_math.h lacks): the scalar runs, same results
+            return [Simulation._with(self, P[i], G[i]).run(Z0[i], duration, seed=seeds[i], t0=t0,
+                                                            record_every=record_every, chunk=chunk)
+                    for i in range(n_runs)]
+        K = lanes.width
+        results: list[RunResult | None] = [None] * n_runs
+        wall0 = time.perf_counter()
+        for b in range(0, n_runs, K):
+            idx = list(range(b, min(b + K, n_runs)))
+            pad = idx + [idx[-1]] * (K - len(idx))
+            block = self._run_block(lanes, Z0[pad], [seeds[i] for i in pad], P[pad], G[pad], len(idx), n_total,
+                                    t0, record_every, chunk,
+                                    None if progress is None else (lambda d, _b=b: progress(_b * n_total + d,
+                                                                                            n_runs * n_total)))
+            for j, i in enumerate(idx):
+                results[i] = block[j]
+        wall = time.perf_counter() - wall0
+        for i, r in enumerate(results):
+            assert r is not None
+            r.wall_time = wall / n_runs
+            r.meta.update({"seed": seeds[i], "lanes": K, "batch_index": i})
+        return [r for r in results if r is not None]
+
+    def _per_case(self, what: str, values, n: int, layout: str, base: dict) -> np.ndarray:
+        if values is None or isinstance(values, dict):
+            v = self.model.vector(layout, {**base, **(values or {})})
+            return np.tile(v, (n, 1))
+        values = list(values)
+        if len(values) != n:
+            raise ModelError(f"run_batch: {what} has {len(values)} entries for {n} cases")
+        return np.array([self.model.vector(layout, {**base, **(d or {})}) for d in values])
+
+    @staticmethod
+    def _with(sim: Simulation, p: np.ndarray, k: np.ndarray) -> Simulation:
+        other = object.__new__(Simulation)
+        other.__dict__.update(sim.__dict__)
+        other.p, other.k = np.array(p), np.array(k)
+        return other
+
+    def _run_block(self, lanes, Z0, seeds, P, G, n_real, n_total, t0, record_every, chunk, progress):
+        K, nz, ny, nw = lanes.width, self.nz, self.ny, self.nw
+        chunk = max(record_every, (chunk // record_every) * record_every)  # chunks start on the recording grid
+        rngs = [np.random.default_rng(s) for s in seeds]
+        Z = np.ascontiguousarray(Z0, dtype=float)
+        P, G = np.ascontiguousarray(P), np.ascontiguousarray(G)
+        status = np.zeros(K, dtype=np.intc)
+        status[:n_real] = 1
+        steps_ok = np.zeros(K, dtype=np.int64)
+        bad = np.full(K, -2, dtype=np.intc)
+        Zbad, Ylast = np.zeros((K, nz)), np.zeros((K, ny))
+        rows_max = chunk // record_every + 2
+        Zrec, Yrec = np.empty((K, rows_max, nz)), np.empty((K, rows_max, ny))
+        Zs: list[list[np.ndarray]] = [[] for _ in range(K)]
+        Ys: list[list[np.ndarray]] = [[] for _ in range(K)]
+        last_good: list = [None] * K
+        fn, sz_w = lanes.pointers[self.step_fn.name], lanes.work[self.step_fn.name]
+        bound = self.bound
+        done = 0
+        while done < n_total and status.any():
+            n = min(chunk, n_total - done)
+            W = np.empty((K, n, nw))
+            for l in range(K):
+                W[l] = rngs[l].standard_normal((n, nw)) if l < n_real else 0.0
+            was = status.copy()
+            rc = lanes.run(ctypes.c_void_p(fn), ctypes.c_longlong(sz_w), ctypes.c_double(t0), ctypes.c_double(self.dt),
+                           ctypes.c_longlong(done), ctypes.c_int(n), ctypes.c_longlong(record_every),
+                           ctypes.c_longlong(rows_max),
+                           P.ctypes.data_as(_DP), ctypes.c_int(P.shape[1]), G.ctypes.data_as(_DP),
+                           ctypes.c_int(G.shape[1]), W.ctypes.data_as(_DP), ctypes.c_int(nw),
+                           Z.ctypes.data_as(_DP), ctypes.c_int(nz), Zrec.ctypes.data_as(_DP),
+                           Yrec.ctypes.data_as(_DP), ctypes.c_int(ny), bound.ctypes.data_as(_DP),
+                           status.ctypes.data_as(ctypes.POINTER(ctypes.c_int)),
+                           steps_ok.ctypes.data_as(ctypes.POINTER(ctypes.c_longlong)),
+                           bad.ctypes.data_as(ctypes.POINTER(ctypes.c_int)), Zbad.ctypes.data_as(_DP),
+                           Ylast.ctypes.data_as(_DP))
+            if rc != 0:
+                raise MemoryError("rpo_run_lanes could not allocate its work space")
+            for l in range(n_real):
+                if not was[l]:
+                    continue
+                upto = int(steps_ok[l]) if not status[l] else done + n  # recorded steps: [done, upto]
+                g_first = -(-done // record_every) * record_every
+                n_rows = 0 if upto < g_first else (min(upto, done + n - 1) - g_first) // record_every + 1
+                Zs[l].append(Zrec[l, :n_rows].copy())
+                Ys[l].append(Yrec[l, :n_rows].copy())
+                if not status[l]:
+                    last_good[l] = (int(steps_ok[l]), Z[l].copy(), Ylast[l].copy(), Zbad[l].copy(), int(bad[l]))
+            done += n
+            if progress:
+                progress(min(done, n_total), n_total)
+        out = []
+        for l in range(n_real):
+            out.append(self._assemble(np.concatenate(Zs[l]), np.concatenate(Ys[l]), Z[l], last_good[l], n_total,
+                                      t0, record_every, seeds[l]))
+        return out
+
+    def _assemble(self, Zr, Yr, z_end, lg, n_total, t0, record_every, seed) -> RunResult:
+        """A :class:`RunResult` from the recorded rows (steps on the grid, state at the start and the
+        step's output) and the end state, laid out as :meth:`run` lays it out."""
+        nz, ny = self.nz, self.ny
+        divergence = None
+        if lg is None:
+            G = np.arange(0, n_total, record_every)
+            Z = np.vstack([Zr[: G.size], z_end[None, :]])
+            Y = np.vstack([Yr[: G.size], np.full((1, ny), np.nan)])
+            G = np.append(G, n_total)
+            done = n_total
+        else:
+            last, zg, yg, z_bad, j = lg
+            G = np.arange(0, last + 1, record_every)
+            Z, Y = Zr[: G.size], Yr[: G.size]
+            if G.size == 0 or G[-1] != last:
+                G, Z, Y = np.append(G, last), np.vstack([Z, zg]), np.vstack([Y, yg])
+            label = self.model.labels(self.z_layout)[j] if j >= 0 else "step function"
+            divergence = Divergence(step=last, time=t0 + (last + 1) * self.dt, label=label,
+                                    value=float(z_bad[j]) if j >= 0 else float("nan"),
+                                    bound=float(self.bound[j]) if j >= 0 else float("nan"),
+                                    state=z_bad, last_good_state=zg)
+            done = last
+        assert Z.shape == (G.size, nz) and Y.shape == (G.size, ny)
+        return RunResult(
+            t=t0 + G * self.dt, z=Z, y=Y,
+            z_labels=self.model.labels(self.z_layout), z_units=self.model.units(self.z_layout),
+            y_labels=self.model.labels(self.y_layout), y_units=self.model.units(self.y_layout),
+            steps_done=done, steps_requested=n_total, dt=self.dt, wall_time=0.0, divergence=divergence,
             meta={"controller": self.controller, "seed": seed, "record_every": record_every,
                   "backend": self.model.backend},
         )

@@ -51,3 +51,21 @@ int rpo_run(rpo_step_fn step, casadi_int* iw, double* work, double t0, double dt
     }
     return n;
 }
+
+/* Evaluate a generated function at N points, one call each, in place: input j of point i at
+ * in[j] + i * in_stride[j] (stride 0: shared by every point), output j at out[j] + i * out_size[j].
+ * Returns 0, or 1 + the index of the first point the function reported an error at. */
+long long rpo_batch_scalar(rpo_step_fn f, casadi_int* iw, double* work, int n_in, const double* const* in,
+                           const long long* in_stride, int n_out, double* const* out, const long long* out_size,
+                           long long N)
+{
+    const double* arg[64];
+    double* res[64];
+    if (n_in > 64 || n_out > 64) return 1;
+    for (long long i = 0; i < N; ++i) {
+        for (int j = 0; j < n_in; ++j) arg[j] = in[j] + i * in_stride[j];
+        for (int j = 0; j < n_out; ++j) res[j] = out[j] + i * out_size[j];
+        if (f(arg, res, iw, work, 0) != 0) return 1 + i;
+    }
+    return 0;
+}
