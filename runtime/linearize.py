@@ -409,10 +409,11 @@ def linearize(model: Model, controller: str, z: np.ndarray, t: float, p: np.ndar
             raise ModelError(f"{q} must be a unit quaternion to linearise at (|q| = {n:.9g})")
     zn, y, jz, _jy = _eval(model, controller, z, t, p, k, w)
     if not (np.all(np.isfinite(jz)) and np.all(np.isfinite(zn))):
-        bad = int(np.flatnonzero(~np.isfinite(jz).all(axis=1) | ~np.isfinite(zn))[0])
-        row = model.labels(f"z_{controller}")[bad]
-        raise ModelError(f"the step's Jacobian is not finite at this state (row {row}):"
-                         " a non-differentiable point of the law (e.g. |s|^(1/2) at s = 0)")
+        zl = model.labels(f"z_{controller}")
+        cols = [zl[j] for j in np.flatnonzero(~np.isfinite(jz).all(axis=0))]
+        raise ModelError(f"the step's Jacobian is not finite at this state (d z_next / d {', '.join(cols[:4])}"
+                         f"{' ...' if len(cols) > 4 else ''}): a point where the law has an infinite derivative "
+                         "(e.g. a super-twisting |e|^(1/2) at e = 0); linearise elsewhere (--at)")
     P_in, P_out = coords.tangent_in(z), coords.tangent_out(zn)
     dt = float(np.asarray(p)[model.offsets("p")["dt"]][0])
     return Linearization(P_out @ jz @ P_in, coords.labels, coords.units, coords.groups, controller, float(t), dt, z,
@@ -564,9 +565,41 @@ def linearize_scenario(path: str | Path, model: Model | None = None, controller:
     meta: dict[str, Any] = {"ideal": bool(sim.p[po["actuators_ideal"]][0]),
                             "wheel_limit": float(sim.p[po["wheel_torque_max"]][0]),
                             "wheel_cmd": lin.y[yo["wheel_cmd"]].tolist()}
+    meta["nonsmooth"] = nonsmooth_columns(model, lin, sim.p, sim.k)
     if "acc_d" in ko and "acc_d_on" in ko:
         meta["acc_d"] = (sim.k[ko["acc_d"]] * sim.k[ko["acc_d_on"]][0]).tolist()
     return ScenarioLinearization(lin, sc.name, at, goal, plant or "paper", meta)
+
+
+def central_differences(model: Model, lin: Linearization, p: np.ndarray, k: np.ndarray, h: float = 1e-6,
+                        w: np.ndarray | None = None) -> np.ndarray:
+    """Central differences of the compiled ``step_<ctrl>`` in the reduced coordinates of ``lin``
+    (step h * max(1, |z_j|) per coordinate): a check of the AD Jacobian, and of where the point sits
+    on a discontinuity (a sign law on its switching surface) or a kink (|s| at s = 0)."""
+    step = model.function(model.manifest["controllers"][lin.controller]["step"])
+    c = lin.coords
+    w = np.zeros(model.layout_size("w")) if w is None else w
+    scale = np.ones(c.n)
+    for name, zs, xs in c.blocks:
+        if name not in QUATERNIONS:
+            scale[xs] = np.maximum(1.0, np.abs(lin.z[zs]))
+    zn0 = step(lin.z, lin.t, p, k, w)[0]
+    J = np.zeros((c.n, c.n))
+    for j in range(c.n):
+        e = np.zeros(c.n)
+        e[j] = h * scale[j]
+        zp = step(c.to_z(lin.z, e), lin.t, p, k, w)[0]
+        zm = step(c.to_z(lin.z, -e), lin.t, p, k, w)[0]
+        J[:, j] = (c.to_xi(zn0, zp) - c.to_xi(zn0, zm)) / (2 * e[j])
+    return J
+
+
+def nonsmooth_columns(model: Model, lin: Linearization, p: np.ndarray, k: np.ndarray) -> list[str]:
+    """The reduced coordinates whose perturbation by 1e-6 (relative) changes the step by far more
+    than the AD Jacobian predicts: the point is on a discontinuity or kink of the step there."""
+    J = central_differences(model, lin, p, k)
+    bad = np.abs(J - lin.A) > 1e-3 * (1 + np.abs(lin.A))
+    return [lin.labels[j] for j in np.flatnonzero(bad.any(axis=0))]
 
 
 def format_report(res: ScenarioLinearization) -> str:
@@ -630,6 +663,11 @@ def _notes(res: ScenarioLinearization) -> list[str]:
     if not meta.get("ideal"):
         out.append("  note        PWPF thrusters: the Schmitt trigger's on-levels have zero derivative, so the thrust "
                    "does not depend on the state in A (translation is open loop here; see docs/linearization.md)")
+    if meta.get("nonsmooth"):
+        cols = meta["nonsmooth"]
+        out.append(f"  note        non-smooth here (central differences of the compiled step disagree with AD) in "
+                   f"{len(cols)} coordinate{'s' * (len(cols) > 1)}: {', '.join(cols[:8])}{' ...' * (len(cols) > 8)}; "
+                   "e.g. a sign(s) law on its switching surface s = 0, whose derivative AD takes as 0")
     if np.any(np.abs(meta.get("acc_d", 0.0)) > 0):
         acc = [round(float(a), 6) for a in np.ravel(meta["acc_d"])]
         out.append(f"  note        {c} commands a desired acceleration acc_d = {acc} m/s^2 "
