@@ -67,6 +67,7 @@ def cli() -> None:
       rpo validate scenarios/000_scenario_III.toml
       rpo run scenarios/000_scenario_III.toml --out runs/iii
       rpo info
+      rpo linearize scenarios/000_scenario_III.toml   (closed-loop eigenvalues at the goal)
       rpo report                       (the reproduction report: docs/reproduction.md)
     """
 
@@ -264,6 +265,38 @@ def _vec(v, fmt: str) -> str:
 def _fmt(v) -> str:
     a = np.ravel(np.asarray(v, float))
     return format(float(a[0]), ".8g") if a.size == 1 else _vec(a, ".6g")
+
+
+@cli.command()
+@click.argument("scenario", type=click.Path(dir_okay=False, path_type=str))
+@click.option("--controller", default=None, help="Override simulation.controller (see `rpo info`).")
+@click.option("--plant", type=click.Choice(["paper", "full"]), default=None,
+              help="paper (default): the scenario's own plant; full: the common full-fidelity plant.")
+@click.option("--at", "at", type=click.Choice(["goal", "initial"]), default="goal", show_default=True,
+              help="goal: the state the controller regulates to (its q_err, rate_err, pos_err, vel_err zero); "
+                   "initial: the scenario's initial state.")
+@click.option("--json", "as_json", is_flag=True, help="Print the linearisation (A, labels, groups, modes) as JSON.")
+def linearize(scenario: str, controller: str | None, plant: str | None, at: str, as_json: bool) -> int:
+    """Eigenvalues of SCENARIO's closed-loop step linearised at its goal (or initial state).
+
+    The step's Jacobian is CasADi AD of the generated step_<controller>, in reduced coordinates
+    (attitudes as rotation vectors, actuator and controller states listed separately); see
+    docs/linearization.md and rpo.runtime.linearize.
+    """
+    import json
+
+    from .linearize import format_report, linearize_scenario
+    from .scenario import load_scenario
+
+    load_scenario(scenario)  # a bad file fails before anything is compiled
+    res = linearize_scenario(scenario, model=None, controller=controller, plant=plant, at=at, log=_loader(False))
+    if as_json:
+        out = {"scenario": res.scenario, "at": res.at, "plant": res.plant, **res.lin.to_json(),
+               "z": res.lin.z.tolist(), "z_labels": res.lin.coords.z_labels}
+        click.echo(json.dumps(out))
+    else:
+        click.echo(format_report(res))
+    return 0
 
 
 @cli.command()

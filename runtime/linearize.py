@@ -1,0 +1,682 @@
+"""Linearisation of the generated model: the plant's A, B and the closed-loop step's Jacobian.
+
+Two functions taking the :class:`~rpo.runtime.compiled.Model` (functions, not methods, so that
+``compiled.py`` stays the loader only):
+
+* :func:`plant_jacobians` -- continuous-time ``A = df/dx``, ``B = df/du`` of ``plant_rhs`` at
+  (x, u, t), in the raw coordinates of the layouts ``x`` and ``u`` (the generated ``plant_jac``,
+  itself CasADi AD of ``plant_rhs``);
+* :func:`linearize` -- the Jacobian ``d xi_{k+1} / d xi_k`` of one closed-loop step
+  ``step_<ctrl>: (z, t, p, k, w) -> (z_next, y)`` in reduced coordinates ``xi``.
+
+The step Jacobian is CasADi's algorithmic differentiation of the serialised step
+(``generated/step_<ctrl>.casadi.gz``, the same expressions the C code was generated from; its
+sha256 is checked against the manifest), evaluated in CasADi's virtual machine.  No C is generated
+or compiled for it, so the build and its edit loop are unchanged.  Building the derivative takes
+about 2 s per controller (cached for the process), each evaluation about 30 ms.
+
+Reduced coordinates (``docs/linearization.md``).  Each unit quaternion of z (``q_c``, ``q_t``,
+both relative to ECI) is replaced by its body-axes rotation vector relative to the point of
+linearisation ``q0``::
+
+    q = q0 ⊗ exp(dth),    exp(dth) = [sin(|dth|/2) dth/|dth|, cos(|dth|/2)]   (scalar last, Hamilton)
+    dth = log(q0* ⊗ q),   log([v, w]) = 2 atan2(|v|, w) v/|v| after the sign makes w >= 0
+
+(``dth`` is scipy's ``(R0.inv() * R).as_rotvec()``).  Their tangent maps at dth = 0 are
+``E(q0) = d q / d dth = 1/2 L(q0) [I3; 0]`` (4x3) and ``E+(q0) = d dth / d q = 2 [I3 0] L(q0*)``
+(3x4), with ``L(a)`` the left-multiplication matrix ``a ⊗ b = L(a) b``; ``E+ E = I3`` and
+``E+ q0 = 0``.  The step Jacobian in reduced coordinates is the chain rule (exact, at the
+point)::
+
+    A = P_out(z_next0) @ dF/dz(z0) @ P_in(z0),     z_next0 = F(z0)
+
+with ``P_in`` holding ``E(q0)`` and ``P_out`` holding ``E+(q_next0)`` on the quaternion blocks,
+identities elsewhere, and the permutation into the groups below.  Perturbations after the step are
+taken relative to the nominal next state, so A is the one-step variational map also where z0 is
+not a fixed point (a tumbling target).
+
+Groups (contiguous, in this order): ``chaser`` (dth_c, w_c), ``target`` (dth_t, w_t),
+``translation`` (r, v), ``actuators`` (wheel momenta h_w, propellant m_prop, the wheel-command
+delay line, the PWPF prefilters and the thruster on-levels), ``controller`` (the design's states).
+
+The goal (:func:`goal_state`): the controller's own error diagnostics ``q_err`` (vector part),
+``rate_err``, ``pos_err`` and ``vel_err`` (every paper controller logs them) are driven to zero by
+Newton's method over the chaser's attitude, rate, relative position and velocity, with the target
+and time as given, the delay line holding the goal's wheel command, the PWPF at rest and the
+controller states started from the goal's measurement as a run would.
+"""
+
+from __future__ import annotations
+
+import cmath
+import gzip
+import hashlib
+import math
+import time
+from dataclasses import dataclass, field
+from functools import lru_cache
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .compiled import Model, generated_dir
+from .errors import ModelError
+
+#: The attitude fields of z replaced by rotation vectors (the controllers' own layouts keep none).
+QUATERNIONS = ("q_c", "q_t")
+#: Reduced-coordinate groups: name -> z fields (``dth_c``/``dth_t`` for the quaternions); every
+#: field not named here belongs to ``actuators`` (plant) or ``controller`` (``xc_*``).
+RIGID_GROUPS = {"chaser": ("q_c", "w_c"), "target": ("q_t", "w_t"), "translation": ("r", "v")}
+GROUP_ORDER = ("chaser", "target", "translation", "actuators", "controller")
+#: The diagnostics that define the goal (vector part of q_err, then the rest), all zero there.
+GOAL_ERRORS = ("q_err", "rate_err", "pos_err", "vel_err")
+#: The z fields the goal search moves (the chaser's pose and rates relative to the target's).
+GOAL_UNKNOWNS = ("q_c", "w_c", "r", "v")
+#: |lambda| below this counts as a deadbeat mode (a delay slot, a thruster on-level).
+DEADBEAT = 1e-10
+
+
+# --------------------------------------------------------------------------- quaternion maps
+
+
+def quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Hamilton product a ⊗ b, scalar last."""
+    av, aw, bv, bw = a[:3], a[3], b[:3], b[3]
+    return np.concatenate([aw * bv + bw * av + np.cross(av, bv), [aw * bw - av @ bv]])
+
+
+def quat_conj(q: np.ndarray) -> np.ndarray:
+    return np.array([-q[0], -q[1], -q[2], q[3]])
+
+
+def left_matrix(a: np.ndarray) -> np.ndarray:
+    """L(a) with a ⊗ b = L(a) b (scalar last)."""
+    x, y, z, w = a
+    return np.array([[w, -z, y, x],
+                     [z, w, -x, y],
+                     [-y, x, w, z],
+                     [-x, -y, -z, w]])
+
+
+def quat_exp(dth: np.ndarray) -> np.ndarray:
+    """The unit quaternion of the rotation vector ``dth`` (angle |dth| about dth/|dth|)."""
+    dth = np.asarray(dth, float)
+    a = float(np.linalg.norm(dth))
+    s = 0.5 - a * a / 48 if a < 1e-6 else math.sin(a / 2) / a   # sin(a/2)/a, series near 0
+    return np.concatenate([s * dth, [math.cos(a / 2)]])
+
+
+def quat_log(q: np.ndarray) -> np.ndarray:
+    """The rotation vector of ``q`` (any norm > 0; the sign of q is chosen so that w >= 0, the
+    shorter rotation, angle in [0, pi])."""
+    q = np.asarray(q, float)
+    v, w = (q[:3], q[3]) if q[3] >= 0 else (-q[:3], -q[3])
+    s = float(np.linalg.norm(v))
+    if s == 0.0:
+        return np.zeros(3)
+    return 2.0 * math.atan2(s, w) * v / s
+
+
+def retract(q0: np.ndarray, dth: np.ndarray) -> np.ndarray:
+    """q = q0 ⊗ exp(dth): the attitude rotated by dth in the body axes of q0."""
+    return quat_mul(np.asarray(q0, float), quat_exp(dth))
+
+
+def local(q0: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """dth = log(q0* ⊗ q), the inverse of :func:`retract` (for |dth| < pi)."""
+    return quat_log(quat_mul(quat_conj(np.asarray(q0, float)), np.asarray(q, float)))
+
+
+def retract_tangent(q0: np.ndarray) -> np.ndarray:
+    """E(q0) = d retract(q0, dth) / d dth at dth = 0 (4x3): 1/2 L(q0) [I3; 0]."""
+    return 0.5 * left_matrix(np.asarray(q0, float))[:, :3]
+
+
+def local_tangent(q0: np.ndarray) -> np.ndarray:
+    """E+(q0) = d local(q0, q) / d q at q = q0 (3x4): 2 [I3 0] L(q0*) (unit q0)."""
+    return 2.0 * left_matrix(quat_conj(np.asarray(q0, float)))[:3, :]
+
+
+# --------------------------------------------------------------------------- reduced coordinates
+
+
+@dataclass
+class Coordinates:
+    """The map between the packed step state z of one controller and the reduced coordinates.
+
+    ``order``: for each reduced coordinate, the z field it comes from and its index there;
+    ``labels``/``units``: of the reduced coordinates; ``groups``: name -> slice (contiguous).
+    """
+
+    z_fields: list[dict]
+    labels: list[str] = field(default_factory=list)
+    units: list[str] = field(default_factory=list)
+    groups: dict[str, slice] = field(default_factory=dict)
+    blocks: list[tuple[str, slice, slice]] = field(default_factory=list)  # (field, z slice, xi slice)
+
+    def __post_init__(self):
+        offs, i = {}, 0
+        for f in self.z_fields:
+            offs[f["name"]] = slice(i, i + f["size"])
+            i += f["size"]
+        self.nz = i
+        self.z_labels = [lbl for f in self.z_fields for lbl in f["labels"]]
+        by_group: dict[str, list[dict]] = {g: [] for g in GROUP_ORDER}
+        owner = {name: g for g, names in RIGID_GROUPS.items() for name in names}
+        for f in self.z_fields:
+            g = owner.get(f["name"], "controller" if f["name"].startswith("xc_") else "actuators")
+            by_group[g].append(f)
+        missing = [q for q in QUATERNIONS if q not in offs]
+        if missing:
+            raise ModelError(f"state layout has no {', '.join(missing)}")
+        j = 0
+        for g in GROUP_ORDER:
+            start = j
+            for f in by_group[g]:
+                if f["name"] in QUATERNIONS:
+                    body = f["name"].split("_", 1)[1]
+                    lbl, unit, n = [f"dth_{body}_{a}" for a in "xyz"], ["rad"] * 3, 3
+                else:
+                    lbl, unit, n = list(f["labels"]), [f["unit"]] * f["size"], f["size"]
+                self.blocks.append((f["name"], offs[f["name"]], slice(j, j + n)))
+                self.labels += lbl
+                self.units += unit
+                j += n
+            self.groups[g] = slice(start, j)
+        self.n = j
+
+    def tangent_in(self, z0: np.ndarray) -> np.ndarray:
+        """P_in = dz/dxi at xi = 0 around z0 (nz x n)."""
+        P = np.zeros((self.nz, self.n))
+        for name, zs, xs in self.blocks:
+            P[zs, xs] = retract_tangent(z0[zs]) if name in QUATERNIONS else np.eye(zs.stop - zs.start)
+        return P
+
+    def tangent_out(self, z0: np.ndarray) -> np.ndarray:
+        """P_out = dxi/dz at z = z0 (n x nz); P_out @ P_in = I."""
+        P = np.zeros((self.n, self.nz))
+        for name, zs, xs in self.blocks:
+            P[xs, zs] = local_tangent(z0[zs]) if name in QUATERNIONS else np.eye(zs.stop - zs.start)
+        return P
+
+    def to_z(self, z0: np.ndarray, xi: np.ndarray) -> np.ndarray:
+        """The state z at reduced coordinates xi around z0 (the exact map, not its tangent)."""
+        z = np.array(z0, float)
+        for name, zs, xs in self.blocks:
+            z[zs] = retract(z0[zs], xi[xs]) if name in QUATERNIONS else z0[zs] + xi[xs]
+        return z
+
+    def to_xi(self, z0: np.ndarray, z: np.ndarray) -> np.ndarray:
+        """The reduced coordinates of z around z0 (inverse of :meth:`to_z`)."""
+        xi = np.zeros(self.n)
+        for name, zs, xs in self.blocks:
+            xi[xs] = local(z0[zs], z[zs]) if name in QUATERNIONS else z[zs] - z0[zs]
+        return xi
+
+    def indices(self, *names: str) -> list[int]:
+        """Reduced indices of z fields (a quaternion field gives its rotation vector)."""
+        out: list[int] = []
+        for name, _zs, xs in self.blocks:
+            if name in names:
+                out += list(range(xs.start, xs.stop))
+        return out
+
+    def group_of(self, i: int) -> str:
+        return next(g for g, s in self.groups.items() if s.start <= i < s.stop)
+
+
+def coordinates(model: Model, controller: str) -> Coordinates:
+    """The reduced coordinates of ``z_<controller>``."""
+    _entry(model, controller)
+    return Coordinates(model.layouts[f"z_{controller}"])
+
+
+# --------------------------------------------------------------------------- AD of the step
+
+
+def _entry(model: Model, controller: str) -> dict:
+    ctrls = model.manifest["controllers"]
+    if controller not in ctrls:
+        raise ModelError(f"unknown controller {controller!r}; available: {', '.join(sorted(ctrls))}")
+    return ctrls[controller]
+
+
+@lru_cache(maxsize=8)
+def _step_derivative(path: str, digest: str):
+    """CasADi function (z, t, p, k, w) -> (z_next, y, dz_next/dz, dy/dz): AD of the serialised step."""
+    import casadi as ca
+
+    data = Path(path).read_bytes()
+    if hashlib.sha256(data).hexdigest() != digest:
+        raise ModelError(f"{path} does not match manifest.json (edited by hand or being rewritten): "
+                         "run `python build.py`")
+    f = ca.Function.deserialize(gzip.decompress(data).decode())
+    args = [ca.MX.sym(f.name_in(i), f.size1_in(i)) for i in range(f.n_in())]
+    zn, y = f(*args)
+    z = args[0]
+    return ca.Function(f"{f.name()}_jac", args, [zn, y, ca.jacobian(zn, z), ca.jacobian(y, z)],
+                       [f.name_in(i) for i in range(f.n_in())], ["z_next", "y", "dz_next_dz", "dy_dz"])
+
+
+def step_derivative(model: Model, controller: str, gen_dir: Path | None = None):
+    """The CasADi AD function of ``step_<controller>`` (built once per process, ~2 s)."""
+    step = _entry(model, controller)["step"]
+    name = f"{step}.casadi.gz"
+    digest = model.manifest["files"].get(name)
+    if digest is None:
+        raise ModelError(f"manifest.json lists no {name}: run `python build.py`")
+    path = (generated_dir() if gen_dir is None else Path(gen_dir)) / name
+    if not path.exists():
+        raise ModelError(f"{path} is missing: run `python build.py`")
+    return _step_derivative(str(path), digest)
+
+
+def _eval(model: Model, controller: str, z: np.ndarray, t: float, p: np.ndarray, k: np.ndarray,
+          w: np.ndarray | None):
+    fn = step_derivative(model, controller)
+    w = np.zeros(model.layout_size("w")) if w is None else np.asarray(w, float)
+    zn, y, jz, jy = fn(np.asarray(z, float), float(t), np.asarray(p, float), np.asarray(k, float), w)
+    return (np.asarray(zn).ravel(), np.asarray(y).ravel(), np.asarray(jz.full()), np.asarray(jy.full()))
+
+
+# --------------------------------------------------------------------------- results
+
+
+@dataclass
+class Mode:
+    """One eigenvalue of the reduced step Jacobian and its continuous-time equivalent s = log(lam)/dt."""
+
+    lam: complex
+    s: complex | None                  # None for a deadbeat mode (lam = 0)
+    group: str                         # the group with the largest participation
+    state: str                         # the reduced coordinate with the largest participation
+    participation: dict[str, float]    # per group, summing to 1
+    block: str = ""                    # the groups of its diagonal block of A (see Linearization.modes)
+
+    @property
+    def tau(self) -> float | None:
+        """Time constant -1/Re(s) [s] (negative: growing; None: deadbeat or Re(s) = 0)."""
+        if self.s is None or self.s.real == 0:
+            return None
+        return -1.0 / self.s.real
+
+    @property
+    def wn(self) -> float | None:
+        """Natural frequency |s| [rad/s]."""
+        return None if self.s is None else abs(self.s)
+
+    @property
+    def zeta(self) -> float | None:
+        """Damping ratio -Re(s)/|s| (complex modes only)."""
+        if self.s is None or abs(self.s.imag) == 0 or abs(self.s) == 0:
+            return None
+        return -self.s.real / abs(self.s)
+
+    def to_json(self) -> dict[str, Any]:
+        return {"lambda": [self.lam.real, self.lam.imag], "abs": abs(self.lam),
+                "s": None if self.s is None else [self.s.real, self.s.imag], "tau_s": self.tau, "wn_rad_s": self.wn,
+                "zeta": self.zeta, "group": self.group, "state": self.state,
+                "participation": self.participation, "block": self.block}
+
+
+@dataclass
+class Linearization:
+    """The closed-loop step's Jacobian in reduced coordinates: ``xi_{k+1} = A xi_k`` to first order.
+
+    ``A[i, j]`` = d xi_next[i] / d xi[j]; ``labels``, ``units`` and ``groups`` (name -> slice)
+    describe both its rows and columns.  ``jacobian`` is the raw d z_next / d z (nz x nz) and
+    ``P_in``/``P_out`` the tangent maps with ``A = P_out @ jacobian @ P_in``.
+    """
+
+    A: np.ndarray
+    labels: list[str]
+    units: list[str]
+    groups: dict[str, slice]
+    controller: str
+    t: float
+    dt: float
+    z: np.ndarray
+    z_next: np.ndarray
+    y: np.ndarray
+    jacobian: np.ndarray
+    P_in: np.ndarray
+    P_out: np.ndarray
+    coords: Coordinates
+    seconds: float = 0.0
+
+    def block(self, rows: str, cols: str | None = None) -> np.ndarray:
+        """The block of A from the group ``cols`` (default: ``rows``) to the group ``rows``."""
+        return self.A[self.groups[rows], self.groups[cols or rows]]
+
+    def modes(self) -> list[Mode]:
+        """Eigenvalues with s = log(lam)/dt, sorted by |lam|, largest first.
+
+        A is block-triangular after a permutation: the strongly connected components of its
+        dependency graph (A[i, j] != 0: state j drives state i) are independent diagonal blocks,
+        and the eigenvalues of A are those of the blocks.  Each mode is computed in its block (so a
+        target or filter mode is attributed exactly) and, inside the block, attributed by
+        participation factors |w_i v_i| (left and right eigenvectors; |v_i|^2 where the block is
+        defective, e.g. an open double integrator).
+        """
+        from scipy.sparse.csgraph import connected_components
+
+        n_comp, comp = connected_components(self.A != 0, directed=True, connection="strong")
+        out = []
+        for c in range(n_comp):
+            idx = np.flatnonzero(comp == c)
+            lam, V = np.linalg.eig(self.A[np.ix_(idx, idx)])
+            if np.linalg.cond(V) < 1e8:
+                part = np.abs(np.linalg.inv(V).T * V)  # part[i, m]: state i in mode m
+            else:
+                part = np.abs(V) ** 2
+            part = part / np.maximum(part.sum(axis=0, keepdims=True), 1e-300)
+            groups = {self.coords.group_of(int(i)) for i in idx}
+            block = "+".join(g for g in GROUP_ORDER if g in groups)
+            for m in range(lam.size):
+                lm = complex(lam[m])
+                s = None if abs(lm) < DEADBEAT else cmath.log(lm) / self.dt
+                pg: dict[str, float] = {}
+                for i, pi in zip(idx, part[:, m], strict=True):
+                    g = self.coords.group_of(int(i))
+                    pg[g] = pg.get(g, 0.0) + float(pi)
+                i_max = int(idx[int(np.argmax(part[:, m]))])
+                out.append(Mode(lm, s, max(pg, key=lambda g: pg[g]), self.labels[i_max], pg, block))
+        out.sort(key=lambda md: (-abs(md.lam), -md.lam.imag))
+        return out
+
+    def to_json(self) -> dict[str, Any]:
+        return {"controller": self.controller, "t": self.t, "dt": self.dt, "labels": self.labels,
+                "units": self.units, "groups": {g: [s.start, s.stop] for g, s in self.groups.items()},
+                "A": self.A.tolist(), "modes": [m.to_json() for m in self.modes()],
+                "seconds": self.seconds}
+
+
+def linearize(model: Model, controller: str, z: np.ndarray, t: float, p: np.ndarray, k: np.ndarray,
+              w: np.ndarray | None = None) -> Linearization:
+    """The Jacobian of ``step_<controller>`` at (z, t, p, k, w) by CasADi AD, in reduced coordinates.
+
+    ``w`` (noise and random-torque inputs) defaults to zero.
+    """
+    t0 = time.perf_counter()
+    coords = coordinates(model, controller)
+    z = np.asarray(z, float)
+    if z.size != coords.nz:
+        raise ModelError(f"z_{controller} needs {coords.nz} values, got {z.size}")
+    for q in QUATERNIONS:
+        n = float(np.linalg.norm(z[model.offsets(f"z_{controller}")[q]]))
+        if abs(n - 1) > 1e-6:
+            raise ModelError(f"{q} must be a unit quaternion to linearise at (|q| = {n:.9g})")
+    zn, y, jz, _jy = _eval(model, controller, z, t, p, k, w)
+    if not (np.all(np.isfinite(jz)) and np.all(np.isfinite(zn))):
+        zl = model.labels(f"z_{controller}")
+        cols = [zl[j] for j in np.flatnonzero(~np.isfinite(jz).all(axis=0))]
+        raise ModelError(f"the step's Jacobian is not finite at this state (d z_next / d {', '.join(cols[:4])}"
+                         f"{' ...' if len(cols) > 4 else ''}): a point where the law has an infinite derivative "
+                         "(e.g. a super-twisting |e|^(1/2) at e = 0); linearise elsewhere (--at)")
+    P_in, P_out = coords.tangent_in(z), coords.tangent_out(zn)
+    dt = float(np.asarray(p)[model.offsets("p")["dt"]][0])
+    return Linearization(P_out @ jz @ P_in, coords.labels, coords.units, coords.groups, controller, float(t), dt, z,
+                         zn, y, jz, P_in, P_out, coords, time.perf_counter() - t0)
+
+
+@dataclass
+class PlantJacobians:
+    """Continuous-time A = df/dx (nx x nx) and B = df/du (nx x nu) of ``plant_rhs``, raw coordinates."""
+
+    A: np.ndarray
+    B: np.ndarray
+    x_labels: list[str]
+    u_labels: list[str]
+
+
+def plant_jacobians(model: Model, x: np.ndarray, u: np.ndarray, t: float, p: np.ndarray,
+                    w: np.ndarray | None = None) -> PlantJacobians:
+    """A, B of the plant at (x, u, t) from the generated ``plant_jac`` (CasADi AD of ``plant_rhs``),
+    in the layouts' own coordinates (quaternions as 4 components)."""
+    w = np.zeros(model.layout_size("w")) if w is None else w
+    A, B = model.function("plant_jac")(x, u, t, p, w)
+    return PlantJacobians(np.asarray(A), np.asarray(B), model.labels("x"), model.labels("u"))
+
+
+# --------------------------------------------------------------------------- the goal
+
+
+@dataclass
+class Goal:
+    """The goal state found by :func:`goal_state` and how it was found."""
+
+    z: np.ndarray
+    iterations: int
+    residual: float
+
+
+def _y_index(model: Model, controller: str, names) -> list[int]:
+    offs = model.offsets(f"y_{controller}")
+    missing = [n for n in names if f"ctrl_{n}" not in offs]
+    if missing:
+        raise ModelError(f"controller {controller} logs no {', '.join(missing)} diagnostics, which define its goal; "
+                         "linearise at the initial state instead (--at initial)")
+    out: list[int] = []
+    for n in names:
+        sl = offs[f"ctrl_{n}"]
+        out += list(range(sl.start, sl.start + 3))  # q_err: its vector part
+    return out
+
+
+def settle_actuators(model: Model, controller: str, z: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """z with the delay line holding the wheel command of y (as after a long steady hold) and the
+    PWPF at rest (prefilters 0, thrusters off)."""
+    z = np.array(z, float)
+    zo, yo = model.offsets(f"z_{controller}"), model.offsets(f"y_{controller}")
+    cmd = y[yo["wheel_cmd"]]
+    for name, sl in zo.items():
+        if name.startswith("wheel_cmd_"):
+            z[sl] = cmd
+        elif name in ("pwpf_f", "pwpf_on"):
+            z[sl] = 0.0
+    return z
+
+
+def goal_state(model: Model, controller: str, z_start: np.ndarray, t: float, p: np.ndarray, k: np.ndarray,
+               xc0=None, tol: float = 1e-11, max_iter: int = 30) -> Goal:
+    """The state the controller regulates to, near ``z_start``: its ``q_err`` vector part,
+    ``rate_err``, ``pos_err`` and ``vel_err`` are zero (Newton in reduced coordinates over the
+    chaser's attitude, rate, relative position and velocity; the target, wheels and time as given).
+
+    ``xc0(z) -> z``: restarts the controller states from the goal's measurement (as a run does);
+    the delay line is then filled with the goal's wheel command (:func:`settle_actuators`).
+    """
+    coords = coordinates(model, controller)
+    rows = _y_index(model, controller, GOAL_ERRORS)
+    cols = coords.indices(*GOAL_UNKNOWNS)
+    z = np.array(z_start, float)
+    res = math.inf
+    it = 0
+    for it in range(1, max_iter + 1):  # noqa: B007 (the count is reported)
+        _zn, y, _jz, jy = _eval(model, controller, z, t, p, k, None)
+        e = y[rows]
+        res = float(np.max(np.abs(e)))
+        if not np.isfinite(res):
+            raise ModelError(f"the goal search reached a state where {controller}'s errors are not finite")
+        if res < tol:
+            break
+        J = (jy @ coords.tangent_in(z))[rows][:, cols]
+        step = np.linalg.lstsq(J, -e, rcond=None)[0]
+        xi = np.zeros(coords.n)
+        xi[cols] = step
+        z = coords.to_z(z, xi)
+    else:
+        raise ModelError(f"the goal search for {controller} did not converge ({max_iter} Newton steps, "
+                         f"largest error {res:.3g})")
+    if xc0 is not None:
+        z = xc0(z)
+    _zn, y, _jz, _jy = _eval(model, controller, z, t, p, k, None)
+    z = settle_actuators(model, controller, z, y)
+    e = _eval(model, controller, z, t, p, k, None)[1][rows]
+    return Goal(z, it, float(np.max(np.abs(e))))
+
+
+# --------------------------------------------------------------------------- from a scenario
+
+
+@dataclass
+class ScenarioLinearization:
+    """:func:`linearize_scenario`'s result: the linearisation and where it was taken."""
+
+    lin: Linearization
+    scenario: str
+    at: str
+    goal: Goal | None
+    plant: str
+    meta: dict = field(default_factory=dict)
+
+
+def linearize_scenario(path: str | Path, model: Model | None = None, controller: str | None = None,
+                       plant: str | None = None, at: str = "goal", t: float = 0.0,
+                       log=None) -> ScenarioLinearization:
+    """Linearise the closed loop of a scenario at its goal (default) or its initial state, at time t
+    (the target's attitude and rate at the start of the scenario; noise zero)."""
+    from .compiled import load_model
+    from .scenario import load_scenario
+    from .simulate import Simulation
+
+    if at not in ("goal", "initial"):
+        raise ModelError(f"at must be 'goal' or 'initial', got {at!r}")
+    base = load_scenario(path, model.manifest if model is not None else None)
+    sc = base.with_overrides(controller=controller, plant=plant)
+    ctrl = sc.simulation.controller
+    model = load_model(controllers=[ctrl], log=log) if model is None else model
+    inputs = sc.to_run(model)
+    sim = Simulation(model, ctrl, params=inputs.params, gains=inputs.gains)
+    z0 = sim.initial_state(inputs.plant)
+    goal = None
+    if at == "goal":
+        offs = model.offsets(f"z_{ctrl}")
+
+        def restart(z: np.ndarray) -> np.ndarray:
+            plant_state = {n: z[offs[n]] for n in ("q_c", "w_c", "h_w", "q_t", "w_t", "r", "v", "m_prop")}
+            return sim.initial_state(plant_state)
+
+        goal = goal_state(model, ctrl, z0, t, sim.p, sim.k, xc0=restart)
+        z0 = goal.z
+    lin = linearize(model, ctrl, z0, t, sim.p, sim.k)
+    po, ko, yo = model.offsets("p"), model.offsets(f"k_{ctrl}"), model.offsets(f"y_{ctrl}")
+    meta: dict[str, Any] = {"ideal": bool(sim.p[po["actuators_ideal"]][0]),
+                            "wheel_limit": float(sim.p[po["wheel_torque_max"]][0]),
+                            "wheel_cmd": lin.y[yo["wheel_cmd"]].tolist()}
+    meta["nonsmooth"] = nonsmooth_columns(model, lin, sim.p, sim.k)
+    if "acc_d" in ko and "acc_d_on" in ko:
+        meta["acc_d"] = (sim.k[ko["acc_d"]] * sim.k[ko["acc_d_on"]][0]).tolist()
+    return ScenarioLinearization(lin, sc.name, at, goal, plant or "paper", meta)
+
+
+def central_differences(model: Model, lin: Linearization, p: np.ndarray, k: np.ndarray, h: float = 1e-6,
+                        w: np.ndarray | None = None) -> np.ndarray:
+    """Central differences of the compiled ``step_<ctrl>`` in the reduced coordinates of ``lin``
+    (step h * max(1, |z_j|) per coordinate): a check of the AD Jacobian, and of where the point sits
+    on a discontinuity (a sign law on its switching surface) or a kink (|s| at s = 0)."""
+    step = model.function(model.manifest["controllers"][lin.controller]["step"])
+    c = lin.coords
+    w = np.zeros(model.layout_size("w")) if w is None else w
+    scale = np.ones(c.n)
+    for name, zs, xs in c.blocks:
+        if name not in QUATERNIONS:
+            scale[xs] = np.maximum(1.0, np.abs(lin.z[zs]))
+    zn0 = step(lin.z, lin.t, p, k, w)[0]
+    J = np.zeros((c.n, c.n))
+    for j in range(c.n):
+        e = np.zeros(c.n)
+        e[j] = h * scale[j]
+        zp = step(c.to_z(lin.z, e), lin.t, p, k, w)[0]
+        zm = step(c.to_z(lin.z, -e), lin.t, p, k, w)[0]
+        J[:, j] = (c.to_xi(zn0, zp) - c.to_xi(zn0, zm)) / (2 * e[j])
+    return J
+
+
+def nonsmooth_columns(model: Model, lin: Linearization, p: np.ndarray, k: np.ndarray) -> list[str]:
+    """The reduced coordinates whose perturbation by 1e-6 (relative) changes the step by far more
+    than the AD Jacobian predicts: the point is on a discontinuity or kink of the step there."""
+    J = central_differences(model, lin, p, k)
+    bad = np.abs(J - lin.A) > 1e-3 * (1 + np.abs(lin.A))
+    return [lin.labels[j] for j in np.flatnonzero(bad.any(axis=0))]
+
+
+def format_report(res: ScenarioLinearization) -> str:
+    """The text ``rpo linearize`` prints."""
+    lin = res.lin
+    c = lin.coords
+    zo = {name: zs for name, zs, _xs in c.blocks}
+    z = lin.z
+    lines = [f"{res.scenario}: closed-loop step_{lin.controller} linearised at the {res.at} state, t = {lin.t:g} s, "
+             f"dt = {lin.dt:g} s, plant {res.plant}"]
+    if res.goal is not None:
+        lines.append(f"  goal        Newton on {lin.controller}'s q_err, rate_err, pos_err, vel_err: "
+                     f"{res.goal.iterations} iterations, largest error {res.goal.residual:.2g}")
+    fmt = lambda v: "[" + ", ".join(f"{x:.6g}" for x in v) + "]"  # noqa: E731
+    lines.append(f"  state       r = {fmt(z[zo['r']])} m, v = {fmt(z[zo['v']])} m/s, w_c = {fmt(z[zo['w_c']])} rad/s, "
+                 f"w_t = {fmt(z[zo['w_t']])} rad/s")
+    lines.append(f"              q_c = {fmt(z[zo['q_c']])}, q_t = {fmt(z[zo['q_t']])} (ECI, scalar last)")
+    lines.append(f"  coordinates {c.n} reduced states: " +
+                 ", ".join(f"{g} {s.stop - s.start}" for g, s in lin.groups.items()) +
+                 " (attitudes as rotation vectors q = q0 ⊗ exp(dth), docs/linearization.md)")
+    lines.append(f"  Jacobian    CasADi AD of step_{lin.controller}, {lin.seconds:.2g} s")
+    lines += _notes(res)
+    modes = lin.modes()
+    dead = [m for m in modes if m.s is None]
+    live = [m for m in modes if m.s is not None]
+    rows: list[tuple[Mode, int]] = []   # equal eigenvalues of the same block on one row
+    for m in live:
+        if rows and rows[-1][0].block == m.block and abs(rows[-1][0].lam - m.lam) < 1e-12:
+            rows[-1] = (rows[-1][0], rows[-1][1] + 1)
+        else:
+            rows.append((m, 1))
+    lines.append(f"  eigenvalues of A: {len(live)} (equal ones of one block on one row; s = ln(lambda)/dt, "
+                 f"tau = -1/Re s, zeta where complex), and {len(dead)} deadbeat (lambda = 0: " +
+                 (", ".join(f"{g} {n}" for g, n in _count(m.state.rsplit('_', 1)[0] for m in dead)) or "none") + ")")
+    lines.append(f"  {'#':>3s} {'|lambda|':>12s} {'lambda':>28s} {'s [1/s]':>24s} {'tau [s]':>10s} {'zeta':>6s} "
+                 f"{'n':>3s}  block: dominant state")
+    for i, (m, count) in enumerate(rows, 1):
+        s = m.s
+        assert s is not None
+        lam = f"{m.lam.real:+.9f} {m.lam.imag:+.3e}j"
+        ss = f"{s.real:+.4e} {s.imag:+.3e}j"
+        tau = "inf" if m.tau is None else f"{m.tau:.4g}"
+        zeta = "" if m.zeta is None else f"{m.zeta:.3f}"
+        lines.append(f"  {i:>3d} {abs(m.lam):>12.9f} {lam:>28s} {ss:>24s} {tau:>10s} {zeta:>6s} {count:>3d}  "
+                     f"{m.block}: {m.state}")
+    return "\n".join(lines)
+
+
+def _notes(res: ScenarioLinearization) -> list[str]:
+    """Where the point of linearisation sits on a non-smooth branch (its derivative there is zero)."""
+    lin = res.lin
+    c = lin.controller
+    out = []
+    meta = res.meta
+    if meta.get("wheel_limit") is not None:
+        y_cmd = meta["wheel_cmd"]
+        sat = [str(i + 1) for i, v in enumerate(y_cmd) if abs(v) >= meta["wheel_limit"] * (1 - 1e-9)]
+        if sat and not meta.get("ideal"):
+            out.append(f"  note        wheel{'s' * (len(sat) > 1)} {', '.join(sat)} at the torque limit "
+                       f"{meta['wheel_limit']:g} N m here: saturated, so its command has no derivative")
+    if not meta.get("ideal"):
+        out.append("  note        PWPF thrusters: the Schmitt trigger's on-levels have zero derivative, so the thrust "
+                   "does not depend on the state in A (translation is open loop here; see docs/linearization.md)")
+    if meta.get("nonsmooth"):
+        cols = meta["nonsmooth"]
+        out.append(f"  note        non-smooth here (central differences of the compiled step disagree with AD) in "
+                   f"{len(cols)} coordinate{'s' * (len(cols) > 1)}: {', '.join(cols[:8])}{' ...' * (len(cols) > 8)}; "
+                   "e.g. a sign(s) law on its switching surface s = 0, whose derivative AD takes as 0")
+    if np.any(np.abs(meta.get("acc_d", 0.0)) > 0):
+        acc = [round(float(a), 6) for a in np.ravel(meta["acc_d"])]
+        out.append(f"  note        {c} commands a desired acceleration acc_d = {acc} m/s^2 "
+                   "(acc_d_on = 1): the goal is not an equilibrium")
+    return out
+
+
+def _count(items) -> list[tuple[str, int]]:
+    out: dict[str, int] = {}
+    for it in items:
+        out[it] = out.get(it, 0) + 1
+    return list(out.items())
