@@ -1,23 +1,37 @@
-"""Speed of one closed-loop step, three ways, in one process (000 scenario III, baseline controller).
+"""Speed where the user waits, in one process: lockstep batches, the scalar loop, single and batched
+calls from Python, Basilisk side by side, and the whole ``rpo run``.
 
-    python benchmarks/bench_step.py [--numpy-steps 200] [--casadi-steps 2000] [--repeat 5]
+    python benchmarks/bench_step.py [--repeat 5] [--runs 64] [--json] [--no-basilisk] [--no-run]
 
-1. compiled: the generated C step run by the C loop (what ``rpo run`` uses), full 300 s at 100 Hz;
-2. numpy: the same SymPy pieces evaluated with NumPy (``sympy.lambdify``) and composed by the same
-   ``closed_loop.step`` (a plain-Python/NumPy RK4 of the same equations);
-3. casadi: the generated step as a ``casadi.Function`` (CasADi's virtual machine) called once per
-   step from Python with NumPy arrays.
+Figures (medians of ``--repeat``; the keys of the ``--json`` line):
 
-Also the per-call overhead of calling one generated function from Python: rpo's ctypes wrapper
-against ``casadi.external`` on the same shared library.
+* ``scalar_us_per_step``: scenario III closed loop (c000), 300 s at 100 Hz, one run in the C loop
+  (``Simulation.run``), recording every 10th step;
+* ``batch_us_per_run_step``: the same, ``--runs`` cases (different seeds) in lockstep
+  (``Simulation.run_batch``, K per call), wall time / (runs x steps), same recording; and
+  ``batch_speedup`` = scalar / batch.  ``lanes`` is K;
+* ``basilisk_us_per_step`` and ``basilisk_ratio`` = Basilisk / rpo batched: Basilisk's single
+  spacecraft (point mass + J2 + gravity gradient + 4 wheels, RK4 at 0.01 s, 300 s;
+  ``benchmarks/basilisk_case.py``), in this process, when ``bsk`` is installed
+  (``pip install -e ".[bench]"``); null otherwise;
+* ``plant_rhs_call_us``: one ``model.plant_rhs(x, u, t, p, w, out=o)`` call from Python, the same
+  arrays every call; ``plant_rhs_batch_us_per_point``: ``model.plant_rhs.batch(X, ...)`` over 10^4
+  points, per point; ``plant_rhs_loop_us_per_point``: the compiled lane code's own cost per
+  evaluation (K points evaluated repeatedly in C, nothing gathered or returned), and
+  ``plant_rhs_batch_ratio`` = batch / loop (target: within 1.25);
+* ``run_total_s``, ``run_write_s``, ``output_mb``: the README's first command's ``rpo run`` with the
+  compile cached (``benchmarks/bench_run.py``, fresh processes).
 
-Timings are wall-clock medians; the ratios are what to compare across machines.
+Targets (issue 10): batch_us_per_run_step <= 1, batch_speedup >= 4, basilisk_ratio >= 15,
+plant_rhs_call_us <= 1.5, plant_rhs_batch_ratio <= 1.25, run_total_s <= 3, run_write_s <= 1.5,
+output_mb <= 25.
 """
 
 from __future__ import annotations
 
 import argparse
-import gzip
+import ctypes
+import json
 import platform
 import statistics
 import sys
@@ -27,6 +41,9 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "benchmarks"))
+SCENARIO = ROOT / "scenarios" / "000_scenario_III.toml"
+RECORD_EVERY = 10
 
 
 def median_time(fn, repeat: int) -> float:
@@ -38,93 +55,127 @@ def median_time(fn, repeat: int) -> float:
     return statistics.median(out)
 
 
+def per_call_us(fn, n: int, repeat: int) -> float:
+    def loop():
+        for _ in range(n):
+            fn()
+    return median_time(loop, repeat) / n * 1e6
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--scenario", default=str(ROOT / "scenarios" / "000_scenario_III.toml"))
-    ap.add_argument("--numpy-steps", type=int, default=200)
-    ap.add_argument("--casadi-steps", type=int, default=2000)
     ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--runs", type=int, default=64, help="cases in the lockstep batch")
+    ap.add_argument("--duration", type=float, default=None, help="simulated seconds (default: the scenario's)")
+    ap.add_argument("--json", action="store_true", help="print one JSON line with the figures last")
+    ap.add_argument("--no-basilisk", action="store_true")
+    ap.add_argument("--no-run", action="store_true", help="skip the whole-command figures (bench_run.py)")
     args = ap.parse_args(argv)
 
-    import casadi as ca
-
-    from rpo.runtime.compiled import generated_dir, load_model
+    from rpo.runtime import fastcall
+    from rpo.runtime.compiled import load_model
     from rpo.runtime.scenario import load_scenario
     from rpo.runtime.simulate import Simulation
 
-    model = load_model()
-    run = load_scenario(args.scenario).to_run(model)
+    model = load_model(log=print)
+    run = load_scenario(SCENARIO).to_run(model)
     sim = Simulation(model, run.controller, params=run.params, gains=run.gains)
     z0 = sim.initial_state(run.plant)
-    n_steps = int(round(run.duration / sim.dt))
-    print(f"scenario {Path(args.scenario).name}: {run.duration:g} s at {1 / sim.dt:g} Hz = {n_steps} steps, "
-          f"controller {run.controller}")
-    print(f"machine: {platform.processor() or platform.machine()}, python {platform.python_version()}, "
-          f"casadi {ca.__version__}, library {model.library.name}")
+    duration = args.duration or run.duration
+    n_steps = int(round(duration / sim.dt))
+    lanes = model.lanes()
+    K = lanes.width
+    print(f"scenario {SCENARIO.name}: {duration:g} s at {1 / sim.dt:g} Hz = {n_steps} steps, controller "
+          f"{run.controller}; machine {platform.machine()}, {K} lanes, python {platform.python_version()}")
+    fig: dict = {"lanes": K, "runs": args.runs, "record_every": RECORD_EVERY, "repeat": args.repeat}
 
-    # 1. compiled: the whole run, C loop
-    sim.run(z0, run.duration, seed=run.seed)  # warm-up (page in the library)
-    t_comp = median_time(lambda: sim.run(z0, run.duration, seed=run.seed), args.repeat)
-    us_comp = t_comp / n_steps * 1e6
+    # closed loop: scalar C loop and lockstep batch, alternated so that both see the same machine
+    Z0 = np.tile(z0, (args.runs, 1))
+    seeds = list(range(args.runs))
+    sim.run(z0, duration, seed=0, record_every=RECORD_EVERY)
+    sim.run_batch(Z0[:K], duration, seeds[:K], record_every=RECORD_EVERY)
+    ts, tb = [], []
+    for _ in range(args.repeat):
+        t0 = time.perf_counter()
+        sim.run(z0, duration, seed=0, record_every=RECORD_EVERY)
+        ts.append(time.perf_counter() - t0)
+        t0 = time.perf_counter()
+        sim.run_batch(Z0, duration, seeds, record_every=RECORD_EVERY)
+        tb.append(time.perf_counter() - t0)
+    fig["scalar_us_per_step"] = statistics.median(ts) / n_steps * 1e6
+    fig["batch_us_per_run_step"] = statistics.median(tb) / (args.runs * n_steps) * 1e6
+    fig["batch_speedup"] = fig["scalar_us_per_step"] / fig["batch_us_per_run_step"]
 
-    # 3. casadi.Function per step from Python: the generated step as serialised by build.py
-    step_name = model.manifest["controllers"][run.controller]["step"]
-    blob = (generated_dir() / f"{step_name}.casadi.gz").read_bytes()
-    step_ca = ca.Function.deserialize(gzip.decompress(blob).decode())
-    p, k = sim.p, sim.k
+    # calls from Python
+    f = model.plant_rhs
+    x = z0[: model.layout_size("x")].copy()
+    u = np.zeros(model.layout_size("u"))
+    w = np.zeros(model.layout_size("w"))
+    p = sim.p
+    out = np.empty(f.out_sizes[0])
+    fig["fastcall"] = not fastcall.why_not
+    fig["plant_rhs_call_us"] = per_call_us(lambda: f(x, u, 0.0, p, w, out=out), 20000, args.repeat)
+    n_pts = 10000
     rng = np.random.default_rng(0)
-    W = rng.standard_normal((args.casadi_steps, sim.nw))
+    X = x + 1e-3 * rng.standard_normal((n_pts, x.size))
+    Xout = np.empty((n_pts, x.size))
+    f.batch(X, u, 0.0, p, w, out=Xout)
+    fig["plant_rhs_batch_us_per_point"] = median_time(lambda: f.batch(X, u, 0.0, p, w, out=Xout),
+                                                      args.repeat) / n_pts * 1e6
+    ins = [np.ascontiguousarray(X[:K]), u, np.zeros(1), p, w]
+    dp = ctypes.POINTER(ctypes.c_double)
+    in_p = (dp * 5)(*[a.ctypes.data_as(dp) for a in ins])
+    in_n = (ctypes.c_longlong * 5)(*f.in_sizes)
+    in_s = (ctypes.c_longlong * 5)(x.size, 0, 0, 0, 0)
+    out_n = (ctypes.c_longlong * 1)(*f.out_sizes)
+    rep = lanes.lib.rpo_repeat_lanes
+    reps = 20000
 
-    def casadi_loop():
-        z = z0.copy()
-        for i in range(args.casadi_steps):
-            zn, _y = step_ca(z, i * sim.dt, p, k, W[i])
-            z = np.asarray(zn).ravel()
+    def loop():
+        rep(ctypes.c_void_p(lanes.pointers["plant_rhs"]), ctypes.c_longlong(lanes.work["plant_rhs"]), 5, in_p, in_n,
+            in_s, 1, out_n, ctypes.c_longlong(reps))
 
-    us_ca = median_time(casadi_loop, max(1, args.repeat // 2)) / args.casadi_steps * 1e6
+    fig["plant_rhs_loop_us_per_point"] = median_time(loop, args.repeat) / (reps * K) * 1e6
+    fig["plant_rhs_batch_ratio"] = fig["plant_rhs_batch_us_per_point"] / fig["plant_rhs_loop_us_per_point"]
 
-    # 2. numpy: lambdified SymPy pieces + the same step composition (setup excluded from timing)
-    print("building the NumPy reference (sympy.lambdify of the plant; about a minute) ...", flush=True)
-    t0 = time.perf_counter()
-    from rpo.symbolic import functions
-    from rpo.symbolic.numpy_reference import numpy_step
+    # Basilisk, same process
+    fig["basilisk_us_per_step"] = fig["basilisk_ratio"] = None
+    if not args.no_basilisk:
+        try:
+            from basilisk_case import basilisk_us_per_step
 
-    pieces, ctx = functions.sources()
-    ctrl = next(c for c in ctx["controllers"] if c.name == run.controller)
-    step_np = numpy_step(pieces, ctx["plant"], ctrl)
-    print(f"  (setup {time.perf_counter() - t0:.0f} s, not timed)")
+            b = basilisk_us_per_step(duration=duration, dt=sim.dt, repeat=max(3, args.repeat // 2))
+            fig["basilisk_us_per_step"] = b["us_per_step"]
+            fig["basilisk_version"] = b["basilisk_version"]
+            fig["basilisk_ratio"] = b["us_per_step"] / fig["batch_us_per_run_step"]
+        except ImportError as exc:
+            print(f"Basilisk not measured: {exc}")
 
-    def numpy_loop():
-        z = z0.copy()
-        for i in range(args.numpy_steps):
-            z, _y = step_np(z, i * sim.dt, p, k, W[i % len(W)])
+    # the whole command
+    if not args.no_run:
+        import bench_run
 
-    us_np = median_time(numpy_loop, max(1, args.repeat // 2)) / args.numpy_steps * 1e6
+        r = bench_run.measure(str(SCENARIO), repeat=args.repeat)
+        fig.update({k: r[k] for k in ("run_total_s", "run_write_s", "output_mb")})
 
-    # per-call overhead of one generated function from Python
-    rhs = model.plant_rhs
-    x, u, w = z0[: model.layout_size("x")], np.zeros(model.layout_size("u")), np.zeros(model.layout_size("w"))
-    n_calls = 20000
-    t_ctypes = median_time(lambda: [rhs(x, u, 0.0, p, w) for _ in range(n_calls)], 3) / n_calls * 1e6
-    ext = ca.external("plant_rhs", str(model.library))
-    n_ext = 2000
-    t_ext = median_time(lambda: [ext(x, u, 0.0, p, w) for _ in range(n_ext)], 3) / n_ext * 1e6
-
-    rows = [
-        ("compiled (C step in C loop)", us_comp, t_comp),
-        ("casadi.Function per step", us_ca, us_ca * n_steps / 1e6),
-        ("numpy RK4 of the same equations", us_np, us_np * n_steps / 1e6),
-    ]
     print()
-    print(f"{'method':34s} {'us/step':>12s} {'300 s run [s]':>14s} {'x compiled':>11s}")
-    for name, us, total in rows:
-        print(f"{name:34s} {us:12.2f} {total:14.3f} {us / us_comp:11.1f}")
-    print()
-    print(f"one plant_rhs call from Python: ctypes wrapper {t_ctypes:.2f} us, casadi.external {t_ext:.2f} us "
-          f"({t_ext / t_ctypes:.1f}x)")
-    goal_ratio, goal_run = us_np / us_comp >= 100, t_comp < 0.1
-    print(f"goals: numpy/compiled >= 100x: {'met' if goal_ratio else 'NOT met'} ({us_np / us_comp:.0f}x); "
-          f"whole run < 0.1 s: {'met' if goal_run else 'NOT met'} ({t_comp:.3f} s)")
+    rows = [("scalar C loop, us/step", "scalar_us_per_step", None),
+            (f"lockstep batch ({K} lanes), us/run-step", "batch_us_per_run_step", "<= 1"),
+            ("batch speedup", "batch_speedup", ">= 4"),
+            ("Basilisk, us/step", "basilisk_us_per_step", None),
+            ("Basilisk / rpo batched", "basilisk_ratio", ">= 15"),
+            ("plant_rhs single call (out=), us", "plant_rhs_call_us", "<= 1.5"),
+            ("plant_rhs.batch, us/point", "plant_rhs_batch_us_per_point", None),
+            ("compiled lane code alone, us/point", "plant_rhs_loop_us_per_point", None),
+            ("batch / compiled", "plant_rhs_batch_ratio", "<= 1.25"),
+            ("rpo run total, s", "run_total_s", "<= 3"),
+            ("rpo run writing, s", "run_write_s", "<= 1.5"),
+            ("rpo run output, MB", "output_mb", "<= 25")]
+    for label, key, target in rows:
+        v = fig.get(key)
+        print(f"{label:42s} {'-' if v is None else f'{v:10.3f}':>10s}   {target or ''}")
+    if args.json:
+        print(json.dumps({k: (round(v, 4) if isinstance(v, float) else v) for k, v in fig.items()}))
     return 0
 
 

@@ -50,8 +50,11 @@ RUNTIME_ABI = 3
 #: compute exactly what the lane objects compute in every lane.
 CFLAGS = ("-O2", "-fPIC", "-ffp-contract=off")
 #: The lane objects (runtime/lanes.py): the same IEEE rules, for the machine's vector unit
-#: (``-march=native`` where the compiler has it: the lane width follows the target).
-LANE_CFLAGS = (os.environ.get("RPO_LANE_OPT", "-O2"), "-fPIC", "-ffp-contract=off", "-fno-strict-aliasing")
+#: (``-march=native`` where the compiler has it: the lane width follows the target).  The
+#: pressure-aware scheduling before register allocation spills fewer 64-byte vectors from the
+#: long straight-line bodies: measured 1.7 against 2.05 us per run-step with -O3 alone and 2.7
+#: with -O2 (benchmarks/bench_step.py, AVX-512, K = 8); K = 4 on the same machine was slower.
+LANE_CFLAGS = ("-O3", "-fPIC", "-ffp-contract=off", "-fno-strict-aliasing", "-fschedule-insns", "-fsched-pressure")
 SCALAR_MATH = "rpo_math_scalar.h"
 LANE_LOOP_SOURCE = "lanes_loop.c"
 #: -z defs (GNU ld): a callee missing from the link is an error now, not a library that fails to load
@@ -394,7 +397,7 @@ def native_target(cc: list[str]) -> tuple[list[str], str]:
 
 
 def _lane_flags(native: list[str]) -> list[str]:
-    return [*LANE_CFLAGS, *native, *os.environ.get("RPO_LANE_EXTRA", "").split(), "-I", str(csrc_dir())]
+    return [*LANE_CFLAGS, *native, "-I", str(csrc_dir())]
 
 
 def lane_sources(gen_dir: Path, manifest: dict, controllers: Iterable[str] | None = None
@@ -429,28 +432,33 @@ def build_lane_library(gen_dir: Path | None = None, cache: Path | None = None,
                        ) -> tuple[Path, bool, dict[str, str]]:
     """Compile the lane forms of the generated model for this machine's vector width into the cache
     if needed; return (library path, compiled?, {file: why it has no lane form})."""
-    from .lanes import LANES_VERSION
-
     controllers = None if controllers is None else sorted(set(controllers))
     gen_dir = generated_dir() if gen_dir is None else Path(gen_dir)
     manifest = read_manifest(gen_dir) if manifest is None else manifest
     cc, cc_id = _compiler()
+    cache = cache_dir() if cache is None else Path(cache)
+    (cache / "obj").mkdir(parents=True, exist_ok=True)
+    objects, lib, flags, skipped = _lane_plan(gen_dir, manifest, controllers, cache, cc, cc_id)
+    path, compiled = _compile_and_link(cc, objects, lib, cache, log, jobs, flags, "the lane model")
+    return path, compiled, skipped
+
+
+def _lane_plan(gen_dir: Path, manifest: dict, controllers: list[str] | None, cache: Path, cc: list[str], cc_id: str):
+    """(objects, library path, compile flags, skipped) of the lane library of a selection."""
+    from .lanes import LANES_VERSION
+
     native, target_id = native_target(cc)
     flags = _lane_flags(native)
     lane_id = f"{cc_id}\ntarget {target_id}\nlanes {LANES_VERSION}"
-    cache = cache_dir() if cache is None else Path(cache)
-    (cache / "obj").mkdir(parents=True, exist_ok=True)
     sources, skipped = lane_sources(gen_dir, manifest, controllers)
-    keyflags = [*LANE_CFLAGS, *native, *os.environ.get("RPO_LANE_EXTRA", "").split()]
+    keyflags = [*LANE_CFLAGS, *native]
     objects = [(n, d, cache / "obj" / f"{Path(n).stem}-{object_key(d, lane_id, keyflags)[:24]}.o") for n, d in sources]
     h = hashlib.sha256()
     for n, _d, obj in objects:
         h.update(n.encode() + b"\0" + obj.name.encode() + b"\0")
     h.update(json.dumps({"ldflags": LDFLAGS, "abi": RUNTIME_ABI, "manifest": manifest["manifest_hash"]},
                         sort_keys=True).encode())
-    lib = cache / f"rpo_lanes_{h.hexdigest()[:24]}.so"
-    path, compiled = _compile_and_link(cc, objects, lib, cache, log, jobs, flags, "the lane model")
-    return path, compiled, skipped
+    return objects, cache / f"rpo_lanes_{h.hexdigest()[:24]}.so", flags, skipped
 
 
 def current_cache_files(gen_dir: Path | None = None, cache: Path | None = None) -> set[Path]:
@@ -459,12 +467,15 @@ def current_cache_files(gen_dir: Path | None = None, cache: Path | None = None) 
     gen_dir = generated_dir() if gen_dir is None else Path(gen_dir)
     cache = cache_dir() if cache is None else Path(cache)
     manifest = read_manifest(gen_dir)
-    _cc, cc_id = _compiler()
+    cc, cc_id = _compiler()
     keep = set()
     for ctrls in [None, *([c] for c in sorted(manifest.get("controllers", {})))]:
         sources = _sources(gen_dir, manifest, ctrls)
         keep |= {_object_path(cache, n, d, cc_id) for n, d in sources}
         keep.add(_library_path(cache, sources, manifest, cc_id))
+        objects, lib, _flags, _skipped = _lane_plan(gen_dir, manifest, ctrls, cache, cc, cc_id)
+        keep |= {obj for _n, _d, obj in objects}
+        keep.add(lib)
     return keep
 
 
@@ -482,7 +493,7 @@ def prune_cache(gen_dir: Path | None = None, cache: Path | None = None, dry_run:
     keep = current_cache_files(gen_dir, cache)
     n = size = 0
     with file_lock(cache / ".prune.lock"):
-        for f in [*cache.glob("rpo_model_*.so"), *(cache / "obj").glob("*.o")]:
+        for f in [*cache.glob("rpo_model_*.so"), *cache.glob("rpo_lanes_*.so"), *(cache / "obj").glob("*.o")]:
             if f in keep:
                 continue
             n += 1
@@ -585,7 +596,8 @@ class CompiledFunction:
                              f"({', '.join(self.out_names)}), got {len(outs)}")
         views = []
         for j, (o, (r, c)) in enumerate(zip(outs, self.out_shapes, strict=True)):
-            want = f"({r},)" if c == 1 else f"({r}, {c}) in Fortran order (np.empty(({r}, {c}), order='F')) or ({r * c},)"
+            want = (f"({r},)" if c == 1 else
+                    f"({r}, {c}) in Fortran order (np.empty(({r}, {c}), order='F')) or ({r * c},)")
             if not isinstance(o, np.ndarray) or o.dtype != np.float64 or not o.flags.writeable:
                 raise TypeError(f"{self.name}: out for {self.out_names[j]} must be a writable float64 array of "
                                 f"shape {want}")
@@ -789,6 +801,19 @@ class Model:
             return self.__dict__["functions"][name]
         except KeyError:
             raise AttributeError(name) from None
+
+    def linearize(self, controller: str, z: np.ndarray, t: float, p: np.ndarray, k: np.ndarray, **kw):
+        """The closed-loop step's Jacobian in reduced coordinates (AD of ``step_<controller>``):
+        :func:`rpo.runtime.linearize.linearize`."""
+        from .linearize import linearize
+
+        return linearize(self, controller, z, t, p, k, **kw)
+
+    def plant_jacobians(self, x: np.ndarray, u: np.ndarray, t: float, p: np.ndarray, **kw):
+        """The plant's continuous A = df/dx, B = df/du: :func:`rpo.runtime.linearize.plant_jacobians`."""
+        from .linearize import plant_jacobians
+
+        return plant_jacobians(self, x, u, t, p, **kw)
 
     def function(self, name: str):
         """The loaded function ``name``; a clear error if the manifest has it but it was not loaded."""

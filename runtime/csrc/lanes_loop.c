@@ -155,3 +155,28 @@ RPO_EXPORT int rpo_run_lanes(rpo_lane_fn step, long long sz_w, double t0, double
     free(buf);
     return 0;
 }
+
+/* For benchmarks: evaluate f `reps` times on the first K points of `in` (gathered once), so
+ * that the time per call over K is the compiled code's own cost per evaluation. */
+RPO_EXPORT int rpo_repeat_lanes(rpo_lane_fn f, long long sz_w, int n_in, const double* const* in,
+                                const long long* in_size, const long long* in_stride, int n_out,
+                                const long long* out_size, long long reps)
+{
+    size_t total = (size_t)sz_w;
+    for (int j = 0; j < n_in; ++j) total += (size_t)in_size[j];
+    for (int j = 0; j < n_out; ++j) total += (size_t)out_size[j];
+    rpo_v* buf = lane_alloc(total);
+    const rpo_v* arg[64];
+    rpo_v* res[64];
+    if (!buf || n_in > 64 || n_out > 64) { free(buf); return -1; }
+    rpo_v* next = buf;
+    for (int j = 0; j < n_in; ++j) { arg[j] = next; next += in_size[j]; }
+    for (int j = 0; j < n_out; ++j) { res[j] = next; next += out_size[j]; }
+    for (int j = 0; j < n_in; ++j)
+        for (int l = 0; l < K; ++l)
+            for (long long e = 0; e < in_size[j]; ++e) LANE(arg[j], e, l) = in[j][l * in_stride[j] + e];
+    int rc = 0;
+    for (long long r = 0; r < reps; ++r) rc |= f(arg, res, NULL, next, 0);
+    free(buf);
+    return rc;
+}
