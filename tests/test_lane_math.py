@@ -235,7 +235,7 @@ def _accuracy_inputs(name: str, n: int, rng) -> np.ndarray:
         return rng.choice([-1.0, 1.0], m) * 10.0 ** rng.uniform(lo, hi, m)
 
     if name in ("sin", "cos", "tan"):
-        near = np.round(rng.uniform(-2**20, 2**20, n // 8)) * (np.pi / 2)
+        near = np.round(rng.uniform(-(2**20), 2**20, n // 8)) * (np.pi / 2)
         x = np.concatenate([logu(-300, math.log10(TRIG_LIMIT), n // 2), rng.uniform(-7, 7, n // 4),
                             _neighbours(near, 1), _neighbours(np.arange(1, 64) * np.pi / 2, 2)])  # fmt: skip
         return x[np.abs(x) < TRIG_LIMIT]

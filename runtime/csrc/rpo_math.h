@@ -17,6 +17,21 @@
  *   The only per-lane scalar code is the large-argument fallback of sin/cos/tan (|x| >= 
  *   RPO_TRIG_LIMIT, inf, NaN), which calls libm per lane in every mode, so modes still agree.
  *
+ * INTERFACE (all static inline or macros, same meaning per lane in every mode)
+ *   RPO_SPLAT(c)                         rpo_v, every lane (double)c
+ *   RPO_LT LE GT GE EQ NE (a, b)         rpo_m, IEEE (NaN: all false except NE)
+ *   RPO_MAND(m1, m2) RPO_MOR RPO_MNOT(m) rpo_m
+ *   RPO_SELECT(m, a, b)                  a where m is set, else b (bitwise: -0, NaN payloads kept)
+ *   RPO_ANY(m)                           int, nonzero if any lane is set (the one cross-lane op)
+ *   RPO_B2D(m)                           1.0 where set, else +0.0
+ *   rpo_lane_get(x, l) / RPO_GET(x, l)   double, lane l
+ *   rpo_lane_set(x, l, v) / RPO_SET      rpo_v, x with lane l = v (x itself is not modified)
+ *   exact:  rpo_sqrt rpo_floor rpo_ceil rpo_fabs rpo_sign rpo_fmin rpo_fmax
+ *   libm:   rpo_sin rpo_cos rpo_tan rpo_exp rpo_expm1 rpo_log rpo_atan rpo_atan2(y, x) rpo_asin
+ *           rpo_acos rpo_sinh rpo_cosh rpo_tanh, and rpo_sincos(x, &s, &c): the bits of
+ *           rpo_sin(x), rpo_cos(x) at the cost of about one of them.
+ *   rpo_math_scalar.h (for gcc -include) maps sin(x) ... fmax(a, b) of scalar C code onto these.
+ *
  * REQUIRED FLAGS
  *   -ffp-contract=off is REQUIRED (GCC's default for C is -ffp-contract=fast, which fuses a*b+c
  *   into an FMA where the target has one; the scalar and vector code would be fused at different
@@ -125,7 +140,7 @@ static inline rpo_v rpo_lane_set(rpo_v x, int l, double v) { x[l] = v; return x;
 #endif
 
 #define RPO_GET(x, l) rpo_lane_get((x), (l))
-#define RPO_SET(x, l, v) ((x) = rpo_lane_set((x), (l), (v)))
+#define RPO_SET(x, l, v) rpo_lane_set((x), (l), (v)) /* returns the new vector; x is unchanged */
 #define RPO_MAND(m1, m2) ((rpo_m)((m1) & (m2)))
 #define RPO_MOR(m1, m2) ((rpo_m)((m1) | (m2)))
 #define RPO_MNOT(m) ((rpo_m)(~(m)))
