@@ -775,20 +775,42 @@ static inline rpo_v rpo_cosh(rpo_v x)
     return RPO_SELECT(RPO__ISNAN(x), x * x, res);
 }
 
-/* lib/msun/src/s_tanh.c: |x| >= 1: 1 - 2/(E+2), E = expm1(2|x|); |x| < 1: -E/(E+2),
- * E = expm1(-2|x|) (one expm1 with a per-lane argument); |x| >= 22: +-1; tiny: x. */
+/* tanh after lib/msun/src/s_tanh.c, with musl's finer split of |x| < 1 (src/math/tanh.c):
+ *   |x| >= ln(3)/2:            1 - 2/(E+2),  E = expm1(2|x|)
+ *   ln(5/3)/2 <= |x| < ln(3)/2: E/(E+2),     E = expm1(2|x|)
+ *   |x| < ln(5/3)/2:           odd Taylor polynomial (fdlibm's -E/(E+2), E = expm1(-2|x|), loses
+ *                              up to ~2 ulp there: expm1's error is amplified by the quotient)
+ *   |x| >= 22: +-1;  |x| < 2^-28: x.
+ * One expm1 with a per-lane argument.  Polynomial: tanh x = x + x z P(z), z = x^2,
+ * P's coefficients the Taylor coefficients 2^2n (2^2n - 1) B_2n / (2n)!, n = 2..13 (computed
+ * with mpmath from the Bernoulli numbers, rounded to double); truncation < 2^-62 relative at
+ * |x| = 0.2554, and the x z P(z) part is < 0.022 |x|, so its rounding errors hardly count. */
 static inline rpo_v rpo_tanh(rpo_v x)
 {
     rpo_v ax = rpo_fabs(x);
-    rpo_m ge1 = RPO_GE(ax, RPO__C(1.0));
-    rpo_v arg = RPO_SELECT(ge1, 2.0 * ax, -2.0 * ax);
-    arg = RPO_SELECT(RPO_LT(ax, RPO__C(22.0)), arg, RPO__C(44.0));
+    rpo_m hi = RPO_GE(ax, RPO__C(0.5493061443340549));  /* ln(3)/2 */
+    rpo_m mid = RPO_GE(ax, RPO__C(0.25541281188299534)); /* ln(5/3)/2 */
+    rpo_v arg = RPO_SELECT(RPO_LT(ax, RPO__C(22.0)), 2.0 * ax, RPO__C(44.0));
     rpo_v t = rpo_expm1(arg);
-    rpo_v z = RPO_SELECT(ge1, 1.0 - 2.0 / (t + 2.0), -t / (t + 2.0));
-    z = RPO_SELECT(RPO_GE(ax, RPO__C(22.0)), RPO__C(1.0), z);
-    z = RPO_SELECT(rpo__signmask(x), -z, z);
-    z = RPO_SELECT(RPO_LT(ax, RPO__C(0x1p-28)), x, z);
-    return RPO_SELECT(RPO__ISNAN(x), x + x, z);
+    rpo_v z = x * x;
+    rpo_v p = RPO__C(0x1.0b132d39a6050p-16);
+    p = -0x1.497d8eea25259p-15 + z * p;
+    p = 0x1.967e18afcafadp-14 + z * p;
+    p = -0x1.f57d7734d1664p-13 + z * p;
+    p = 0x1.3558248036744p-11 + z * p;
+    p = -0x1.7da36452b75e3p-10 + z * p;
+    p = 0x1.d6d3d0e157de0p-9 + z * p;
+    p = -0x1.226e355e6c23dp-7 + z * p;
+    p = 0x1.664f4882c10fap-6 + z * p;
+    p = -0x1.ba1ba1ba1ba1cp-5 + z * p;
+    p = 0x1.1111111111111p-3 + z * p;
+    p = -0x1.5555555555555p-2 + z * p;
+    rpo_v rsmall = ax + ax * (z * p);
+    rpo_v r = RPO_SELECT(hi, 1.0 - 2.0 / (t + 2.0), RPO_SELECT(mid, t / (t + 2.0), rsmall));
+    r = RPO_SELECT(RPO_GE(ax, RPO__C(22.0)), RPO__C(1.0), r);
+    r = RPO_SELECT(rpo__signmask(x), -r, r);
+    r = RPO_SELECT(RPO_LT(ax, RPO__C(0x1p-28)), x, r);
+    return RPO_SELECT(RPO__ISNAN(x), x + x, r);
 }
 
 #endif /* RPO_MATH_H */
