@@ -1,7 +1,7 @@
 """Speed where the user waits, in one process: lockstep batches, the scalar loop, single and batched
 calls from Python, Basilisk side by side, and the whole ``rpo run``.
 
-    python benchmarks/bench_step.py [--repeat 5] [--runs 64] [--json] [--no-basilisk] [--no-run]
+    python benchmarks/bench_step.py [--repeat 5] [--runs 64] [--json] [--no-basilisk] [--no-run] [--references]
 
 Figures (medians of ``--repeat``; the keys of the ``--json`` line):
 
@@ -21,6 +21,11 @@ Figures (medians of ``--repeat``; the keys of the ``--json`` line):
   ``plant_rhs_batch_ratio`` = batch / loop (target: within 1.25);
 * ``run_total_s``, ``run_write_s``, ``output_mb``: the README's first command's ``rpo run`` with the
   compile cached (``benchmarks/bench_run.py``, fresh processes).
+
+With ``--references`` also the per-step cost of the same step evaluated by CasADi's virtual machine
+(the generated ``step_<ctrl>`` as a ``casadi.Function`` called from Python, ``casadi_us_per_step``)
+and by NumPy (the lambdified SymPy pieces composed by the same ``closed_loop.step``,
+``numpy_us_per_step``; about a minute of setup), and their ratios to the scalar C loop.
 
 Targets (issue 10): batch_us_per_run_step <= 1, batch_speedup >= 4, basilisk_ratio >= 15,
 plant_rhs_call_us <= 1.5, plant_rhs_batch_ratio <= 1.25, run_total_s <= 3, run_write_s <= 1.5,
@@ -62,6 +67,44 @@ def per_call_us(fn, n: int, repeat: int) -> float:
     return median_time(loop, repeat) / n * 1e6
 
 
+def references(model, sim, z0, controller: str, repeat: int, casadi_steps: int = 2000,
+               numpy_steps: int = 200) -> dict:
+    """Per-step cost of the same closed-loop step in CasADi's VM and in NumPy (lambdified SymPy)."""
+    import gzip
+
+    import casadi as ca
+
+    from rpo.runtime.compiled import generated_dir
+    from rpo.symbolic import functions
+    from rpo.symbolic.numpy_reference import numpy_step
+
+    step_name = model.manifest["controllers"][controller]["step"]
+    step_ca = ca.Function.deserialize(gzip.decompress((generated_dir() / f"{step_name}.casadi.gz").read_bytes())
+                                      .decode())
+    p, k = sim.p, sim.k
+    W = np.random.default_rng(0).standard_normal((casadi_steps, sim.nw))
+
+    def casadi_loop():
+        z = z0.copy()
+        for i in range(casadi_steps):
+            zn, _y = step_ca(z, i * sim.dt, p, k, W[i])
+            z = np.asarray(zn).ravel()
+
+    out = {"casadi_us_per_step": median_time(casadi_loop, max(1, repeat // 2)) / casadi_steps * 1e6}
+    print("building the NumPy reference (sympy.lambdify of the plant; about a minute) ...", flush=True)
+    pieces, ctx = functions.sources()
+    ctrl = next(c for c in ctx["controllers"] if c.name == controller)
+    step_np = numpy_step(pieces, ctx["plant"], ctrl)
+
+    def numpy_loop():
+        z = z0.copy()
+        for i in range(numpy_steps):
+            z, _y = step_np(z, i * sim.dt, p, k, W[i % len(W)])
+
+    out["numpy_us_per_step"] = median_time(numpy_loop, max(1, repeat // 2)) / numpy_steps * 1e6
+    return out
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--repeat", type=int, default=5)
@@ -70,6 +113,7 @@ def main(argv=None) -> int:
     ap.add_argument("--json", action="store_true", help="print one JSON line with the figures last")
     ap.add_argument("--no-basilisk", action="store_true")
     ap.add_argument("--no-run", action="store_true", help="skip the whole-command figures (bench_run.py)")
+    ap.add_argument("--references", action="store_true", help="also CasADi's VM and NumPy per step (slow setup)")
     args = ap.parse_args(argv)
 
     from rpo.runtime import fastcall
@@ -151,6 +195,9 @@ def main(argv=None) -> int:
         except ImportError as exc:
             print(f"Basilisk not measured: {exc}")
 
+    if args.references:
+        fig.update(references(model, sim, z0, run.controller, args.repeat))
+
     # the whole command
     if not args.no_run:
         import bench_run
@@ -159,7 +206,9 @@ def main(argv=None) -> int:
         fig.update({k: r[k] for k in ("run_total_s", "run_write_s", "output_mb")})
 
     print()
-    rows = [("scalar C loop, us/step", "scalar_us_per_step", None),
+    rows = [("CasADi VM per step from Python, us", "casadi_us_per_step", None),
+            ("NumPy RK4 of the same equations, us", "numpy_us_per_step", None),
+            ("scalar C loop, us/step", "scalar_us_per_step", None),
             (f"lockstep batch ({K} lanes), us/run-step", "batch_us_per_run_step", "<= 1"),
             ("batch speedup", "batch_speedup", ">= 4"),
             ("Basilisk, us/step", "basilisk_us_per_step", None),

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * ideal_actuators: ideal actuators: per-axis saturated force and torque
- * Produced by `python build.py` from family 'plant' (hash 5156fbcf2093391c8729d77662958260b74c0ec8352faf3a6e5b1d779ef34b04),
+ * Produced by `python build.py` from family 'plant' (hash cd6a89d74649c28f1e71cdde67e34a8501aaa018b4d3a6a6746d2ab52b419783),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -16,6 +16,7 @@
  *   symbolic/mass_properties.py
  *   symbolic/orbit.py
  *   symbolic/plant.py
+ *   symbolic/reciprocals.py
  *   symbolic/relative_attitude.py
  *   symbolic/relative_translation.py
  *   symbolic/rigid_body.py

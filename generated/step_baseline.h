@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_baseline: one closed-loop step (plant + baseline + actuators), RK4 over dt: measure, control_baseline, plant_advance
- * Produced by `python build.py` from family 'controller_baseline' (hash 16d8fdf045c61b43244bbabf64f754e79dcf6474e018cd55c6f6b63986656bb0),
+ * Produced by `python build.py` from family 'controller_baseline' (hash 62a5df61b81d56f12db111d491945d4f703d854caa11712443dcb4a767b5116e),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -17,6 +17,7 @@
  *   symbolic/mass_properties.py
  *   symbolic/orbit.py
  *   symbolic/plant.py
+ *   symbolic/reciprocals.py
  *   symbolic/relative_attitude.py
  *   symbolic/relative_translation.py
  *   symbolic/rigid_body.py
@@ -24,7 +25,7 @@
  *   symbolic/special.py
  *   symbolic/structural_cse.py
  *   symbolic/to_casadi.py
- * Operations: 16818 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 17024 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c000: one closed-loop step (plant + c000 + actuators), RK4 over dt: measure, control_c000, plant_advance
- * Produced by `python build.py` from family 'controller_c000' (hash 88598ed44db89ac8cb1047031709b55eb086a9e5c0b520233fc989ce63c21e07),
+ * Produced by `python build.py` from family 'controller_c000' (hash 353af60461980e1486ae4ff2baa8a36e1e6ed769e23e0c7f96cdcbd027b6cbac),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -17,6 +17,7 @@
  *   symbolic/mass_properties.py
  *   symbolic/orbit.py
  *   symbolic/plant.py
+ *   symbolic/reciprocals.py
  *   symbolic/relative_attitude.py
  *   symbolic/relative_translation.py
  *   symbolic/rigid_body.py
@@ -24,7 +25,7 @@
  *   symbolic/special.py
  *   symbolic/structural_cse.py
  *   symbolic/to_casadi.py
- * Operations: 17839 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 18045 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c001: one closed-loop step (plant + c001 + actuators), RK4 over dt: measure, control_c001, plant_advance
- * Produced by `python build.py` from family 'controller_c001' (hash 3d1c241695018442dd29e424428ac3ed6399a631d072003a8a8fa7e17c6cbebf),
+ * Produced by `python build.py` from family 'controller_c001' (hash 11fe317d8d90f42ad7d44caa9ca6f9414c4de25fe0f0eb77f0e3e4903ae49059),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -17,6 +17,7 @@
  *   symbolic/mass_properties.py
  *   symbolic/orbit.py
  *   symbolic/plant.py
+ *   symbolic/reciprocals.py
  *   symbolic/relative_attitude.py
  *   symbolic/relative_translation.py
  *   symbolic/rigid_body.py
@@ -24,7 +25,7 @@
  *   symbolic/special.py
  *   symbolic/structural_cse.py
  *   symbolic/to_casadi.py
- * Operations: 21732 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 21963 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c002: one closed-loop step (plant + c002 + actuators), RK4 over dt: measure, control_c002, plant_advance
- * Produced by `python build.py` from family 'controller_c002' (hash 46c25753237164abc55cd9ef296e7dbc98087b5c6ed4af7a157e22d9d8f81e52),
+ * Produced by `python build.py` from family 'controller_c002' (hash 40136ed93f6217bf7b1789b9af1dd0e1cd7b1e9979f2cd738241465c104a9b49),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -17,6 +17,7 @@
  *   symbolic/mass_properties.py
  *   symbolic/orbit.py
  *   symbolic/plant.py
+ *   symbolic/reciprocals.py
  *   symbolic/relative_attitude.py
  *   symbolic/relative_translation.py
  *   symbolic/rigid_body.py
@@ -24,7 +25,7 @@
  *   symbolic/special.py
  *   symbolic/structural_cse.py
  *   symbolic/to_casadi.py
- * Operations: 19601 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 19806 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {
@@ -172,7 +173,7 @@ CASADI_SYMBOL_EXPORT int step_c002_work(casadi_int *sz_arg, casadi_int* sz_res, 
   if (sz_arg) *sz_arg = 5;
   if (sz_res) *sz_res = 2;
   if (sz_iw) *sz_iw = 0;
-  if (sz_w) *sz_w = 988;
+  if (sz_w) *sz_w = 997;
   return 0;
 }
 
@@ -181,7 +182,7 @@ CASADI_SYMBOL_EXPORT int step_c002_work_bytes(casadi_int *sz_arg, casadi_int* sz
   if (sz_arg) *sz_arg = 5*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 2*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
-  if (sz_w) *sz_w = 988*sizeof(casadi_real);
+  if (sz_w) *sz_w = 997*sizeof(casadi_real);
   return 0;
 }
 

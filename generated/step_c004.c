@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c004: one closed-loop step (plant + c004 + actuators), RK4 over dt: measure, control_c004, plant_advance
- * Produced by `python build.py` from family 'controller_c004' (hash 29ba1908bbee58d025ec1c294ce1b579d20f3d867d2e8c00faf3fca3f0980815),
+ * Produced by `python build.py` from family 'controller_c004' (hash 0297cf1282a3954f02f3099e6e294fe331817ad42bf07e416ddc88a7f37d6f61),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -17,6 +17,7 @@
  *   symbolic/mass_properties.py
  *   symbolic/orbit.py
  *   symbolic/plant.py
+ *   symbolic/reciprocals.py
  *   symbolic/relative_attitude.py
  *   symbolic/relative_translation.py
  *   symbolic/rigid_body.py
@@ -24,7 +25,7 @@
  *   symbolic/special.py
  *   symbolic/structural_cse.py
  *   symbolic/to_casadi.py
- * Operations: 18555 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 18773 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {
@@ -172,7 +173,7 @@ CASADI_SYMBOL_EXPORT int step_c004_work(casadi_int *sz_arg, casadi_int* sz_res, 
   if (sz_arg) *sz_arg = 5;
   if (sz_res) *sz_res = 2;
   if (sz_iw) *sz_iw = 0;
-  if (sz_w) *sz_w = 980;
+  if (sz_w) *sz_w = 989;
   return 0;
 }
 
@@ -181,7 +182,7 @@ CASADI_SYMBOL_EXPORT int step_c004_work_bytes(casadi_int *sz_arg, casadi_int* sz
   if (sz_arg) *sz_arg = 5*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 2*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
-  if (sz_w) *sz_w = 980*sizeof(casadi_real);
+  if (sz_w) *sz_w = 989*sizeof(casadi_real);
   return 0;
 }
 

@@ -349,7 +349,8 @@ def _compile_and_link(cc: list[str], objects: list[tuple[str, bytes, Path]], lib
         todo = [(name, src, obj) for name, src, obj in objects if not obj.exists()]
         n_jobs = max(1, min(jobs or default_jobs(), len(todo) or 1))
         if log and todo:
-            log(f"compiling {len(todo)} of {len(objects)} C files of {what} on {n_jobs} core{'s' * (n_jobs > 1)} "
+            kind = "lane " if flags is not None else ""
+            log(f"compiling {len(todo)} of {len(objects)} {kind}C files on {n_jobs} core{'s' * (n_jobs > 1)} "
                 f"({len(objects) - len(todo)} cached) into {cache} ...")
         t0 = time.perf_counter()
         # largest first, so that the long step functions start at once and the short ones fill in
@@ -378,21 +379,27 @@ _NATIVE: dict[tuple[str, ...], tuple[list[str], str]] = {}
 
 
 def native_target(cc: list[str]) -> tuple[list[str], str]:
-    """The flags that select the build machine's vector unit (``-march=native`` when the compiler
-    takes it, else none: the lane width is then the baseline target's) and an identity of that
-    target (the compiler's predefined macros under those flags) for the lane objects' keys."""
-    key = tuple(cc)
+    """The flags that select the vector unit of the lane objects and an identity of that target
+    (the compiler's predefined macros under those flags) for their keys.
+
+    ``-march=native`` (this machine's unit) when the compiler takes it, else the compiler's
+    default target; ``RPO_LANES_TARGET=baseline`` asks for the default target (e.g. to test the
+    SSE2 width on an AVX-512 machine).
+    """
+    want = os.environ.get("RPO_LANES_TARGET", "native")
+    if want not in ("native", "baseline"):
+        raise ModelError(f"RPO_LANES_TARGET must be native or baseline, got {want!r}")
+    key = (*cc, want)
     if key not in _NATIVE:
-        flags: list[str] = []
-        for cand in (["-march=native"], []):
+        candidates = [["-march=native"], []] if want == "native" else [[]]
+        for cand in candidates:
             res = subprocess.run([*cc, *cand, "-dM", "-E", "-x", "c", os.devnull], capture_output=True,
                                  text=True, check=False)
             if res.returncode == 0:
-                flags = cand
+                _NATIVE[key] = (cand, hashlib.sha256(res.stdout.encode()).hexdigest())
                 break
         else:
             raise ModelError(f"the C compiler {' '.join(cc)} cannot preprocess an empty file")
-        _NATIVE[key] = (flags, hashlib.sha256(res.stdout.encode()).hexdigest())
     return _NATIVE[key]
 
 

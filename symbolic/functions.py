@@ -145,7 +145,7 @@ def _build_plant(_resolve) -> FamilyOutput:
     cas["plant_jac"] = ca.Function("plant_jac", [xs, us, ts, ps, ws],
                                    [ca.densify(ca.jacobian(xdot, xs)), ca.densify(ca.jacobian(xdot, us))],
                                    ["x", "u", "t", "p", "w"], ["dfdx", "dfdu"])
-    funcs = [Generated(cas[name], *_SIGNATURES[name]) for name in _SIGNATURES]
+    funcs = [Generated(_lean(cas[name]), *_SIGNATURES[name]) for name in _SIGNATURES]
     funcs.append(Generated(casadi_plant_advance(cas, P), ["zp", None, "p", "w", None], ["zp", None],
                            "plant half of a step: actuators, delay line, PWPF, RK4 of plant_rhs over dt"))
     layouts = {name: lay.describe() for name, lay in
@@ -153,6 +153,13 @@ def _build_plant(_resolve) -> FamilyOutput:
                 ("zp", cl.state_layout(P)))}
     return FamilyOutput(funcs, layouts, {"delay_slots": cl.DELAY_SLOTS,
                                          "quaternion_convention": QUATERNION_CONVENTION})
+
+
+def _lean(fn):
+    """An SX function with its repeated divisors' reciprocals shared (:mod:`.reciprocals`)."""
+    from .reciprocals import share_reciprocals
+
+    return share_reciprocals(fn) if fn.is_a("SXFunction") else fn
 
 
 def _casadi_ops():
@@ -176,7 +183,7 @@ def _expanded(name: str, inputs: list, outputs: list, in_names: list[str], out_n
     syms = [ca.SX.sym(n, f.size1_in(i)) for i, n in enumerate(in_names)]
     outs = f(*syms)
     outs = outs if isinstance(outs, (list, tuple)) else [outs]
-    return ca.Function(name, syms, [ca.cse(o) for o in outs], in_names, out_names)
+    return _lean(ca.Function(name, syms, [ca.cse(o) for o in outs], in_names, out_names))
 
 
 def casadi_plant_advance(cas: dict, P):
@@ -263,14 +270,14 @@ def _controller_family(name: str) -> Family:
             cas[piece] = resolve(piece)
         cas[f"control_{name}"] = casadi_control(cas, P, ctrl)
         klay, xlay, dlay, zlay, ylay = (f"{pre}_{name}" for pre in ("k", "xc", "diag", "z", "y"))
-        funcs = [Generated(cas[f"law_{name}"], ["meas", xlay, None, "p", klay], [None, None, dlay],
+        funcs = [Generated(_lean(cas[f"law_{name}"]), ["meas", xlay, None, "p", klay], [None, None, dlay],
                            f"control law of {name}"),
                  Generated(cas[f"control_{name}"], ["meas", xlay, None, "p", klay], [None, xlay, dlay],
                            f"controller half of a step of {name}: command, controller state after RK4 over dt"),
                  composed_step(cas, P, ctrl)]
         entry = {"step": f"step_{name}", "law": f"law_{name}", "control": f"control_{name}", "gains": klay}
         if f"xc0_{name}" in cas:
-            funcs.append(Generated(cas[f"xc0_{name}"], ["meas", "p", klay], [xlay],
+            funcs.append(Generated(_lean(cas[f"xc0_{name}"]), ["meas", "p", klay], [xlay],
                                    f"initial state of {name} from the first measurement"))
             entry["xc0"] = f"xc0_{name}"
         layouts = {klay: ctrl.k.describe(), xlay: ctrl.xc.describe(), dlay: ctrl.diag.describe(),

@@ -235,3 +235,17 @@ def test_lane_objects_are_keyed_by_the_headers(monkeypatch):
     k1 = compiled.object_key(b"int x;", "cc")
     monkeypatch.setattr(compiled, "headers_digest", lambda: "other")
     assert compiled.object_key(b"int x;", "cc") != k1
+
+
+@pytest.mark.slow
+def test_baseline_target_width_is_bit_identical_too(monkeypatch, tmp_path):
+    """Without -march=native (the SSE2 width on x86-64) the lanes still equal the scalar runs."""
+    monkeypatch.setenv("RPO_LANES_TARGET", "baseline")
+    model = load_model(controllers=["baseline"])
+    lanes_lib = model.lanes()
+    assert lanes_lib.width in (1, 2)
+    sim, z0, _ = _scenario_sim(model, controller="baseline")
+    n = lanes_lib.width + 1
+    batch = sim.run_batch(np.tile(z0, (n, 1)), 0.5, list(range(n)))
+    for i in range(n):
+        assert _same(batch[i], sim.run(z0, 0.5, seed=i)), i
