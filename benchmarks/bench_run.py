@@ -11,7 +11,10 @@ unmeasured run first fills it):
   files, figures, the atomic rename);
 * ``run_write_s``: the part spent writing the folder (data files, figures, rename), as the
   command prints it (``+X s writing``);
-* ``output_mb``: size of the folder [MB, 1e6 bytes].
+* ``output_mb``: size of the folder [MB, 1e6 bytes];
+* ``cpu_s``: CPU time (user + system) of the command and of the first figure worker (the one it
+  forks is not counted), and ``load_average`` (1 min) at the end: wall times on a machine shared
+  with other jobs are not comparable, CPU times are.
 
 Medians of ``--repeat`` runs are printed; with ``--json`` the last line is one JSON object with
 these keys.  ``--profile`` adds where the time goes: the CLI's import time
@@ -24,7 +27,9 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import re
+import resource
 import statistics
 import subprocess
 import sys
@@ -39,15 +44,19 @@ def folder_mb(path: Path) -> float:
     return sum(p.stat().st_size for p in path.rglob("*") if p.is_file()) / 1e6
 
 
-def one_run(scenario: str, out: Path, extra: list[str]) -> tuple[float, float]:
+def one_run(scenario: str, out: Path, extra: list[str]) -> tuple[float, float, float]:
+    """(wall time, writing time as printed, CPU time of the command and the workers it waited for)."""
     cmd = [sys.executable, "-m", "rpo.runtime.cli", "run", scenario, "--out", str(out), *extra]
+    ru0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     res = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, check=False)
     total = time.perf_counter() - t0
+    ru1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = (ru1.ru_utime - ru0.ru_utime) + (ru1.ru_stime - ru0.ru_stime)
     if res.returncode != 0:
         sys.exit(f"bench_run: {' '.join(cmd)} failed (exit {res.returncode}):\n{res.stderr[-2000:]}")
     m = re.search(r"\(\+([0-9.eE+-]+) s writing\)", res.stdout)
-    return total, float(m.group(1)) if m else float("nan")
+    return total, float(m.group(1)) if m else float("nan"), cpu
 
 
 def import_time() -> float:
@@ -82,18 +91,20 @@ def main(argv: list[str] | None = None) -> int:
     with tempfile.TemporaryDirectory(prefix="rpo-bench-run-") as tmp:
         base = Path(tmp)
         one_run(args.scenario, base / "warm", args.extra)  # fills the compile cache, not measured
-        totals, writes, sizes = [], [], []
+        totals, writes, sizes, cpus = [], [], [], []
         for k in range(args.repeat):
             out = base / f"run{k}"
-            total, write = one_run(args.scenario, out, args.extra)
+            total, write, cpu = one_run(args.scenario, out, args.extra)
             totals.append(total)
             writes.append(write)
+            cpus.append(cpu)
             sizes.append(folder_mb(out))
-            print(f"run {k + 1}/{args.repeat}: total {total:.2f} s, writing {write:.2f} s, {sizes[-1]:.1f} MB",
-                  file=sys.stderr)
+            print(f"run {k + 1}/{args.repeat}: total {total:.2f} s, writing {write:.2f} s, {sizes[-1]:.1f} MB, "
+                  f"CPU {cpu:.2f} s, load average {os.getloadavg()[0]:.2f}", file=sys.stderr)
         result = {"run_total_s": round(statistics.median(totals), 3),
                   "run_write_s": round(statistics.median(writes), 3),
-                  "output_mb": round(statistics.median(sizes), 2)}
+                  "output_mb": round(statistics.median(sizes), 2),
+                  "cpu_s": round(statistics.median(cpus), 3), "load_average": round(os.getloadavg()[0], 2)}
         print(f"run_total_s {result['run_total_s']:.2f} s (target <= 3), run_write_s {result['run_write_s']:.2f} s "
               f"(target <= 1.5), output_mb {result['output_mb']:.1f} MB (target <= 25)")
         if args.profile:

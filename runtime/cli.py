@@ -116,6 +116,9 @@ def run(scenario: str, out: str | None, duration: float | None, seed: int | None
     rows written (docs/scenarios.md); the metrics always use every recorded step.  Exit code 3 if
     the simulation diverged (the results up to that point are still written).
     """
+    if not no_plots:  # matplotlib is imported by the figure workers while this process works
+        from .figure_workers import start
+        start()
     from .metrics import format_table
     from .runner import execute_run
 
