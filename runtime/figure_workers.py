@@ -127,6 +127,7 @@ class Drawing:
     def __init__(self, jobs: Sequence[tuple]):
         self.results: dict[str, list[str]] = {}
         self.errors: list[str] = []
+        self._cancelled = False
         self._jobs: queue.Queue[tuple] = queue.Queue()
         for job in jobs:
             self._jobs.put(job)
@@ -152,6 +153,8 @@ class Drawing:
                         status, value = worker.call(job)
                     except (OSError, EOFError, ValueError, pickle.UnpicklingError):  # it died: draw here
                         worker = None
+                        if self._cancelled:
+                            return
                         status, value = "ok", _draw_here(job)
                 else:
                     status, value = "ok", _draw_here(job)
@@ -164,6 +167,7 @@ class Drawing:
 
     def cancel(self) -> None:
         """Start no further figure; wait for those being drawn."""
+        self._cancelled = True
         while self._take() is not None:
             pass
         for t in self._threads:
