@@ -19,7 +19,8 @@ unmeasured run first fills it):
 Medians of ``--repeat`` runs are printed; with ``--json`` the last line is one JSON object with
 these keys.  ``--profile`` adds where the time goes: the CLI's import time
 (``python -X importtime -m rpo.runtime.cli --help``) and each stage of one in-process
-``execute_run`` (scenario, model, simulation, metrics, write).  Extra arguments after ``--`` are
+``execute_run`` (scenario, model, simulation, metrics, write = data files + the wait for the
+figures after them).  Extra arguments after ``--`` are
 passed to ``rpo run`` (e.g. ``-- --format parquet,mat``).
 """
 
@@ -70,6 +71,7 @@ def import_time() -> float:
 
 def stage_profile(scenario: str, out: Path) -> dict[str, float]:
     code = ("import json, sys, time; t0 = time.perf_counter()\n"
+            "from rpo.runtime.figure_workers import start; start()\n"  # as rpo run does, first
             "from rpo.runtime.runner import execute_run\n"
             "from rpo.runtime.compiled import load_model\n"
             "t1 = time.perf_counter()\n"

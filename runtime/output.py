@@ -50,6 +50,7 @@ import platform
 import re
 import secrets
 import shutil
+import time
 import warnings
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -296,13 +297,15 @@ def warm_figures() -> None:
 def write_run(result: RunResult, out_dir: str | Path, model: Model, scenario_path: str | Path | None = None,
               scenario_text: str | None = None, extra_meta: dict | None = None, *, plots: bool = True,
               params: dict | None = None, gains: dict | None = None, title: str = "",
-              metrics: dict | None = None, output: OutputSpec | None = None) -> Path:
+              metrics: dict | None = None, output: OutputSpec | None = None,
+              timings: dict[str, float] | None = None) -> Path:
     """Write ``result`` (a :class:`~rpo.runtime.simulate.RunResult`) into the new folder ``out_dir``.
 
     ``scenario_text`` (else the file ``scenario_path``) is copied as ``scenario.toml``;
     ``extra_meta`` is merged into ``run.json``; ``params``/``gains`` give the plots their limits
     and goal; ``metrics`` is written as ``metrics.json``; ``output`` chooses columns, rows, formats
-    and figures (``plots=False`` also disables the figures).  Raises :class:`OutputError` if
+    and figures (``plots=False`` also disables the figures); ``timings`` (if given) receives the
+    seconds spent on ``data_files`` and then ``figures_wait`` (after the data).  Raises :class:`OutputError` if
     ``out_dir`` exists and is not empty (nothing is touched then) or cannot be written.  Returns
     the folder.
     """
@@ -317,6 +320,7 @@ def write_run(result: RunResult, out_dir: str | Path, model: Model, scenario_pat
     except OSError as exc:
         raise OutputError(f"cannot create the output folder {out}: {exc.strerror or exc}") from None
     drawing = None
+    clock = time.perf_counter()
     try:
         if plots and spec.figures:  # drawn by the workers while the data are written
             data = PlotData.from_result(result, model, params, gains, title)
@@ -342,7 +346,12 @@ def write_run(result: RunResult, out_dir: str | Path, model: Model, scenario_pat
             else:
                 {"parquet": write_parquet, "mat": write_mat, "csv": write_csv}[fmt](path, cols, data_json)
 
+        if timings is not None:
+            timings["data_files"] = time.perf_counter() - clock
+            clock = time.perf_counter()
         done, plot_error = drawing.wait() if drawing is not None else ({}, "")
+        if timings is not None:
+            timings["figures_wait"] = time.perf_counter() - clock
         drawing = None
         names = [f for n in FIGURE_ORDER for f in done.get(n, [])]
         if plot_error:

@@ -46,7 +46,8 @@ class RunOutcome:
     scenario: Scenario         # after the overrides
     model: Model
     write_time: float          # s spent writing the folder
-    timings: dict[str, float] | None = None  # s per stage: scenario, model, simulation, metrics, write
+    #: s per stage: scenario, model, simulation, metrics, write (write.data_files, write.figures_wait)
+    timings: dict[str, float] | None = None
 
     @property
     def diverged(self) -> bool:
@@ -124,9 +125,12 @@ def execute_run(scenario: str | Path | Scenario, out_dir: str | Path | None, mod
         overrides["gains"] = {k: np.ravel(np.asarray(v, float)).tolist() for k, v in gains.items()}
     extra = {"scenario": sc.name, "scenario_meta": sc.meta.model_dump(), "overrides": overrides,
              "inputs": inputs.to_json(), "z0": z0, **(extra_meta or {})}
+    parts: dict[str, float] = {}
     write_run(result, out, model, scenario_path=base.source, scenario_text=sc.text, extra_meta=extra,
-              plots=plots, params=inputs.params, gains=inputs.gains, title=sc.name, metrics=metrics, output=spec)
+              plots=plots, params=inputs.params, gains=inputs.gains, title=sc.name, metrics=metrics, output=spec,
+              timings=parts)
     lap("write")
+    timings.update({f"write.{k}": v for k, v in parts.items()})
     return RunOutcome(result=result, out_dir=out, metrics=metrics, inputs=inputs, scenario=sc, model=model,
                       write_time=timings["write"], timings=timings)
 
