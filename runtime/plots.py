@@ -79,7 +79,7 @@ def _lines(ax, t, data, labels: Sequence[str], ylabel: str, colors: Sequence[str
         ax.plot(*envelope(t, data[:, i]), lw=1.0, color=color, label=labels[i])
     ax.set_ylabel(ylabel, fontsize=9)
     ax.tick_params(labelsize=8)
-    ax.yaxis.set_major_locator(MaxNLocator(5))  # every tick is a few artists: fewer is faster
+    ax.yaxis.set_major_locator(MaxNLocator(4))  # every tick is five artists: fewer is faster
     if n > 1 or labels[0]:
         ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8, frameon=False,
                   ncol=1 if n <= 8 else 2)
@@ -120,6 +120,7 @@ def _figure(n_panels: int, height: float = 2.0, ncols: int = 1, titled: bool = F
     h = MARGIN["top"] + MARGIN["bottom"] + (0.3 if titled else 0.0) + height * rows + gap * (rows - 1)
     fig = Figure(figsize=(width, h))
     axes = fig.subplots(rows, ncols, sharex=True, squeeze=False)
+    axes[0, 0].xaxis.set_major_locator(MaxNLocator(6))  # shared by every panel
     ax_w = (width - MARGIN["left"] - ncols * MARGIN["right"] - (ncols - 1) * MARGIN["left"]) / ncols
     fig.subplots_adjust(left=MARGIN["left"] / width, right=1 - MARGIN["right"] / width,
                         bottom=MARGIN["bottom"] / h, top=1 - (MARGIN["top"] + (0.3 if titled else 0.0)) / h,
