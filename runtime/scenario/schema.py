@@ -4,7 +4,8 @@ Written here are the keys that are not model parameters: ``[meta]``, the run set
 ``[simulation]`` (duration, seed, controller, record_every), ``orbit.perigee_altitude`` (an
 alternative to the semi-major axis), the initial state of ``[chaser]``, ``[target]`` and
 ``[relative]``, the gains tables ``[controller.<name>]`` (checked against the manifest's gains
-layouts) and ``[reproduction]``.  Every other key is a parameter of layout ``p`` whose key, kind,
+layouts), ``[reproduction]`` and ``[output]`` (its channels checked against the layouts of the
+controller flown).  Every other key is a parameter of layout ``p`` whose key, kind,
 unit, scale and bounds the manifest records (:mod:`.params`): :func:`scenario_model` adds them
 to these sections, or makes new sections for them, so a parameter added or re-bounded in
 ``symbolic/plant.py`` is validated here after ``python build.py`` with no edit of ``runtime/``.
