@@ -54,6 +54,21 @@ def _load_model(backend: str, quiet: bool, controllers: list[str] | None = None)
     return load_model(backend, log=_loader(quiet), controllers=controllers)
 
 
+def _formats(ctx, param, value: str | None) -> tuple[str, ...] | None:
+    """``--format parquet,mat``: each name checked against the writers of rpo.runtime.output."""
+    if value is None:
+        return None
+    from .output import FORMATS
+    names = [v.strip() for v in value.split(",") if v.strip()]
+    bad = [n for n in names if n not in FORMATS]
+    if bad or not names:
+        raise click.BadParameter(f"{value!r}: unknown format {', '.join(bad) or '(none)'}; allowed: "
+                                 f"{', '.join(FORMATS)} (comma-separated)")
+    if len(set(names)) != len(names):
+        raise click.BadParameter(f"{value!r} lists a format twice")
+    return tuple(names)
+
+
 # --------------------------------------------------------------------------- commands
 
 
@@ -85,15 +100,26 @@ def cli() -> None:
                    "plant of seed 000 (orbit, environment, wheels, PWPF thrusters, mass profile).")
 @click.option("--backend", type=BACKENDS, default="auto", show_default=True,
               help="Model backend: compiled C (auto) or the slow CasADi fallback.")
-@click.option("--no-plots", is_flag=True, help="Do not write the PNG figures.")
+@click.option("--format", "formats", default=None, callback=_formats, metavar="LIST",
+              help="Time-history formats, comma-separated: parquet (default), mat (MATLAB), csv, npz. "
+                   "Replaces [output] formats.")
+@click.option("--figure-format", type=click.Choice(["png", "svg", "pdf"]), default=None,
+              help="Figure file format (default png, or [output] figure_format).")
+@click.option("--no-plots", is_flag=True, help="Do not write the figures.")
 @click.option("--quiet", "-q", is_flag=True, help="Print only errors and the divergence message.")
 def run(scenario: str, out: str | None, duration: float | None, seed: int | None, controller: str | None,
-        plant: str | None, backend: str, no_plots: bool, quiet: bool) -> int:
+        plant: str | None, backend: str, formats: tuple[str, ...] | None, figure_format: str | None,
+        no_plots: bool, quiet: bool) -> int:
     """Simulate SCENARIO (a TOML file) and write the results into a new folder.
 
-    The folder gets timeseries.npz/.csv, run.json, a copy of the scenario and PNG figures.
-    Exit code 3 if the simulation diverged (the results up to that point are still written).
+    The folder gets timeseries.parquet (and the other --format files), metrics.json, run.json, a
+    copy of the scenario and the figures.  The scenario's [output] table chooses the columns and
+    rows written (docs/scenarios.md); the metrics always use every recorded step.  Exit code 3 if
+    the simulation diverged (the results up to that point are still written).
     """
+    if not no_plots:  # matplotlib is imported by the figure workers while this process works
+        from .figure_workers import start
+        start()
     from .metrics import format_table
     from .runner import execute_run
 
@@ -106,7 +132,8 @@ def run(scenario: str, out: str | None, duration: float | None, seed: int | None
     bar = _ProgressBar(enabled=not quiet, step_cost=lambda: STEP_COST.get(loaded[0].backend, 2e-3))
     try:
         outcome = execute_run(scenario, out, model, duration=duration, seed=seed, controller=controller,
-                              plant=plant, plots=not no_plots, log=None if quiet else _err, progress=bar.update)
+                              plant=plant, plots=not no_plots, log=None if quiet else _err, progress=bar.update,
+                              formats=formats, figure_format=figure_format)
     finally:
         bar.close()
     result = outcome.result

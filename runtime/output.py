@@ -2,20 +2,42 @@
 
 ``out_dir`` must not exist or be an empty folder.  Everything is written into a hidden
 temporary sibling (``.<name>.<random>.tmp``) and renamed into place at the end, so a folder
-with the final name is always complete; on any error the temporary folder is removed.
+with the final name is always complete, figures included; on any error the temporary folder is
+removed.
 
-Contents:
+Contents (:class:`OutputSpec` chooses the columns, the rows, the formats and the figures):
 
-* ``timeseries.npz``  ``t`` [s], ``z`` (state), ``y`` (outputs), ``z_labels``, ``z_units``,
-  ``y_labels``, ``y_units`` and ``metadata`` (the JSON of ``run.json``, as a string);
-* ``timeseries.csv``  the same table, header ``name [unit]``: ``t [s]``, the z columns, then the
-  y columns.  ``y`` at row i is the output over the step starting at ``t[i]``: the last row has
-  none (``nan``);
+* ``timeseries.parquet`` (default format) one table: ``t`` [s], the chosen z columns, then the
+  chosen y columns, float64, zstd-compressed (byte-stream-split encoding: lossless).  Each
+  field's metadata holds ``unit``, ``layout`` (``z_<ctrl>``/``y_<ctrl>``), ``field`` and ``doc``;
+  the file's metadata holds ``rpo.run`` (the JSON of ``run.json`` without the figure list) and
+  ``rpo.units`` (label -> unit);
+* ``timeseries.mat`` (``--format mat``, MATLAB v5 via ``scipy.io.savemat``) one column vector per
+  column, named by its label (labels are valid MATLAB names; an invalid one would be rewritten,
+  the ``columns`` cell array gives the labels in order), a struct ``units`` (name -> unit text)
+  and the char array ``metadata`` (the run record as JSON);
+* ``timeseries.csv`` (``--format csv``) the same table, header ``name [unit]``, every double
+  written with 17 significant digits (reads back bit for bit);
+* ``timeseries.npz`` (``--format npz``) ``t``, ``z``, ``y``, ``z_labels``, ``z_units``,
+  ``y_labels``, ``y_units``, ``metadata``.
+
+``y`` at row i is the output over the step starting at ``t[i]``: the final row has none (NaN).
+Written rows are the recorded rows whose step is a multiple of :attr:`OutputSpec.every`, and
+always the final row.
+
 * ``scenario.toml``   the scenario as read (when given);
-* ``metrics.json``    the metrics of :mod:`rpo.runtime.metrics` (when given);
+* ``metrics.json``    the metrics of :mod:`rpo.runtime.metrics` (computed by the caller from the
+  full in-memory record, not from the written rows);
 * ``run.json``        status (``ok``/``diverged`` with the divergence message, step, time and
-  state label), steps, wall time, backend, seed, controller, model source hash, versions;
-* the figures of :mod:`rpo.runtime.plots` (unless ``plots=False``).
+  state label), steps, wall time, backend, seed, controller, model source hash, versions, what
+  was written (``output``) and the figure files;
+* the figures of :mod:`rpo.runtime.plots` (``<name>.png|svg|pdf``; unless disabled).
+
+Figures are rendered by worker processes (:mod:`rpo.runtime.figure_workers`; :func:`warm_figures`
+starts them early, so matplotlib is imported off the data path while the simulation runs), from
+the full-rate in-memory columns, while this process writes the data files; :func:`write_run`
+waits for them before the rename, so the folder appears complete or not at all.
+A plotting failure is a warning (``plot_error`` in ``run.json``): the data are still written.
 
 A diverged run is written the same way, with the data up to its last good step.
 """
@@ -25,9 +47,13 @@ from __future__ import annotations
 import json
 import os
 import platform
+import re
 import secrets
 import shutil
+import time
 import warnings
+from collections.abc import Sequence
+from dataclasses import dataclass
 from datetime import UTC, datetime
 from importlib import metadata
 from pathlib import Path
@@ -35,13 +61,45 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
+from . import figure_workers
+from .channels import Selection, select
 from .errors import OutputError
+from .plotdata import FIGURE_FIELDS, FIGURE_FORMATS, FIGURE_ORDER, PlotData
 
 if TYPE_CHECKING:
     from .compiled import Model
     from .simulate import RunResult
 
-CSV_FORMAT = "%.17g"  # round-trips every double: the CSV equals the NPZ
+CSV_FORMAT = "%.17g"  # round-trips every double: the CSV equals the in-memory data
+FORMATS = ("parquet", "mat", "csv", "npz")
+SUFFIX = {"parquet": "parquet", "mat": "mat", "csv": "csv", "npz": "npz"}
+MATLAB_NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]{0,62}$")
+
+
+@dataclass(frozen=True)
+class OutputSpec:
+    """What :func:`write_run` writes: ``channels`` (entries of :func:`rpo.runtime.channels.select`;
+    None: the default set), ``every`` (steps between written rows; None: every recorded row),
+    ``formats`` (of :data:`FORMATS`), ``figures`` and their ``figure_format``."""
+
+    channels: tuple[str, ...] | None = None
+    every: int | None = None
+    formats: tuple[str, ...] = ("parquet",)
+    figures: bool = True
+    figure_format: str = "png"
+
+    def __post_init__(self):
+        bad = [f for f in self.formats if f not in FORMATS]
+        if bad or not self.formats:
+            raise OutputError(f"output format {', '.join(bad) or '(none)'}: allowed {', '.join(FORMATS)}")
+        if self.figure_format not in FIGURE_FORMATS:
+            raise OutputError(f"figure format {self.figure_format!r}: allowed {', '.join(FIGURE_FORMATS)}")
+        if self.every is not None and (int(self.every) != self.every or self.every < 1):
+            raise OutputError(f"output every = {self.every}: must be an integer >= 1 (steps)")
+
+    def to_json(self) -> dict[str, Any]:
+        return {"channels": None if self.channels is None else list(self.channels), "every": self.every,
+                "formats": list(self.formats), "figures": self.figures, "figure_format": self.figure_format}
 
 
 def rpo_version() -> str:
@@ -79,7 +137,7 @@ def _jsonable(v: Any) -> Any:
 
 def run_record(result: RunResult, model: Model, scenario_path: str | Path | None = None,
                extra_meta: dict | None = None) -> dict[str, Any]:
-    """The content of ``run.json`` (also stored in the npz as ``metadata``)."""
+    """The content of ``run.json`` (also stored in the data files' metadata)."""
     div = result.divergence
     rec = {
         "status": "ok" if div is None else "diverged",
@@ -112,22 +170,146 @@ def run_record(result: RunResult, model: Model, scenario_path: str | Path | None
     return _jsonable(rec)
 
 
-def _header(result) -> list[str]:
-    return (["t [s]"] + [f"{n} [{u}]" for n, u in zip(result.z_labels, result.z_units, strict=True)]
-            + [f"{n} [{u}]" for n, u in zip(result.y_labels, result.y_units, strict=True)])
+# --------------------------------------------------------------------------- the table written
+
+
+@dataclass
+class Column:
+    label: str
+    unit: str
+    layout: str   # z_<ctrl> or y_<ctrl> ("" for t)
+    field: str
+    doc: str
+    data: np.ndarray
+
+
+def written_rows(t: np.ndarray, dt: float, every: int | None) -> np.ndarray:
+    """Indices of the recorded rows written: step a multiple of ``every``, and the final row."""
+    n = len(t)
+    if every is None or every == 1 or n == 0:
+        return np.arange(n)
+    steps = np.rint((np.asarray(t) - t[0]) / dt).astype(np.int64)
+    keep = steps % int(every) == 0
+    keep[-1] = True
+    return np.flatnonzero(keep)
+
+
+def columns(result: RunResult, model: Model, spec: OutputSpec) -> tuple[list[Column], Selection]:
+    """The columns :func:`write_run` writes (``t`` first), decimated to :func:`written_rows`."""
+    ctrl = result.meta.get("controller", "baseline")
+    z_name, y_name = f"z_{ctrl}", f"y_{ctrl}"
+    z_lay, y_lay = model.layouts.get(z_name, []), model.layouts.get(y_name, [])
+    if z_lay or y_lay:
+        sel = select(spec.channels, z_lay, y_lay, where=f"{z_name}/{y_name}")
+    else:  # no layouts (a bare result): every column
+        sel = Selection(tuple(result.z_labels), tuple(result.y_labels))
+    rows = written_rows(result.t, result.dt, spec.every)
+    info = {lbl: (f["name"], f.get("doc", "")) for f in (*z_lay, *y_lay) for lbl in f["labels"]}
+    out = [Column("t", "s", "", "t", "time", np.ascontiguousarray(result.t[rows]))]
+    for labels, units, data, lay, chosen in ((result.z_labels, result.z_units, result.z, z_name, sel.z),
+                                            (result.y_labels, result.y_units, result.y, y_name, sel.y)):
+        idx = {lbl: i for i, lbl in enumerate(labels)}
+        for lbl in chosen:
+            i = idx[lbl]
+            name, doc = info.get(lbl, (lbl, ""))
+            out.append(Column(lbl, units[i], lay, name, doc, np.ascontiguousarray(data[rows, i])))
+    return out, sel
+
+
+# --------------------------------------------------------------------------- writers
+
+
+def write_parquet(path: Path, cols: Sequence[Column], meta_json: str) -> None:
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    fields = [pa.field(c.label, pa.float64(), nullable=False, metadata={
+        "unit": c.unit, "layout": c.layout, "field": c.field, "doc": c.doc}) for c in cols]
+    units = json.dumps({c.label: c.unit for c in cols})
+    schema = pa.schema(fields, metadata={"rpo.run": meta_json, "rpo.units": units})
+    table = pa.Table.from_arrays([pa.array(c.data, pa.float64()) for c in cols], schema=schema)
+    pq.write_table(table, path, compression="zstd", use_dictionary=False,
+                   column_encoding={c.label: "BYTE_STREAM_SPLIT" for c in cols})
+
+
+def matlab_names(labels: Sequence[str], reserved: Sequence[str] = ("units", "metadata", "columns")) -> list[str]:
+    """Valid, distinct MATLAB variable names for ``labels`` (unchanged where already valid)."""
+    out: list[str] = []
+    taken = set(reserved)
+    for lbl in labels:
+        name = lbl if MATLAB_NAME.match(lbl) else re.sub(r"\W", "_", lbl)
+        if not name[:1].isalpha():
+            name = f"v_{name}"
+        name = name[:63]
+        base, k = name, 1
+        while name in taken:
+            k += 1
+            name = f"{base[:60]}_{k}"
+        taken.add(name)
+        out.append(name)
+    return out
+
+
+def write_mat(path: Path, cols: Sequence[Column], meta_json: str) -> None:
+    from scipy.io import savemat
+
+    names = matlab_names([c.label for c in cols])
+    data: dict[str, Any] = {n: c.data.reshape(-1, 1) for n, c in zip(names, cols, strict=True)}
+    data["units"] = {n: c.unit for n, c in zip(names, cols, strict=True)}
+    data["columns"] = np.array([c.label for c in cols], dtype=object).reshape(-1, 1)
+    data["metadata"] = meta_json
+    savemat(path, data, do_compression=True, oned_as="column", long_field_names=True)
+
+
+def write_csv(path: Path, cols: Sequence[Column], meta_json: str) -> None:
+    table = np.column_stack([c.data for c in cols])
+    np.savetxt(path, table, fmt=CSV_FORMAT, delimiter=",", header=",".join(f"{c.label} [{c.unit}]" for c in cols),
+               comments="")
+
+
+def write_npz(path: Path, cols: Sequence[Column], meta_json: str, z_count: int) -> None:
+    z, y = cols[1:1 + z_count], cols[1 + z_count:]
+    n = len(cols[0].data)
+
+    def block(cs):
+        return np.column_stack([c.data for c in cs]) if cs else np.empty((n, 0))
+
+    def text(cs, what):
+        return np.array([getattr(c, what) for c in cs], dtype=str)
+
+    np.savez_compressed(path, t=cols[0].data, z=block(z), y=block(y), z_labels=text(z, "label"),
+                        z_units=text(z, "unit"), y_labels=text(y, "label"), y_units=text(y, "unit"),
+                        metadata=np.array(meta_json))
+
+
+# --------------------------------------------------------------------------- figures
+
+
+def warm_figures() -> None:
+    """Start the figure workers now (they import matplotlib while the caller simulates)."""
+    from . import figure_workers
+    figure_workers.start()
+
+
+# --------------------------------------------------------------------------- the folder
 
 
 def write_run(result: RunResult, out_dir: str | Path, model: Model, scenario_path: str | Path | None = None,
               scenario_text: str | None = None, extra_meta: dict | None = None, *, plots: bool = True,
               params: dict | None = None, gains: dict | None = None, title: str = "",
-              metrics: dict | None = None) -> Path:
+              metrics: dict | None = None, output: OutputSpec | None = None,
+              timings: dict[str, float] | None = None) -> Path:
     """Write ``result`` (a :class:`~rpo.runtime.simulate.RunResult`) into the new folder ``out_dir``.
 
     ``scenario_text`` (else the file ``scenario_path``) is copied as ``scenario.toml``;
     ``extra_meta`` is merged into ``run.json``; ``params``/``gains`` give the plots their limits
-    and goal; ``metrics`` is written as ``metrics.json``.  Raises :class:`OutputError` if ``out_dir``
-    exists and is not empty (nothing is touched then) or cannot be written.  Returns the folder.
+    and goal; ``metrics`` is written as ``metrics.json``; ``output`` chooses columns, rows, formats
+    and figures (``plots=False`` also disables the figures); ``timings`` (if given) receives the
+    seconds spent on ``data_files`` and then ``figures_wait`` (after the data).  Raises :class:`OutputError` if
+    ``out_dir`` exists and is not empty (nothing is touched then) or cannot be written.  Returns
+    the folder.
     """
+    spec = output or OutputSpec()
     out = check_out_dir(out_dir)
     parent = out.parent
     try:
@@ -137,40 +319,47 @@ def write_run(result: RunResult, out_dir: str | Path, model: Model, scenario_pat
         os.mkdir(tmp)
     except OSError as exc:
         raise OutputError(f"cannot create the output folder {out}: {exc.strerror or exc}") from None
+    drawing = None
+    clock = time.perf_counter()
     try:
+        if plots and spec.figures:  # drawn by the workers while the data are written
+            data = PlotData.from_result(result, model, params, gains, title)
+            drawing = figure_workers.draw([(data.subset(name), str(tmp), spec.figure_format, name)
+                                           for name in FIGURE_FIELDS])
+
         if scenario_text is None and scenario_path is not None:
             scenario_text = Path(scenario_path).read_text(encoding="utf-8")
         if scenario_text is not None:
             (tmp / "scenario.toml").write_text(scenario_text, encoding="utf-8")
-
-        figures, plot_error = [], None
-        if plots:
-            from .plots import make_plots  # matplotlib only when figures are wanted
-            try:
-                figures = make_plots(result, model, tmp, params=params, gains=gains, title=title)
-            except Exception as exc:  # the data must survive a plotting bug
-                plot_error = f"{type(exc).__name__}: {exc}"
-                warnings.warn(f"plots were not written: {plot_error}", RuntimeWarning, stacklevel=2)
-
-        meta = run_record(result, model, scenario_path, extra_meta)
-        meta["figures"] = figures
-        if plot_error:
-            meta["plot_error"] = plot_error
-        meta_json = json.dumps(meta, indent=2, sort_keys=False, allow_nan=False)
-
-        np.savez_compressed(
-            tmp / "timeseries.npz", t=result.t, z=result.z, y=result.y,
-            z_labels=np.array(result.z_labels), z_units=np.array(result.z_units),
-            y_labels=np.array(result.y_labels), y_units=np.array(result.y_units),
-            metadata=np.array(meta_json),
-        )
-        table = np.column_stack([result.t, result.z, result.y])
-        np.savetxt(tmp / "timeseries.csv", table, fmt=CSV_FORMAT, delimiter=",",
-                   header=",".join(_header(result)), comments="")
-        (tmp / "run.json").write_text(meta_json + "\n", encoding="utf-8")
         if metrics is not None:
             (tmp / "metrics.json").write_text(json.dumps(_jsonable(metrics), indent=2, allow_nan=False) + "\n",
                                               encoding="utf-8")
+        cols, sel = columns(result, model, spec)
+        meta = run_record(result, model, scenario_path, extra_meta)
+        meta["output"] = {**spec.to_json(), "rows_written": len(cols[0].data), "columns_written": len(cols),
+                          "files": [f"timeseries.{SUFFIX[f]}" for f in spec.formats]}
+        data_json = json.dumps(meta, sort_keys=False, allow_nan=False)
+        for fmt in spec.formats:
+            path = tmp / f"timeseries.{SUFFIX[fmt]}"
+            if fmt == "npz":
+                write_npz(path, cols, data_json, len(sel.z))
+            else:
+                {"parquet": write_parquet, "mat": write_mat, "csv": write_csv}[fmt](path, cols, data_json)
+
+        if timings is not None:
+            timings["data_files"] = time.perf_counter() - clock
+            clock = time.perf_counter()
+        done, plot_error = drawing.wait() if drawing is not None else ({}, "")
+        if timings is not None:
+            timings["figures_wait"] = time.perf_counter() - clock
+        drawing = None
+        names = [f for n in FIGURE_ORDER for f in done.get(n, [])]
+        if plot_error:
+            warnings.warn(f"some figures were not written: {plot_error}", RuntimeWarning, stacklevel=2)
+            meta["plot_error"] = plot_error
+        meta["figures"] = names
+        (tmp / "run.json").write_text(json.dumps(meta, indent=2, sort_keys=False, allow_nan=False) + "\n",
+                                      encoding="utf-8")
         try:
             # rename(2) replaces an empty folder atomically and fails on a non-empty one: an
             # existing result is never overwritten, even if it appeared while we were writing.
@@ -179,9 +368,16 @@ def write_run(result: RunResult, out_dir: str | Path, model: Model, scenario_pat
             raise OutputError(f"cannot move the results into {out}: {exc.strerror or exc} "
                               f"(is it non-empty now?)") from None
     except OSError as exc:
-        shutil.rmtree(tmp, ignore_errors=True)
+        _abandon(drawing, tmp)
         raise OutputError(f"cannot write the results into {out}: {exc}") from None
     except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
+        _abandon(drawing, tmp)
         raise
     return out
+
+
+def _abandon(drawing: figure_workers.Drawing | None, tmp: Path) -> None:
+    """Let the figures being drawn into ``tmp`` finish (no new ones start), then remove it."""
+    if drawing is not None:
+        drawing.cancel()
+    shutil.rmtree(tmp, ignore_errors=True)

@@ -7,8 +7,11 @@
 2. **output folder**: refuse one that exists and is not empty, before anything slow happens;
 3. **inputs**: load the model (``model`` may be a callable, so a bad scenario or folder never
    waits for a compile), map the scenario to SI parameters, gains and the initial state;
-4. **simulation**; 5. **metrics** (:mod:`rpo.runtime.metrics`); 6. **outputs**
-   (:func:`rpo.runtime.output.write_run`, atomic, never over existing files).
+4. **simulation** (every ``simulation.record_every``-th step kept in memory, default every
+   step); 5. **metrics** (:mod:`rpo.runtime.metrics`) from that full in-memory record;
+   6. **outputs** (:func:`rpo.runtime.output.write_run`, atomic, never over existing files): the
+   scenario's ``[output]`` (channels, rows, formats, figures) with the command-line overrides.
+   The figure workers are started at stage 2, so matplotlib is imported while the run simulates.
 
 It prints nothing itself; ``log`` receives the progress lines and ``progress(done, total)`` the
 step count.
@@ -27,7 +30,7 @@ import numpy as np
 
 from .compiled import Model
 from .metrics import compute_metrics, result_columns
-from .output import check_out_dir, write_run
+from .output import OutputSpec, check_out_dir, warm_figures, write_run
 from .scenario import RunInputs, Scenario, load_scenario
 from .simulate import RunResult, Simulation
 
@@ -43,6 +46,8 @@ class RunOutcome:
     scenario: Scenario         # after the overrides
     model: Model
     write_time: float          # s spent writing the folder
+    #: s per stage: scenario, model, simulation, metrics, write (write.data_files, write.figures_wait)
+    timings: dict[str, float] | None = None
 
     @property
     def diverged(self) -> bool:
@@ -65,20 +70,37 @@ def execute_run(scenario: str | Path | Scenario, out_dir: str | Path | None, mod
                 plant: str | None = None, gains: Mapping[str, Any] | None = None, plots: bool = True,
                 thresholds: Mapping[str, float] | None = None, error_times: Iterable[float] = (),
                 log: Callable[[str], None] | None = None, progress: Callable[[int, int], None] | None = None,
-                extra_meta: dict[str, Any] | None = None) -> RunOutcome:
+                extra_meta: dict[str, Any] | None = None, formats: Iterable[str] | None = None,
+                figure_format: str | None = None) -> RunOutcome:
     """Simulate ``scenario`` with the overrides and write ``out_dir`` (must be absent or empty;
     None: :func:`default_out_dir`).  ``model`` is the model or a function loading it for the
     controller the run flies (``model(name)``, so a first run compiles only what it needs), called
-    once the scenario and the folder are known to be good."""
+    once the scenario and the folder are known to be good.  ``formats`` and ``figure_format``
+    replace the scenario's ``[output] formats`` / ``figure_format``; ``plots=False`` writes no
+    figure."""
+    clock = time.perf_counter()
+    timings: dict[str, float] = {}
+
+    def lap(stage: str) -> None:
+        nonlocal clock
+        now = time.perf_counter()
+        timings[stage] = now - clock
+        clock = now
+
     # 1. scenario (validated once, then once more with the overrides)
     manifest = model.manifest if isinstance(model, Model) else None
     base = scenario if isinstance(scenario, Scenario) else load_scenario(scenario, manifest)
     sc = base.with_overrides(duration=duration, seed=seed, controller=controller, plant=plant,
                              gains=dict(gains) if gains else None)
+    spec = output_spec(sc, formats=formats, figure_format=figure_format, plots=plots)
     # 2. output folder
     out = check_out_dir(out_dir if out_dir is not None else default_out_dir(base.source))
+    if spec.figures:
+        warm_figures()
+    lap("scenario")
     # 3. inputs
     model = model if isinstance(model, Model) else model(sc.simulation.controller)
+    lap("model")
     inputs = sc.to_run(model)
     sim = Simulation(model, inputs.controller, params=inputs.params, gains=inputs.gains)
     z0 = sim.initial_state(inputs.plant)
@@ -88,12 +110,14 @@ def execute_run(scenario: str | Path | Scenario, out_dir: str | Path | None, mod
             f"{inputs.controller}, seed {inputs.seed}, backend {model.backend}")
     # 4. simulation
     result = sim.run(z0, inputs.duration, seed=inputs.seed, record_every=inputs.record_every, progress=progress)
+    lap("simulation")
     if log:
         log(f"simulated {result.steps_done} steps in {result.wall_time:.3g} s; writing {out} ...")
     # 5. metrics
     goal = np.ravel(inputs.gains["r_goal"]) if "r_goal" in inputs.gains else None
     metrics = compute_metrics(result.t, result_columns(result), thresholds, goal=goal, error_times=error_times)
     metrics["status"] = "ok" if result.divergence is None else "diverged"
+    lap("metrics")
     # 6. outputs
     overrides: dict[str, Any] = {k: v for k, v in (("duration", duration), ("seed", seed),
                                                     ("controller", controller), ("plant", plant)) if v is not None}
@@ -101,8 +125,24 @@ def execute_run(scenario: str | Path | Scenario, out_dir: str | Path | None, mod
         overrides["gains"] = {k: np.ravel(np.asarray(v, float)).tolist() for k, v in gains.items()}
     extra = {"scenario": sc.name, "scenario_meta": sc.meta.model_dump(), "overrides": overrides,
              "inputs": inputs.to_json(), "z0": z0, **(extra_meta or {})}
-    t_write = time.perf_counter()
+    parts: dict[str, float] = {}
     write_run(result, out, model, scenario_path=base.source, scenario_text=sc.text, extra_meta=extra,
-              plots=plots, params=inputs.params, gains=inputs.gains, title=sc.name, metrics=metrics)
+              plots=plots, params=inputs.params, gains=inputs.gains, title=sc.name, metrics=metrics, output=spec,
+              timings=parts)
+    lap("write")
+    timings.update({f"write.{k}": v for k, v in parts.items()})
     return RunOutcome(result=result, out_dir=out, metrics=metrics, inputs=inputs, scenario=sc, model=model,
-                      write_time=time.perf_counter() - t_write)
+                      write_time=timings["write"], timings=timings)
+
+
+def output_spec(sc: Scenario, *, formats: Iterable[str] | None = None, figure_format: str | None = None,
+                plots: bool = True) -> OutputSpec:
+    """The :class:`~rpo.runtime.output.OutputSpec` of a validated scenario's ``[output]`` table,
+    with the command-line ``formats`` / ``figure_format`` and ``plots=False`` applied."""
+    o = sc.output
+    dt = float(sc.params()["dt"][0])
+    every = o.step(dt, sc.simulation.record_every)
+    return OutputSpec(channels=None if o.channels is None else tuple(o.channels),
+                      every=None if every == sc.simulation.record_every else every,
+                      formats=tuple(formats) if formats else tuple(o.formats),
+                      figures=bool(plots and o.figures), figure_format=figure_format or o.figure_format)

@@ -66,7 +66,7 @@ def test_copy_of_baseline_is_a_new_controller(tmp_path, model):
                           "my_pd", "--duration", "1", "--no-plots", "--out", str(out)], cwd=repo,
                          capture_output=True, text=True)
     assert res.returncode == 0, res.stdout + res.stderr
-    assert "controller my_pd" in res.stdout + res.stderr and (out / "timeseries.npz").is_file()
+    assert "controller my_pd" in res.stdout + res.stderr and (out / "timeseries.parquet").is_file()
 
     changed = [ln[3:] for ln in _git(repo, "status", "--porcelain", "--untracked-files=all").splitlines()]
     hand_written = [f for f in changed if not f.startswith("generated/")]

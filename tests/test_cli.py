@@ -159,8 +159,9 @@ def test_short_run_writes_everything(tmp_path):
     names = {p.name for p in out.iterdir()}
     meta = json.loads((out / "run.json").read_text())
     figures = set(meta["figures"])
-    assert {"attitude.png", "rates.png", "position.png", "velocity.png", "wheels.png", "thrusters.png"} <= figures
-    assert {"timeseries.npz", "timeseries.csv", "run.json", "scenario.toml", "metrics.json"} | figures == names
+    assert {"attitude.png", "translation.png", "actuators.png", "thrusters.png", "controller.png",
+            "diagnostics.png"} <= figures
+    assert {"timeseries.parquet", "run.json", "scenario.toml", "metrics.json"} | figures == names
     assert (out / "scenario.toml").read_text() == BASE
     for f in figures:
         assert (out / f).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
@@ -176,21 +177,16 @@ def test_short_run_writes_everything(tmp_path):
     assert meta["model_source_hash"] == manifest["source_hash"]
     assert meta["overrides"] == {"duration": 2.0, "seed": 3}
 
-    data = np.load(out / "timeseries.npz")
-    t, z, y = data["t"], data["z"], data["y"]
+    import pyarrow.parquet as pq
+    table = pq.read_table(out / "timeseries.parquet")
+    t = table["t"].to_numpy()
     assert t.shape == (201,) and t[-1] == pytest.approx(2.0)
-    assert z.shape == (201, len(data["z_labels"])) and y.shape == (201, len(data["y_labels"]))
-    assert np.all(np.isfinite(z)) and np.all(np.isfinite(y[:-1])) and np.all(np.isnan(y[-1]))
-    assert json.loads(str(data["metadata"]))["status"] == "ok"
-    r0 = z[0, list(data["z_labels"]).index("r_x"):][:3]
+    assert table.column_names[:2] == ["t", "q_c_x"] and "r_x" in table.column_names
+    assert table.schema.field("r_x").metadata[b"unit"] == b"m"
+    assert json.loads(table.schema.metadata[b"rpo.run"])["status"] == "ok"
+    r0 = [table[c].to_numpy()[0] for c in ("r_x", "r_y", "r_z")]
     np.testing.assert_array_equal(r0, PAPER["relative"]["position"])
-
-    header = (out / "timeseries.csv").read_text().splitlines()[0].split(",")
-    assert header[0] == "t [s]" and header[1] == "q_c_x [-]" and "r_x [m]" in header
-    assert len(header) == 1 + z.shape[1] + y.shape[1]
-    csv = np.loadtxt(out / "timeseries.csv", delimiter=",", skiprows=1)
-    assert csv.shape == (201, len(header))
-    np.testing.assert_allclose(csv[:, 1:1 + z.shape[1]], z, rtol=1e-11, atol=1e-300)
+    assert np.all(np.isnan(table["meas_q_e_w"].to_numpy()[-1:]))  # the final row has no output
 
 
 def test_quiet_run_without_plots_and_default_folder(tmp_path):
@@ -200,7 +196,7 @@ def test_quiet_run_without_plots_and_default_folder(tmp_path):
     (runs,) = list((tmp_path / "runs").iterdir())
     assert runs.name.startswith("000_scenario_III-")
     assert not list(runs.glob("*.png"))
-    assert (runs / "timeseries.npz").exists()
+    assert (runs / "timeseries.parquet").exists()
 
 
 def test_diverged_run_writes_results_and_exits_3(tmp_path):
@@ -215,6 +211,6 @@ def test_diverged_run_writes_results_and_exits_3(tmp_path):
     assert meta["status"] == "diverged"
     assert meta["divergence"]["label"] == "w_c_x" and meta["divergence"]["step"] == 0
     assert meta["steps_done"] < meta["steps_requested"]
-    data = np.load(out / "timeseries.npz")
-    assert data["z"].shape[0] == meta["rows"] >= 1
-    assert (out / "attitude.png").exists() and (out / "timeseries.csv").exists()
+    import pyarrow.parquet as pq
+    assert pq.read_metadata(out / "timeseries.parquet").num_rows == meta["rows"] >= 1
+    assert (out / "attitude.png").exists() and "attitude.png" in meta["figures"]

@@ -162,8 +162,9 @@ def test_metrics_of_a_real_short_run_are_finite(report):
     assert m["errors_at"][1]["t_sample"] == pytest.approx(0.5)
 
 
-def test_diag_figures_one_per_extra_field(model, tmp_path):
-    """Controller-specific ctrl_* fields get one figure each; absent standard fields are skipped."""
+def test_diag_figures_one_panel_per_extra_field(model, tmp_path):
+    """Controller-specific ctrl_* fields get one panel each in diagnostics.png; absent standard
+    fields are skipped."""
     from rpo.runtime.plots import make_plots
     from rpo.runtime.scenario import load_scenario
     from rpo.runtime.simulate import Simulation
@@ -182,8 +183,12 @@ def test_diag_figures_one_per_extra_field(model, tmp_path):
             {"name": "ctrl_s_att", "size": 2, "unit": "-", "labels": ["ctrl_s_att_x", "ctrl_s_att_y"]},
             {"name": "ctrl_theta_hat", "size": 1, "unit": "kg", "labels": ["ctrl_theta_hat"]}]}
 
+    from rpo.runtime.plotdata import PlotData
+    from rpo.runtime.plots import diag_fields
+
     written = make_plots(res, Fake(), tmp_path)
-    assert {"diag_s_att.png", "diag_theta_hat.png", "ctrl_errors.png", "constraints.png"} <= set(written)
+    assert {"diagnostics.png", "controller.png", "constraints.png"} <= set(written)
+    assert [f["name"] for f in diag_fields(PlotData.from_result(res, Fake()))] == ["ctrl_s_att", "ctrl_theta_hat"]
     for name in written:
         assert (tmp_path / name).read_bytes()[:4] == b"\x89PNG"
 

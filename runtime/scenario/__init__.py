@@ -17,7 +17,9 @@ key exist:
   ``angular_velocity_relative_to = "attitude_frame"``, to that frame; chaser ``wheel_speed_rpm``
   relative to the body or ``wheel_momentum`` N m s); ``[relative]`` ``position`` [m] and
   ``velocity`` [m/s] in LVLH (*required*); ``[controller.<name>]`` gains by the names of the
-  manifest layout ``k_<name>``; ``[reproduction]`` (:mod:`.reproduction`).
+  manifest layout ``k_<name>``; ``[reproduction]`` (:mod:`.reproduction`); ``[output]``
+  (what a run writes: ``channels``, ``every`` or ``rate_hz``, ``formats``, ``figures``,
+  ``figure_format``; :class:`~.schema.OutputSection`, docs/scenarios.md).
 
 ``extends = "<base>.toml"`` makes a variant of a base file (:mod:`.loader`).  Every error is ONE
 line naming the file, the dotted key, the offending value and the allowed range, e.g.

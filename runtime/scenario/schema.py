@@ -4,7 +4,8 @@ Written here are the keys that are not model parameters: ``[meta]``, the run set
 ``[simulation]`` (duration, seed, controller, record_every), ``orbit.perigee_altitude`` (an
 alternative to the semi-major axis), the initial state of ``[chaser]``, ``[target]`` and
 ``[relative]``, the gains tables ``[controller.<name>]`` (checked against the manifest's gains
-layouts) and ``[reproduction]``.  Every other key is a parameter of layout ``p`` whose key, kind,
+layouts), ``[reproduction]`` and ``[output]`` (its channels checked against the layouts of the
+controller flown).  Every other key is a parameter of layout ``p`` whose key, kind,
 unit, scale and bounds the manifest records (:mod:`.params`): :func:`scenario_model` adds them
 to these sections, or makes new sections for them, so a parameter added or re-bounded in
 ``symbolic/plant.py`` is validated here after ``python build.py`` with no edit of ``runtime/``.
@@ -143,6 +144,46 @@ class SimulationSection(_Section):
     record_every: Annotated[int, _range(1)] = 1
 
 
+#: File formats of the time histories (``[output] formats``; ``rpo run --format``).
+FORMATS = ("parquet", "mat", "csv", "npz")
+#: Figure file formats (``[output] figure_format``; ``rpo run --figure-format``).
+FIGURE_FORMATS = ("png", "svg", "pdf")
+
+
+class OutputSection(_Section):
+    """``[output]``: what a run writes (:mod:`rpo.runtime.channels`, :mod:`rpo.runtime.output`).
+
+    ``channels``: field names, column labels or glob patterns over the layouts ``z_<controller>``
+    and ``y_<controller>`` (omitted: :data:`rpo.runtime.channels.DEFAULT_CHANNELS`; ``"default"``
+    inside the list stands for that set).  ``every`` (steps of 1 / rate) or ``rate_hz``: the
+    written rows, a multiple of ``simulation.record_every`` (omitted: every recorded row).  The
+    metrics are always computed from the full in-memory record, never from the written rows.
+    """
+
+    channels: Annotated[list[str], Field(min_length=1)] | None = None
+    every: Annotated[int, _range(1)] | None = None
+    rate_hz: Annotated[float, _range(0, lo_open=True, unit="Hz")] | None = None
+    formats: Annotated[list[Literal[FORMATS]], Field(min_length=1)] = ["parquet"]  # type: ignore[valid-type]
+    figures: bool = True
+    figure_format: Literal[FIGURE_FORMATS] = "png"  # type: ignore[valid-type]
+
+    @model_validator(mode="after")
+    def _one_rate(self):
+        if self.every is not None and self.rate_hz is not None:
+            raise field_error("rate_hz", self.rate_hz, "give either every (steps) or rate_hz, not both")
+        if len(set(self.formats)) != len(self.formats):
+            raise field_error("formats", self.formats, "lists a format twice")
+        return self
+
+    def step(self, dt: float, record_every: int) -> int:
+        """The written rows' spacing in steps (``every``, or ``rate_hz`` converted; validated)."""
+        if self.every is not None:
+            return self.every
+        if self.rate_hz is not None:
+            return int(round(1.0 / (self.rate_hz * dt)))
+        return record_every
+
+
 class Orbit(_Section):
     #: alternative to the semi-major axis: a = (R_E + perigee_altitude) / (1 - e)
     perigee_altitude: Annotated[float, _range(0, True, "m (a lower perigee is below the surface)")] | None = None
@@ -211,6 +252,7 @@ class Scenario(_Section):
     relative: Relative
     controller: dict[str, dict[str, Any]] = Field(default_factory=dict)
     reproduction: Reproduction | None = None
+    output: OutputSection = Field(default_factory=OutputSection)
 
     _source: str = PrivateAttr(default="scenario")
     _manifest: dict = PrivateAttr(default_factory=dict)
@@ -323,6 +365,8 @@ class Scenario(_Section):
                               f"would record {n_rows} rows ({size / 1e9:.3g} GB, limit "
                               f"{MAX_RECORD_BYTES / 1e9:g} GB): raise simulation.record_every or shorten the run")
 
+        self._check_output(manifest, dt)
+
         # ideal actuators need their limits (the defaults are placeholders, not a paper's values)
         ideal, f_max, t_max = (param(manifest, n) for n in ("actuators_ideal", "force_max", "torque_max"))
         if p["actuators_ideal"] == 1.0 and (self.get(f_max.key) is None or self.get(t_max.key) is None):
@@ -366,6 +410,33 @@ class Scenario(_Section):
                 bounds = gain_bounds(layout[k])
                 if bounds is not None and not all(bounds.contains(float(x)) for x in items):
                     raise field_error(path, value, f"must be {bounds.text(unit)}")
+
+    def _check_output(self, manifest: dict, dt: float) -> None:
+        from ..channels import ChannelError, select
+
+        out, rec = self.output, self.simulation.record_every
+        if out.rate_hz is not None:
+            n = 1.0 / (out.rate_hz * dt)
+            if not (abs(n - round(n)) <= 1e-9 * max(1.0, n) and round(n) >= 1):
+                step_hz = 1.0 / dt
+                ok = [step_hz / (rec * m) for m in (1, 2, 5, 10, 20, 100)]
+                raise field_error("output.rate_hz", out.rate_hz,
+                                  f"must divide the step rate {step_hz:g} Hz by a whole number (allowed e.g. "
+                                  f"{', '.join(f'{x:g}' for x in ok)} Hz), or give output.every in steps")
+        step = out.step(dt, rec)
+        if step % rec:
+            key = "output.every" if out.every is not None else "output.rate_hz"
+            raise field_error(key, out.every if out.every is not None else out.rate_hz,
+                              f"the written rows ({step} steps apart) must be a multiple of simulation.record_every "
+                              f"= {rec} steps (the in-memory record)")
+        ctrl = self.simulation.controller
+        z_name, y_name = f"z_{ctrl}", f"y_{ctrl}"
+        layouts = manifest["layouts"]
+        if out.channels is not None and z_name in layouts and y_name in layouts:
+            try:
+                select(out.channels, layouts[z_name], layouts[y_name], where=f"{z_name}/{y_name}")
+            except ChannelError as exc:
+                raise field_error(f"output.channels[{out.channels.index(exc.entry)}]", exc.entry, str(exc)) from None
 
     # -- to a run ----------------------------------------------------------------------------
 
