@@ -151,7 +151,7 @@ _RE_PUBLIC = re.compile(r"^CASADI_SYMBOL_EXPORT int ([A-Za-z_]\w*)\(const casadi
 _RE_WORK = re.compile(r"^\s*if \(sz_w\) \*sz_w = (\d+)\*sizeof\(casadi_real\);$")
 
 
-def _public_body(lines: list[str], kernels: set[str], where: str) -> list[str]:
+def _public_body(lines: list[str], kernels: set[str], where: str) -> tuple[list[str], list[str]]:
     """Translate a public function's body: a call of one kernel, or the glue of a composed step."""
     out = []
     callees = []
@@ -200,7 +200,8 @@ def lane_source(name: str, text: str) -> tuple[str, list[str]]:
     i = 0
     while i < len(lines):
         line = lines[i]
-        if (m := _RE_KERNEL.match(line)) or (m2 := _RE_PUBLIC.match(line)):
+        m, m2 = _RE_KERNEL.match(line), _RE_PUBLIC.match(line)
+        if m or m2:
             j = i + 1
             while lines[j] != "}":
                 j += 1
@@ -211,6 +212,7 @@ def lane_source(name: str, text: str) -> tuple[str, list[str]]:
                            "int mem) {")
                 out.extend(_kernel_body(body, f"{name} ({m.group(1)})"))
             else:
+                assert m2 is not None
                 public = m2.group(1)
                 out.append(f"RPO_EXPORT int {public}_lanes(const rpo_v** arg, rpo_v** res, long long* iw, rpo_v* w, "
                            "int mem) {")
@@ -220,8 +222,8 @@ def lane_source(name: str, text: str) -> tuple[str, list[str]]:
             out.append("")
             i = j + 1
             continue
-        if m := _RE_WORK.match(line):
-            sz_w = int(m.group(1))
+        if mw := _RE_WORK.match(line):
+            sz_w = int(mw.group(1))
         i += 1
     if public is None or sz_w is None:
         raise LaneError(f"{name}: no CasADi public function or work size found")
