@@ -4,9 +4,10 @@ One step (plant + controller + actuators, RK4 over dt) is one compiled call; ste
 loop (``runtime/csrc/sim_loop.c``) in chunks, so Python is entered once per chunk (for the
 progress bar and the random torques), not once per step.
 
-Random torques (000 eq. 5) are standard-normal samples from ``numpy.random.default_rng(seed)``,
-drawn in step order and held over each step: the same seed gives the same run whatever the
-chunk size.
+The noise inputs w (random torques, 000 eq. 5, and measurement noise) are standard-normal
+samples drawn in C as a pure function of (seed, step, index) (:mod:`rpo.runtime.noise`) and held
+over each step: the same seed gives the same run whatever the chunk size, and the same case run
+alone or in any lane of a batch gives the same bits.
 """
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import noise
 from .compiled import CompiledFunction, Model
 from .errors import ModelError
 
@@ -182,8 +184,9 @@ class Simulation:
         last good state (with the output of the failing step) is the final row.
         """
         n_total, record_every, chunk = self._check_run_args(z0, duration, t0, record_every, chunk)
-        rng = np.random.default_rng(seed)
-        nz, ny, nw = self.nz, self.ny, self.nw
+        seed = noise.check_seed(seed)
+        key = noise.key(seed)
+        nz, ny = self.nz, self.ny
         Zc = np.empty((chunk + 1, nz))
         Yc = np.empty((chunk, ny))
         # recorded steps: every record_every-th, and always the last one
@@ -201,9 +204,8 @@ class Simulation:
         runner = self._c_runner()
         while done < n_total:
             n = min(chunk, n_total - done)
-            W = np.ascontiguousarray(rng.standard_normal((n, nw)))
             Zc[0] = z
-            ok, bad = runner(Zc, Yc, W, n, done, t0) if runner else self._py_run(Zc, Yc, W, n, done, t0)
+            ok, bad = runner(Zc, Yc, key, n, done, t0) if runner else self._py_run(Zc, Yc, seed, n, done, t0)
             # copy recorded rows: global step g = done + i has state Zc[i] and output Yc[i]; the
             # rows of G in [done, done + ok] are kept (slices, no per-step Python)
             lo, hi = np.searchsorted(G, done), np.searchsorted(G, done + ok, side="right")
@@ -247,7 +249,7 @@ class Simulation:
         )
 
     def run_batch(self, Z0: np.ndarray, duration: float, seeds, params=None, gains=None, t0: float = 0.0,
-                  record_every: int = 1, chunk: int = 1024,
+                  record_every: int = 1, chunk: int = 4096,
                   progress: Callable[[int, int], None] | None = None) -> list[RunResult]:
         """Run N cases in lockstep, K at a time (K = :attr:`lanes`, the machine's vector width).
 
@@ -263,7 +265,7 @@ class Simulation:
         if Z0.ndim != 2 or Z0.shape[1] != self.nz:
             raise ModelError(f"run_batch: Z0 must have shape (N, {self.nz}), got {np.shape(Z0)}")
         n_runs = Z0.shape[0]
-        seeds = list(seeds)
+        seeds = [noise.check_seed(s) for s in seeds]
         if len(seeds) != n_runs:
             raise ModelError(f"run_batch: {n_runs} initial states but {len(seeds)} seeds")
         P = self._per_case("params", params, n_runs, "p", self._params_given)
@@ -321,7 +323,7 @@ class Simulation:
     def _run_block(self, lanes, Z0, seeds, P, G, n_real, n_total, t0, record_every, chunk, progress):
         K, nz, ny, nw = lanes.width, self.nz, self.ny, self.nw
         chunk = max(record_every, (chunk // record_every) * record_every)  # chunks start on the recording grid
-        rngs = [np.random.default_rng(s) for s in seeds]
+        keys = np.array([noise.key(s) for s in seeds], dtype=np.uint64)
         Z = np.ascontiguousarray(Z0, dtype=float)
         P, G = np.ascontiguousarray(P), np.ascontiguousarray(G)
         status = np.zeros(K, dtype=np.intc)
@@ -329,27 +331,27 @@ class Simulation:
         steps_ok = np.zeros(K, dtype=np.int64)
         bad = np.full(K, -2, dtype=np.intc)
         Zbad, Ylast = np.zeros((K, nz)), np.zeros((K, ny))
-        rows_max = chunk // record_every + 2
-        Zrec, Yrec = np.empty((K, rows_max, nz)), np.empty((K, rows_max, ny))
-        Zs: list[list[np.ndarray]] = [[] for _ in range(K)]
-        Ys: list[list[np.ndarray]] = [[] for _ in range(K)]
+        # each run's record, written in place by the C loop: the grid's rows, and one more for the end
+        rows = (n_total - 1) // record_every + 2
+        Zall = [np.empty((rows, nz)) for _ in range(K)]
+        Yall = [np.empty((rows, ny)) for _ in range(K)]
+        PP = ctypes.POINTER(_DP)
         last_good: list = [None] * K
         fn, sz_w = lanes.pointers[self.step_fn.name], lanes.work[self.step_fn.name]
         bound = self.bound
         done = 0
         while done < n_total and status.any():
             n = min(chunk, n_total - done)
-            W = np.empty((K, n, nw))
-            for l in range(K):
-                W[l] = rngs[l].standard_normal((n, nw)) if l < n_real else 0.0
+            row0 = done // record_every  # done is on the grid
+            zr = (_DP * K)(*[ctypes.cast(a.ctypes.data + row0 * nz * 8, _DP) for a in Zall])
+            yr = (_DP * K)(*[ctypes.cast(a.ctypes.data + row0 * ny * 8, _DP) for a in Yall])
             was = status.copy()
             rc = lanes.run(ctypes.c_void_p(fn), ctypes.c_longlong(sz_w), ctypes.c_double(t0), ctypes.c_double(self.dt),
                            ctypes.c_longlong(done), ctypes.c_int(n), ctypes.c_longlong(record_every),
-                           ctypes.c_longlong(rows_max),
                            P.ctypes.data_as(_DP), ctypes.c_int(P.shape[1]), G.ctypes.data_as(_DP),
-                           ctypes.c_int(G.shape[1]), W.ctypes.data_as(_DP), ctypes.c_int(nw),
-                           Z.ctypes.data_as(_DP), ctypes.c_int(nz), Zrec.ctypes.data_as(_DP),
-                           Yrec.ctypes.data_as(_DP), ctypes.c_int(ny), bound.ctypes.data_as(_DP),
+                           ctypes.c_int(G.shape[1]), keys.ctypes.data_as(ctypes.POINTER(ctypes.c_ulonglong)),
+                           ctypes.c_int(nw), Z.ctypes.data_as(_DP), ctypes.c_int(nz), ctypes.cast(zr, PP),
+                           ctypes.cast(yr, PP), ctypes.c_int(ny), bound.ctypes.data_as(_DP),
                            status.ctypes.data_as(ctypes.POINTER(ctypes.c_int)),
                            steps_ok.ctypes.data_as(ctypes.POINTER(ctypes.c_longlong)),
                            bad.ctypes.data_as(ctypes.POINTER(ctypes.c_int)), Zbad.ctypes.data_as(_DP),
@@ -357,41 +359,32 @@ class Simulation:
             if rc != 0:
                 raise MemoryError("rpo_run_lanes could not allocate its work space")
             for l in range(n_real):
-                if not was[l]:
-                    continue
-                upto = int(steps_ok[l]) if not status[l] else done + n  # recorded steps: [done, upto]
-                g_first = -(-done // record_every) * record_every
-                n_rows = 0 if upto < g_first else (min(upto, done + n - 1) - g_first) // record_every + 1
-                Zs[l].append(Zrec[l, :n_rows].copy())
-                Ys[l].append(Yrec[l, :n_rows].copy())
-                if not status[l]:
+                if was[l] and not status[l]:
                     last_good[l] = (int(steps_ok[l]), Z[l].copy(), Ylast[l].copy(), Zbad[l].copy(), int(bad[l]))
             done += n
             if progress:
                 progress(min(done, n_total), n_total)
-        out = []
-        for l in range(n_real):
-            out.append(self._assemble(np.concatenate(Zs[l]), np.concatenate(Ys[l]), Z[l], last_good[l], n_total,
-                                      t0, record_every, seeds[l]))
-        return out
+        return [self._assemble(Zall[l], Yall[l], Z[l], last_good[l], n_total, t0, record_every, seeds[l])
+                for l in range(n_real)]
 
     def _assemble(self, Zr, Yr, z_end, lg, n_total, t0, record_every, seed) -> RunResult:
-        """A :class:`RunResult` from the recorded rows (steps on the grid, state at the start and the
-        step's output) and the end state, laid out as :meth:`run` lays it out."""
+        """A :class:`RunResult` from a run's record (the grid's steps: the state at the start and the
+        step's output, one spare row) and its end state, laid out as :meth:`run` lays it out."""
         nz, ny = self.nz, self.ny
         divergence = None
         if lg is None:
             G = np.arange(0, n_total, record_every)
-            Z = np.vstack([Zr[: G.size], z_end[None, :]])
-            Y = np.vstack([Yr[: G.size], np.full((1, ny), np.nan)])
+            Zr[G.size], Yr[G.size] = z_end, np.nan
             G = np.append(G, n_total)
+            Z, Y = Zr[: G.size], Yr[: G.size]
             done = n_total
         else:
             last, zg, yg, z_bad, j = lg
             G = np.arange(0, last + 1, record_every)
+            if G.size == 0 or G[-1] != last:  # the last good state is off the grid: one more row
+                Zr[G.size], Yr[G.size] = zg, yg
+                G = np.append(G, last)
             Z, Y = Zr[: G.size], Yr[: G.size]
-            if G.size == 0 or G[-1] != last:
-                G, Z, Y = np.append(G, last), np.vstack([Z, zg]), np.vstack([Y, yg])
             label = self.model.labels(self.z_layout)[j] if j >= 0 else "step function"
             divergence = Divergence(step=last, time=t0 + (last + 1) * self.dt, label=label,
                                     value=float(z_bad[j]) if j >= 0 else float("nan"),
@@ -423,17 +416,18 @@ class Simulation:
         p, k, bound = self.p, self.k, self.bound
         args_fixed = (f._iw_p, f._w_p)
 
-        def runner(Zc, Yc, W, n, k0, t0):
+        def runner(Zc, Yc, key, n, k0, t0):
             ok = run(fn_ptr, *args_fixed, ctypes.c_double(t0), ctypes.c_double(self.dt), ctypes.c_longlong(k0),
-                     ctypes.c_int(n), p.ctypes.data_as(_DP), k.ctypes.data_as(_DP), W.ctypes.data_as(_DP),
+                     ctypes.c_int(n), p.ctypes.data_as(_DP), k.ctypes.data_as(_DP), ctypes.c_ulonglong(key),
                      ctypes.c_int(self.nw), Zc.ctypes.data_as(_DP), ctypes.c_int(self.nz),
                      Yc.ctypes.data_as(_DP), ctypes.c_int(self.ny), bound.ctypes.data_as(_DP), ctypes.byref(bad))
             return ok, bad.value
 
         return runner
 
-    def _py_run(self, Zc, Yc, W, n, k0, t0):
-        """Per-step Python loop (CasADi fallback backend)."""
+    def _py_run(self, Zc, Yc, seed, n, k0, t0):
+        """Per-step Python loop (CasADi fallback backend), with the NumPy version of the noise."""
+        W = noise.noise(seed, k0, n, self.nw)
         for i in range(n):
             t = t0 + (k0 + i) * self.dt
             zn, y = self.step_fn(Zc[i], t, self.p, self.k, W[i])

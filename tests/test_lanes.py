@@ -249,3 +249,49 @@ def test_baseline_target_width_is_bit_identical_too(monkeypatch, tmp_path):
     batch = sim.run_batch(np.tile(z0, (n, 1)), 0.5, list(range(n)))
     for i in range(n):
         assert _same(batch[i], sim.run(z0, 0.5, seed=i)), i
+
+
+def test_noise_is_the_documented_function_of_seed_step_and_index(lane_model):
+    """The C loops' noise against the NumPy version of its definition (runtime/noise.py)."""
+    import ctypes
+
+    from rpo.runtime import noise
+
+    lib = lane_model._lib
+    lib.rpo_noise_key.restype = ctypes.c_ulonglong
+    lib.rpo_noise_key.argtypes = [ctypes.c_ulonglong]
+    for seed in (0, 1, 2, 12345, 2**63, 2**64 - 1):
+        assert lib.rpo_noise_key(seed) == noise.key(seed)
+    nw = lane_model.layout_size("w")
+    W = np.empty((2000, nw))
+    lib.rpo_noise_fill(ctypes.c_ulonglong(noise.key(7)), ctypes.c_longlong(1000), ctypes.c_longlong(2000),
+                       ctypes.c_int(nw), W.ctypes.data_as(ctypes.POINTER(ctypes.c_double)))
+    ref = noise.noise(7, 1000, 2000, nw)
+    np.testing.assert_allclose(W, ref, rtol=0, atol=4e-15)  # NumPy's log/sqrt/cos against rpo_math.h's
+    # the uniforms themselves are exact integer arithmetic: bit-identical
+    u = noise.uniforms(noise.key(7), np.arange(10, dtype=np.uint64))
+    assert np.all((u > 0) & (u <= 1))
+    # standard normal: mean 0, variance 1, independent components (4e4 samples)
+    assert abs(W.mean()) < 0.03 and abs(W.std() - 1) < 0.03
+    assert np.max(np.abs(np.corrcoef(W.T) - np.eye(nw))) < 0.1
+    # a later step's noise does not depend on the steps before it
+    assert bits_equal(noise.noise(7, 2500, 3, nw), ref[1500:1503])
+    from rpo.runtime.errors import ModelError
+
+    for bad in (-1, 2**64, 1.5, "3"):
+        with pytest.raises(ModelError, match="seed must be"):
+            noise.key(bad)
+
+
+def test_casadi_backend_draws_the_same_noise(lane_model):
+    """The fallback backend's NumPy noise agrees with the C loop's to rounding: one step each."""
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", RuntimeWarning)
+        vm = load_model(backend="casadi")
+    sim_c, z0, run = _scenario_sim(lane_model)
+    sim_v = Simulation(vm, run.controller, params=run.params, gains=run.gains)
+    a = sim_c.run(z0, 0.05, seed=11)
+    b = sim_v.run(z0, 0.05, seed=11)
+    np.testing.assert_allclose(a.z, b.z, rtol=1e-12, atol=1e-12)

@@ -8,6 +8,7 @@
  * do (a neighbour that diverges only stops being checked and recorded).
  */
 #include "rpo_lanes.h"
+#include "rpo_noise.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -46,8 +47,14 @@ RPO_EXPORT long long rpo_batch_lanes(rpo_lane_fn f, long long sz_w, int n_in, co
     for (int j = 0; j < n_out; ++j) { res[j] = next; next += out_size[j]; }
     rpo_v* work = next;
     long long ret = 0;
+    /* an input shared by every point (stride 0) is broadcast once */
+    for (int j = 0; j < n_in; ++j) {
+        if (in_stride[j] != 0) continue;
+        for (long long e = 0; e < in_size[j]; ++e) ((rpo_v*)arg[j])[e] = RPO_SPLAT(in[j][e]);
+    }
     for (long long b = 0; b < N; b += K) {
         for (int j = 0; j < n_in; ++j) {
+            if (in_stride[j] == 0) continue;
             for (int l = 0; l < K; ++l) {
                 long long i = b + l < N ? b + l : N - 1;  /* a short last block repeats its last point */
                 const double* src = in[j] + i * in_stride[j];
@@ -68,17 +75,18 @@ RPO_EXPORT long long rpo_batch_lanes(rpo_lane_fn f, long long sz_w, int n_in, co
 
 /* n closed-loop steps of K runs from global step k0 (t_k = t0 + (k0 + k) dt, as rpo_run).
  *
- * Per lane l: P[l], G[l] its parameters and gains, W[l][i] the noise of step i, Z[l] the state
+ * Per lane l: P[l], G[l] its parameters and gains, keys[l] its noise key (rpo_noise.h), Z[l] the state
  * (in: at step k0; out: at the end, or the last good state of a run that diverged).  Steps whose
  * global index is a multiple of `every` are recorded: state at the step's start and the step's
- * output, into Zrec[l][r] and Yrec[l][r] (r counts recorded steps in this call; rec_rows rows per lane).  status[l]: in,
+ * output, into rows r of Zrec[l] and Yrec[l] (r counts recorded steps in this call).  status[l]: in,
  * 1 for a run to advance and 0 for a lane to ignore; out, 0 once the run diverged, with
  * steps_ok[l] the global count of its healthy steps, bad[l] the first offending entry of the
  * next state (-1: the step function failed), Zbad[l] that state, Ylast[l] the failing step's
  * output.  Returns 0, or -1 when memory is short. */
 RPO_EXPORT int rpo_run_lanes(rpo_lane_fn step, long long sz_w, double t0, double dt, long long k0, int n,
-                             long long every, long long rec_rows, const double* P, int np, const double* G, int nk,
-                             const double* W, int nw, double* Z, int nz, double* Zrec, double* Yrec, int ny,
+                             long long every, const double* P, int np, const double* G, int nk,
+                             const unsigned long long* keys, int nw, double* Z, int nz, double* const* Zrec,
+                             double* const* Yrec, int ny,
                              const double* bound, int* status, long long* steps_ok, int* bad, double* Zbad,
                              double* Ylast)
 {
@@ -87,6 +95,8 @@ RPO_EXPORT int rpo_run_lanes(rpo_lane_fn step, long long sz_w, double t0, double
     if (!buf) return -1;
     rpo_v *z = buf, *zn = z + nz, *t = zn + nz, *p = t + 1, *g = p + np, *w = g + nk, *y = w + nw;
     rpo_v* work = y + ny;
+    rpo_u key;
+    for (int l = 0; l < K; ++l) ((unsigned long long*)&key)[l] = keys[l];
     for (int l = 0; l < K; ++l) {
         for (int e = 0; e < nz; ++e) LANE(z, e, l) = Z[(size_t)l * nz + e];
         for (int e = 0; e < np; ++e) LANE(p, e, l) = P[(size_t)l * np + e];
@@ -101,10 +111,7 @@ RPO_EXPORT int rpo_run_lanes(rpo_lane_fn step, long long sz_w, double t0, double
     for (int i = 0; i < n && active; ++i) {
         double tk = t0 + (double)(k0 + i) * dt;
         for (int l = 0; l < K; ++l) LANE(t, 0, l) = tk;
-        for (int l = 0; l < K; ++l) {
-            const double* src = W + ((size_t)l * n + i) * nw;
-            for (int e = 0; e < nw; ++e) LANE(w, e, l) = src[e];
-        }
+        rpo_noise_step(key, k0 + i, nw, w);
         arg[0] = z; arg[4] = w;
         res[0] = zn; res[1] = y;
         int failed = step(arg, res, NULL, work, 0) != 0;
@@ -112,8 +119,8 @@ RPO_EXPORT int rpo_run_lanes(rpo_lane_fn step, long long sz_w, double t0, double
         if (rec) {
             for (int l = 0; l < K; ++l) {
                 if (!status[l]) continue;
-                double* zr = Zrec + ((size_t)l * (size_t)rec_rows + (size_t)r) * nz;
-                double* yr = Yrec + ((size_t)l * (size_t)rec_rows + (size_t)r) * ny;
+                double* zr = Zrec[l] + (size_t)r * nz;
+                double* yr = Yrec[l] + (size_t)r * ny;
                 for (int e = 0; e < nz; ++e) zr[e] = LANE(z, e, l);
                 for (int e = 0; e < ny; ++e) yr[e] = LANE(y, e, l);
             }

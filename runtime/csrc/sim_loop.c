@@ -3,9 +3,13 @@
  * Hand-written (not generated).  Compiled together with generated/rpo_model.c into one
  * shared library by rpo.runtime.compiled.  The step function has CasADi's calling convention:
  *   step(arg = {z_k, t_k, p, k, w_k}, res = {z_{k+1}, y_k}, iw, w, mem)
+ * w_k, the standard-normal inputs of step k, are drawn here (rpo_noise.h) from the run's key.
  * Divergence (a non-finite entry, or |z_j| above bound[j]) stops the loop after writing the
  * offending state, so the caller keeps everything computed so far.
  */
+#define RPO_LANES 1
+#include "rpo_noise.h"
+
 #include <math.h>
 #include <stddef.h>
 
@@ -21,20 +25,26 @@ int rpo_selftest_nan(double x) { return isfinite(x) ? 1 : 0; }
  * reported an error).  t_k = t0 + (k0 + k) dt, formed from the integer step count so that
  * time does not drift over millions of steps. */
 int rpo_run(rpo_step_fn step, casadi_int* iw, double* work, double t0, double dt, long long k0,
-            int n, const double* p, const double* gains, const double* W, int nw, double* Z,
+            int n, const double* p, const double* gains, unsigned long long key, int nw, double* Z,
             int nz, double* Y, int ny, const double* bound, int* bad_index)
 {
     const double* arg[5];
     double* res[2];
     double t;
+    double w[RPO_NOISE_MAX];
     *bad_index = -2;
+    if (nw > RPO_NOISE_MAX) {
+        *bad_index = -1;
+        return 0;
+    }
     for (int i = 0; i < n; ++i) {
         t = t0 + (double)(k0 + i) * dt;
+        rpo_noise_step(key, k0 + i, nw, w);
         arg[0] = Z + (size_t)i * nz;
         arg[1] = &t;
         arg[2] = p;
         arg[3] = gains;
-        arg[4] = W + (size_t)i * nw;
+        arg[4] = w;
         res[0] = Z + (size_t)(i + 1) * nz;
         res[1] = Y + (size_t)i * ny;
         if (step(arg, res, iw, work, 0) != 0) {
@@ -50,6 +60,14 @@ int rpo_run(rpo_step_fn step, casadi_int* iw, double* work, double t0, double dt
         }
     }
     return n;
+}
+
+/* The key of a seed, and the noise of steps g0 .. g0 + n - 1 into W[n][nw] (for checks and tools). */
+unsigned long long rpo_noise_key(unsigned long long seed) { return rpo_noise_key1(seed); }
+
+void rpo_noise_fill(unsigned long long key, long long g0, long long n, int nw, double* W)
+{
+    for (long long i = 0; i < n; ++i) rpo_noise_step(key, g0 + i, nw, W + (size_t)i * nw);
 }
 
 /* Evaluate a generated function at N points, one call each, in place: input j of point i at
