@@ -82,6 +82,28 @@ def stage_profile(scenario: str, out: Path) -> dict[str, float]:
     return json.loads(res.stdout.strip().splitlines()[-1])
 
 
+def measure(scenario: str, repeat: int = 5, extra: list[str] | None = None) -> dict:
+    """The medians of ``repeat`` runs of the command (after one unmeasured run), as a dict with the
+    keys of the ``--json`` line."""
+    extra = extra or []
+    with tempfile.TemporaryDirectory(prefix="rpo-bench-run-") as tmp:
+        base = Path(tmp)
+        one_run(scenario, base / "warm", extra)  # fills the compile cache, not measured
+        totals, writes, sizes, cpus = [], [], [], []
+        for k in range(repeat):
+            out = base / f"run{k}"
+            total, write, cpu = one_run(scenario, out, extra)
+            totals.append(total)
+            writes.append(write)
+            cpus.append(cpu)
+            sizes.append(folder_mb(out))
+            print(f"run {k + 1}/{repeat}: total {total:.2f} s, writing {write:.2f} s, {sizes[-1]:.1f} MB, "
+                  f"CPU {cpu:.2f} s, load average {os.getloadavg()[0]:.2f}", file=sys.stderr)
+    return {"run_total_s": round(statistics.median(totals), 3), "run_write_s": round(statistics.median(writes), 3),
+            "output_mb": round(statistics.median(sizes), 2), "cpu_s": round(statistics.median(cpus), 3),
+            "load_average": round(os.getloadavg()[0], 2)}
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--repeat", type=int, default=5)
@@ -90,23 +112,9 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--profile", action="store_true", help="also print the import time and the stages")
     ap.add_argument("extra", nargs="*", help="arguments passed to rpo run (after --)")
     args = ap.parse_args(argv)
+    result = measure(args.scenario, args.repeat, args.extra)
     with tempfile.TemporaryDirectory(prefix="rpo-bench-run-") as tmp:
         base = Path(tmp)
-        one_run(args.scenario, base / "warm", args.extra)  # fills the compile cache, not measured
-        totals, writes, sizes, cpus = [], [], [], []
-        for k in range(args.repeat):
-            out = base / f"run{k}"
-            total, write, cpu = one_run(args.scenario, out, args.extra)
-            totals.append(total)
-            writes.append(write)
-            cpus.append(cpu)
-            sizes.append(folder_mb(out))
-            print(f"run {k + 1}/{args.repeat}: total {total:.2f} s, writing {write:.2f} s, {sizes[-1]:.1f} MB, "
-                  f"CPU {cpu:.2f} s, load average {os.getloadavg()[0]:.2f}", file=sys.stderr)
-        result = {"run_total_s": round(statistics.median(totals), 3),
-                  "run_write_s": round(statistics.median(writes), 3),
-                  "output_mb": round(statistics.median(sizes), 2),
-                  "cpu_s": round(statistics.median(cpus), 3), "load_average": round(os.getloadavg()[0], 2)}
         print(f"run_total_s {result['run_total_s']:.2f} s (target <= 3), run_write_s {result['run_write_s']:.2f} s "
               f"(target <= 1.5), output_mb {result['output_mb']:.1f} MB (target <= 25)")
         if args.profile:

@@ -340,6 +340,42 @@ static inline void rpo__sincos_core(rpo_v x, rpo_v* s, rpo_v* c)
     *c = cv;
 }
 
+#if RPO_LANES == 1
+/* The scalar sin and cos do less work for the same bits.  (1) For n = 0 (|x| <~ pi/4) the
+ * vector path's reduction is exact arithmetic on zeros: r1 = x - 0, both two-sums return (x, +0)
+ * and the tail is +0, so y0 = x + 0.0 (which maps -0 to +0, as r3 + tail does) and y1 = +0; the
+ * scalar path takes that result without the arithmetic.  (2) Only the kernel the quadrant
+ * selects is evaluated (the kernels are pure functions of y0, y1).  The selects and signs are
+ * the vector path's.  tests/test_lane_math.py checks K = 1 against K = 2, 4, 8 bit for bit. */
+static inline rpo_m rpo__rem_pio2_scalar(rpo_v x, rpo_v* y0, rpo_v* y1)
+{
+    if (x * 6.36619772367581382433e-01 + 0x1.8p52 == 0x1.8p52) {
+        *y0 = x + 0.0;
+        *y1 = 0.0;
+        return 0;
+    }
+    return rpo__rem_pio2(x, y0, y1);
+}
+
+static inline rpo_v rpo_sin(rpo_v x)
+{
+    if (__builtin_expect(rpo__trig_big(x) != 0, 0)) return sin(x);
+    rpo_v y0, y1;
+    rpo_m n = rpo__rem_pio2_scalar(x, &y0, &y1);
+    rpo_v sv = (n & 1) ? rpo__kcos(y0, y1) : rpo__ksin(y0, y1);
+    sv = ((n >> 1) & 1) ? -sv : sv;
+    return x == 0.0 ? x : sv;
+}
+
+static inline rpo_v rpo_cos(rpo_v x)
+{
+    if (__builtin_expect(rpo__trig_big(x) != 0, 0)) return cos(x);
+    rpo_v y0, y1;
+    rpo_m n = rpo__rem_pio2_scalar(x, &y0, &y1);
+    rpo_v cv = (n & 1) ? rpo__ksin(y0, y1) : rpo__kcos(y0, y1);
+    return (((n + 1) >> 1) & 1) ? -cv : cv;
+}
+#else
 static inline rpo_v rpo_sin(rpo_v x)
 {
     rpo_v s, c;
@@ -361,6 +397,8 @@ static inline rpo_v rpo_cos(rpo_v x)
             if (rpo__mget(big, l)) c = rpo_lane_set(c, l, cos(rpo_lane_get(x, l)));
     return c;
 }
+
+#endif
 
 /* same bits as rpo_sin(x), rpo_cos(x); one reduction and one kernel pair instead of two */
 static inline void rpo_sincos(rpo_v x, rpo_v* s, rpo_v* c)
