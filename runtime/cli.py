@@ -350,6 +350,14 @@ def info(backend: str) -> int:
     echo("runtime          " + ", ".join(f"{k} {version(k)}" for k in ("numpy", "scipy", "matplotlib", "pydantic",
                                                                           "click")))
     echo(f"backend          {model.backend}" + (f", library {model.library}" if model.library else ""))
+    if model.backend == "compiled":
+        from . import compiled, fastcall
+
+        native, _target = compiled.native_target(compiled.find_compiler() or ["cc"])
+        echo(f"lockstep lanes   built on first batch for {' '.join(native) or 'the default target'} "
+             "(runtime/lanes.py; Simulation.run_batch, f.batch)")
+        echo("single calls     " + ("in place (fast-call extension)" if not fastcall.why_not
+                                    else f"ctypes ({fastcall.why_not[0]})"))
     echo(f"quaternions      {m.get('quaternion_convention', '?')}")
     echo("controllers      " + ", ".join(f"{k} (gains {v['gains']})" for k, v in sorted(m["controllers"].items())))
     echo("\nfunctions:")
