@@ -34,9 +34,15 @@ output_mb <= 25.
 
 from __future__ import annotations
 
-import argparse
-import ctypes
-import json
+import os
+
+# OpenBLAS's worker threads spin after any BLAS call and took 6 % of a core in the profiles here;
+# rpo does no BLAS work, so one thread (set before NumPy loads it)
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+import argparse  # noqa: E402
+import ctypes  # noqa: E402
+import json  # noqa: E402
 import platform
 import statistics
 import sys
@@ -134,23 +140,6 @@ def main(argv=None) -> int:
           f"{run.controller}; machine {platform.machine()}, {K} lanes, python {platform.python_version()}")
     fig: dict = {"lanes": K, "runs": args.runs, "record_every": RECORD_EVERY, "repeat": args.repeat}
 
-    # closed loop: scalar C loop and lockstep batch, alternated so that both see the same machine
-    Z0 = np.tile(z0, (args.runs, 1))
-    seeds = list(range(args.runs))
-    sim.run(z0, duration, seed=0, record_every=RECORD_EVERY)
-    sim.run_batch(Z0[:K], duration, seeds[:K], record_every=RECORD_EVERY)
-    ts, tb = [], []
-    for _ in range(args.repeat):
-        t0 = time.perf_counter()
-        sim.run(z0, duration, seed=0, record_every=RECORD_EVERY)
-        ts.append(time.perf_counter() - t0)
-        t0 = time.perf_counter()
-        sim.run_batch(Z0, duration, seeds, record_every=RECORD_EVERY)
-        tb.append(time.perf_counter() - t0)
-    fig["scalar_us_per_step"] = statistics.median(ts) / n_steps * 1e6
-    fig["batch_us_per_run_step"] = statistics.median(tb) / (args.runs * n_steps) * 1e6
-    fig["batch_speedup"] = fig["scalar_us_per_step"] / fig["batch_us_per_run_step"]
-
     # calls from Python
     f = model.plant_rhs
     x = z0[: model.layout_size("x")].copy()
@@ -165,8 +154,7 @@ def main(argv=None) -> int:
     X = x + 1e-3 * rng.standard_normal((n_pts, x.size))
     Xout = np.empty((n_pts, x.size))
     f.batch(X, u, 0.0, p, w, out=Xout)
-    fig["plant_rhs_batch_us_per_point"] = median_time(lambda: f.batch(X, u, 0.0, p, w, out=Xout),
-                                                      args.repeat) / n_pts * 1e6
+    batch_t, loop_t = [], []
     ins = [np.ascontiguousarray(X[:K]), u, np.zeros(1), p, w]
     dp = ctypes.POINTER(ctypes.c_double)
     in_p = (dp * 5)(*[a.ctypes.data_as(dp) for a in ins])
@@ -180,21 +168,47 @@ def main(argv=None) -> int:
         rep(ctypes.c_void_p(lanes.pointers["plant_rhs"]), ctypes.c_longlong(lanes.work["plant_rhs"]), 5, in_p, in_n,
             in_s, 1, out_n, ctypes.c_longlong(reps))
 
-    fig["plant_rhs_loop_us_per_point"] = median_time(loop, args.repeat) / (reps * K) * 1e6
-    fig["plant_rhs_batch_ratio"] = fig["plant_rhs_batch_us_per_point"] / fig["plant_rhs_loop_us_per_point"]
+    for _ in range(args.repeat):  # interleaved, as above
+        batch_t.append(median_time(lambda: f.batch(X, u, 0.0, p, w, out=Xout), 1) / n_pts * 1e6)
+        loop_t.append(median_time(loop, 1) / (reps * K) * 1e6)
+    fig["plant_rhs_batch_us_per_point"] = statistics.median(batch_t)
+    fig["plant_rhs_loop_us_per_point"] = statistics.median(loop_t)
+    fig["plant_rhs_batch_ratio"] = statistics.median(b / lp for b, lp in zip(batch_t, loop_t, strict=True))
 
-    # Basilisk, same process
-    fig["basilisk_us_per_step"] = fig["basilisk_ratio"] = None
+    # closed loop: scalar C loop, lockstep batch and (when installed) Basilisk, interleaved, so that
+    # every figure sees the same machine (a shared VM's speed drifts by tens of percent)
+    Z0 = np.tile(z0, (args.runs, 1))
+    seeds = list(range(args.runs))
+    bsk = None
     if not args.no_basilisk:
         try:
             from basilisk_case import basilisk_us_per_step
 
-            b = basilisk_us_per_step(duration=duration, dt=sim.dt, repeat=max(3, args.repeat // 2))
-            fig["basilisk_us_per_step"] = b["us_per_step"]
-            fig["basilisk_version"] = b["basilisk_version"]
-            fig["basilisk_ratio"] = b["us_per_step"] / fig["batch_us_per_run_step"]
+            bsk = basilisk_us_per_step
         except ImportError as exc:
             print(f"Basilisk not measured: {exc}")
+    sim.run(z0, duration, seed=0, record_every=RECORD_EVERY)
+    sim.run_batch(Z0[:K], duration, seeds[:K], record_every=RECORD_EVERY)
+    ts, tb, tk = [], [], []
+    for _ in range(args.repeat):
+        t0 = time.perf_counter()
+        sim.run(z0, duration, seed=0, record_every=RECORD_EVERY)
+        ts.append(time.perf_counter() - t0)
+        t0 = time.perf_counter()
+        sim.run_batch(Z0, duration, seeds, record_every=RECORD_EVERY)
+        tb.append(time.perf_counter() - t0)
+        if bsk is not None:
+            b = bsk(duration=duration, dt=sim.dt, repeat=1)
+            tk.append(b["us_per_step"])
+            fig["basilisk_version"] = b["basilisk_version"]
+    fig["scalar_us_per_step"] = statistics.median(ts) / n_steps * 1e6
+    fig["batch_us_per_run_step"] = statistics.median(tb) / (args.runs * n_steps) * 1e6
+    fig["batch_speedup"] = fig["scalar_us_per_step"] / fig["batch_us_per_run_step"]
+    fig["basilisk_us_per_step"] = statistics.median(tk) if tk else None
+    # the ratio of each repetition's pair, then the median: drift between repetitions cancels
+    per_run_step = [b / (args.runs * n_steps) * 1e6 for b in tb]
+    fig["basilisk_ratio"] = (statistics.median(k / b for k, b in zip(tk, per_run_step, strict=True))
+                             if tk else None)
 
     if args.references:
         fig.update(references(model, sim, z0, run.controller, args.repeat))

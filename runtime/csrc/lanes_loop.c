@@ -54,18 +54,24 @@ RPO_EXPORT long long rpo_batch_lanes(rpo_lane_fn f, long long sz_w, int n_in, co
     }
     for (long long b = 0; b < N; b += K) {
         for (int j = 0; j < n_in; ++j) {
-            if (in_stride[j] == 0) continue;
+            /* locals: with -fno-strict-aliasing every store below could otherwise alias the sizes */
+            const long long stride = in_stride[j], size = in_size[j];
+            if (stride == 0) continue;
+            double* dst = (double*)arg[j];
             for (int l = 0; l < K; ++l) {
                 long long i = b + l < N ? b + l : N - 1;  /* a short last block repeats its last point */
-                const double* src = in[j] + i * in_stride[j];
-                for (long long e = 0; e < in_size[j]; ++e) LANE(arg[j], e, l) = src[e];
+                const double* src = in[j] + i * stride;
+                for (long long e = 0; e < size; ++e) dst[(size_t)e * K + l] = src[e];
             }
         }
         if (f(arg, res, NULL, work, 0) != 0) { ret = 1 + b; break; }
         for (int j = 0; j < n_out; ++j) {
+            const long long size = out_size[j];
+            const double* src = (const double*)res[j];
+            double* base = out[j];
             for (int l = 0; l < K && b + l < N; ++l) {
-                double* dst = out[j] + (b + l) * out_size[j];
-                for (long long e = 0; e < out_size[j]; ++e) dst[e] = LANE(res[j], e, l);
+                double* dst = base + (b + l) * size;
+                for (long long e = 0; e < size; ++e) dst[e] = src[(size_t)e * K + l];
             }
         }
     }
