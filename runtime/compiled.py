@@ -704,6 +704,9 @@ class CompiledFunction:
                     raise ValueError(f"{self.name}.batch: out for {self.out_names[j]} must be a writable, contiguous "
                                      f"float64 array of shape {want}")
                 bufs.append(o2)
+        # an input sharing memory with an output (out=X) is read from a copy: the scalar loop
+        # evaluates in place, and the generated code writes outputs before it has read all inputs
+        ins = [a.copy() if any(np.may_share_memory(a, b) for b in bufs) else a for a in ins]
         in_p = (_DOUBLE_P * len(ins))(*[a.ctypes.data_as(_DOUBLE_P) for a in ins])
         in_n = (ctypes.c_longlong * len(ins))(*self.in_sizes)
         in_s = (ctypes.c_longlong * len(ins))(*strides)

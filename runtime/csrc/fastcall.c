@@ -10,6 +10,7 @@
  * seen in each slot stays acquired, so the same array passed again costs one pointer comparison
  * (and cannot be resized while rpo holds it).  `out=` (one array, or a tuple with one per output)
  * is written in place the same way: a matrix output needs Fortran order, CasADi's layout.
+ * An out= array overlapping an input goes to the fallback too (it copies the inputs first).
  * Anything else (wrong count, dtype, size, order) goes to the Python fallback `slow`, which
  * converts what it can and raises the error that names the argument and the shape wanted.
  */
@@ -145,6 +146,17 @@ static PyObject* caller_vectorcall(PyObject* op, PyObject* const* args, size_t n
                     acquire(o, &self->out_obj[j], &self->out_view[j], self->out_size[j], 1, self->out_matrix[j]) != 0)
                     return call_slow(self, args, n, out);
                 self->res[j] = (double*)self->out_view[j].buf;
+            }
+        }
+        /* an output written over an input (out=x): the generated code reads inputs after it has
+         * begun writing outputs, so such a call goes to the fallback, which copies the inputs */
+        for (int j = 0; j < self->n_out; ++j) {
+            const char* o0 = (const char*)self->res[j];
+            const char* o1 = o0 + self->out_size[j] * 8;
+            for (int i = 0; i < self->n_in; ++i) {
+                const char* i0 = (const char*)self->arg[i];
+                const char* i1 = i0 + self->in_size[i] * 8;
+                if (o0 < i1 && i0 < o1) return call_slow(self, args, n, out);
             }
         }
     } else {
