@@ -164,7 +164,7 @@ def _public_body(lines: list[str], kernels: set[str], where: str) -> tuple[list[
         if m and m.group(1) in kernels:
             out.append(f"  return {m.group(1)}(arg, res, iw, w, mem);")
             continue
-        if s == "const casadi_real* a[5];" or re.fullmatch(r"const casadi_real\* a\[\d+\];", s):
+        if re.fullmatch(r"const casadi_real\* a\[\d+\];", s):
             out.append("  " + s.replace("casadi_real", "rpo_v"))
         elif re.fullmatch(r"casadi_real\* r\[\d+\];", s):
             out.append("  " + s.replace("casadi_real", "rpo_v"))

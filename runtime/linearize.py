@@ -62,6 +62,7 @@ import numpy as np
 
 from .compiled import Model, generated_dir
 from .errors import ModelError
+from .frames import quat_conjugate, quat_multiply
 
 #: The attitude fields of z replaced by rotation vectors (the controllers' own layouts keep none).
 QUATERNIONS = ("q_c", "q_t")
@@ -78,16 +79,6 @@ DEADBEAT = 1e-10
 
 
 # --------------------------------------------------------------------------- quaternion maps
-
-
-def quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Hamilton product a ⊗ b, scalar last."""
-    av, aw, bv, bw = a[:3], a[3], b[:3], b[3]
-    return np.concatenate([aw * bv + bw * av + np.cross(av, bv), [aw * bw - av @ bv]])
-
-
-def quat_conj(q: np.ndarray) -> np.ndarray:
-    return np.array([-q[0], -q[1], -q[2], q[3]])
 
 
 def left_matrix(a: np.ndarray) -> np.ndarray:
@@ -120,12 +111,12 @@ def quat_log(q: np.ndarray) -> np.ndarray:
 
 def retract(q0: np.ndarray, dth: np.ndarray) -> np.ndarray:
     """q = q0 ⊗ exp(dth): the attitude rotated by dth in the body axes of q0."""
-    return quat_mul(np.asarray(q0, float), quat_exp(dth))
+    return quat_multiply(q0, quat_exp(dth))
 
 
 def local(q0: np.ndarray, q: np.ndarray) -> np.ndarray:
     """dth = log(q0* ⊗ q), the inverse of :func:`retract` (for |dth| < pi)."""
-    return quat_log(quat_mul(quat_conj(np.asarray(q0, float)), np.asarray(q, float)))
+    return quat_log(quat_multiply(quat_conjugate(q0), q))
 
 
 def retract_tangent(q0: np.ndarray) -> np.ndarray:
@@ -135,7 +126,7 @@ def retract_tangent(q0: np.ndarray) -> np.ndarray:
 
 def local_tangent(q0: np.ndarray) -> np.ndarray:
     """E+(q0) = d local(q0, q) / d q at q = q0 (3x4): 2 [I3 0] L(q0*) (unit q0)."""
-    return 2.0 * left_matrix(quat_conj(np.asarray(q0, float)))[:3, :]
+    return 2.0 * left_matrix(quat_conjugate(q0))[:3, :]
 
 
 # --------------------------------------------------------------------------- reduced coordinates

@@ -28,6 +28,24 @@ static rpo_v* lane_alloc(size_t n)
     return (rpo_v*)p;
 }
 
+/* One aligned block for a lane function's inputs, outputs and work space (sz_w, at *work);
+ * NULL when memory is short or there are more than 64 inputs or outputs. */
+static rpo_v* lane_buffers(long long sz_w, int n_in, const long long* in_size, int n_out, const long long* out_size,
+                           const rpo_v** arg, rpo_v** res, rpo_v** work)
+{
+    if (n_in > 64 || n_out > 64) return NULL;
+    size_t total = (size_t)sz_w;
+    for (int j = 0; j < n_in; ++j) total += (size_t)in_size[j];
+    for (int j = 0; j < n_out; ++j) total += (size_t)out_size[j];
+    rpo_v* buf = lane_alloc(total);
+    if (!buf) return NULL;
+    rpo_v* next = buf;
+    for (int j = 0; j < n_in; ++j) { arg[j] = next; next += in_size[j]; }
+    for (int j = 0; j < n_out; ++j) { res[j] = next; next += out_size[j]; }
+    *work = next;
+    return buf;
+}
+
 /* Evaluate f at N points: input j of point i is in[j][i * in_stride[j] .. + in_size[j]] (stride 0:
  * the same value for every point), output j of point i goes to out[j][i * out_size[j] ..].
  * Returns 0, -1 when memory is short, or 1 + the first point of a block f reported an error in. */
@@ -35,16 +53,11 @@ RPO_EXPORT long long rpo_batch_lanes(rpo_lane_fn f, long long sz_w, int n_in, co
                                      const long long* in_size, const long long* in_stride, int n_out,
                                      double* const* out, const long long* out_size, long long N)
 {
-    size_t total = (size_t)sz_w;
-    for (int j = 0; j < n_in; ++j) total += (size_t)in_size[j];
-    for (int j = 0; j < n_out; ++j) total += (size_t)out_size[j];
-    rpo_v* buf = lane_alloc(total);
     const rpo_v* arg[64];
     rpo_v* res[64];
-    if (!buf || n_in > 64 || n_out > 64) { free(buf); return -1; }
-    rpo_v* next = buf;
-    for (int j = 0; j < n_in; ++j) { arg[j] = next; next += in_size[j]; }
-    for (int j = 0; j < n_out; ++j) { res[j] = next; next += out_size[j]; }
+    rpo_v* next;
+    rpo_v* buf = lane_buffers(sz_w, n_in, in_size, n_out, out_size, arg, res, &next);
+    if (!buf) return -1;
     rpo_v* work = next;
     long long ret = 0;
     /* an input shared by every point (stride 0) is broadcast once */
@@ -175,16 +188,11 @@ RPO_EXPORT int rpo_repeat_lanes(rpo_lane_fn f, long long sz_w, int n_in, const d
                                 const long long* in_size, const long long* in_stride, int n_out,
                                 const long long* out_size, long long reps)
 {
-    size_t total = (size_t)sz_w;
-    for (int j = 0; j < n_in; ++j) total += (size_t)in_size[j];
-    for (int j = 0; j < n_out; ++j) total += (size_t)out_size[j];
-    rpo_v* buf = lane_alloc(total);
     const rpo_v* arg[64];
     rpo_v* res[64];
-    if (!buf || n_in > 64 || n_out > 64) { free(buf); return -1; }
-    rpo_v* next = buf;
-    for (int j = 0; j < n_in; ++j) { arg[j] = next; next += in_size[j]; }
-    for (int j = 0; j < n_out; ++j) { res[j] = next; next += out_size[j]; }
+    rpo_v* next;
+    rpo_v* buf = lane_buffers(sz_w, n_in, in_size, n_out, out_size, arg, res, &next);
+    if (!buf) return -1;
     for (int j = 0; j < n_in; ++j)
         for (int l = 0; l < K; ++l)
             for (long long e = 0; e < in_size[j]; ++e) LANE(arg[j], e, l) = in[j][l * in_stride[j] + e];

@@ -30,23 +30,28 @@ typedef unsigned long long rpo_u __attribute__((vector_size(8 * RPO_LANES)));
 static inline rpo_v rpo__u2d(rpo_u x) { return __builtin_convertvector(x, rpo_v); }
 #endif
 
+/* SplitMix64's finaliser, written once for both the lane type and one 64-bit integer */
+#define RPO__SPLITMIX(z)                              \
+    do {                                              \
+        (z) = ((z) ^ ((z) >> 30)) * 0xbf58476d1ce4e5b9ULL; \
+        (z) = ((z) ^ ((z) >> 27)) * 0x94d049bb133111ebULL; \
+        (z) = (z) ^ ((z) >> 31);                      \
+    } while (0)
+
 static inline rpo_u rpo_noise_mix(rpo_u z)
 {
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
+    RPO__SPLITMIX(z);
+    return z;
 }
 
-/* The key of a seed (one lane). */
+/* The key of a seed (one lane): mix(mix(seed) ^ salt). */
 static inline unsigned long long rpo_noise_key1(unsigned long long seed)
 {
     unsigned long long z = seed;
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    z = (z ^ (z >> 31)) ^ 0x5851f42d4c957f2dULL;
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
-    return z ^ (z >> 31);
+    RPO__SPLITMIX(z);
+    z ^= 0x5851f42d4c957f2dULL;
+    RPO__SPLITMIX(z);
+    return z;
 }
 
 static inline rpo_v rpo__noise_uniform(rpo_u key, unsigned long long c)
