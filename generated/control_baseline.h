@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_baseline: controller half of a step of baseline: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_baseline' (hash 62a5df61b81d56f12db111d491945d4f703d854caa11712443dcb4a767b5116e),
+ * Produced by `python build.py` from family 'controller_baseline' (hash 24614ed03e87207906eee535cb6e3adf700f6e9721dd3c92a5f9e087c2ff0a61),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -11,6 +11,7 @@
  *   symbolic/controllers/__init__.py
  *   symbolic/controllers/baseline.py
  *   symbolic/environment.py
+ *   symbolic/faults.py
  *   symbolic/functions.py
  *   symbolic/kepler.py
  *   symbolic/layout.py

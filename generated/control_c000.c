@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_c000: controller half of a step of c000: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_c000' (hash 353af60461980e1486ae4ff2baa8a36e1e6ed769e23e0c7f96cdcbd027b6cbac),
+ * Produced by `python build.py` from family 'controller_c000' (hash 835e9176c74c8d30eea448846854300abd6efee38328cf5fe9979cf7aecacbd3),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -11,6 +11,7 @@
  *   symbolic/controllers/__init__.py
  *   symbolic/controllers/c000.py
  *   symbolic/environment.py
+ *   symbolic/faults.py
  *   symbolic/functions.py
  *   symbolic/kepler.py
  *   symbolic/layout.py
@@ -129,11 +130,11 @@ CASADI_SYMBOL_EXPORT int control_c000_casadi_real_size(void) { return (int) size
 static const casadi_int casadi_s0[3] = {43, 1, 1};
 static const casadi_int casadi_s1[3] = {33, 1, 1};
 static const casadi_int casadi_s2[3] = {1, 1, 1};
-static const casadi_int casadi_s3[3] = {134, 1, 1};
+static const casadi_int casadi_s3[3] = {315, 1, 1};
 static const casadi_int casadi_s4[3] = {9, 1, 1};
 static const casadi_int casadi_s5[3] = {65, 1, 1};
 
-/* control_c000:(meas[43],xc[33],t,p[134],k[43])->(cmd[9],xc_next[33],diag[65]) */
+/* control_c000:(meas[43],xc[33],t,p[315],k[43])->(cmd[9],xc_next[33],diag[65]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a000, a001, a002, a003, a004, a005, a006, a007, a008, a009, a010, a011;
   casadi_real a012, a013, a014, a015, a016, a017, a018, a019, a020, a021, a022, a023;

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_c002: controller half of a step of c002: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_c002' (hash 40136ed93f6217bf7b1789b9af1dd0e1cd7b1e9979f2cd738241465c104a9b49),
+ * Produced by `python build.py` from family 'controller_c002' (hash 0416766b89d83ffdf22016b7dcfaee20d2dc5399a8d7b2609129e207c084b5f9),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -11,6 +11,7 @@
  *   symbolic/controllers/__init__.py
  *   symbolic/controllers/c002.py
  *   symbolic/environment.py
+ *   symbolic/faults.py
  *   symbolic/functions.py
  *   symbolic/kepler.py
  *   symbolic/layout.py
@@ -127,12 +128,12 @@ CASADI_SYMBOL_EXPORT int control_c002_casadi_real_size(void) { return (int) size
 static const casadi_int casadi_s0[3] = {43, 1, 1};
 static const casadi_int casadi_s1[3] = {15, 1, 1};
 static const casadi_int casadi_s2[3] = {1, 1, 1};
-static const casadi_int casadi_s3[3] = {134, 1, 1};
+static const casadi_int casadi_s3[3] = {315, 1, 1};
 static const casadi_int casadi_s4[3] = {38, 1, 1};
 static const casadi_int casadi_s5[3] = {9, 1, 1};
 static const casadi_int casadi_s6[3] = {41, 1, 1};
 
-/* control_c002:(meas[43],xc[15],t,p[134],k[38])->(cmd[9],xc_next[15],diag[41]) */
+/* control_c002:(meas[43],xc[15],t,p[315],k[38])->(cmd[9],xc_next[15],diag[41]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a000, a001, a002, a003, a004, a005, a006, a007, a008, a009, a010, a011;
   casadi_real a012, a013, a014, a015, a016, a017, a018, a019, a020, a021, a022, a023;

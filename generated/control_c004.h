@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_c004: controller half of a step of c004: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_c004' (hash 0297cf1282a3954f02f3099e6e294fe331817ad42bf07e416ddc88a7f37d6f61),
+ * Produced by `python build.py` from family 'controller_c004' (hash 1806517adcad98ccc33cf135302c705138236c777a4de3cf551feabc0edaa9a2),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -11,6 +11,7 @@
  *   symbolic/controllers/__init__.py
  *   symbolic/controllers/c004.py
  *   symbolic/environment.py
+ *   symbolic/faults.py
  *   symbolic/functions.py
  *   symbolic/kepler.py
  *   symbolic/layout.py

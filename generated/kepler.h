@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * kepler: eccentric anomaly from Kepler's equation (000 eq. 32)
- * Produced by `python build.py` from family 'plant' (hash cd6a89d74649c28f1e71cdde67e34a8501aaa018b4d3a6a6746d2ab52b419783),
+ * Produced by `python build.py` from family 'plant' (hash c41d3ef04a178d01ef1d679a58fff37f0fe93ec8561408335ca64b780bc548b0),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -10,6 +10,7 @@
  *   symbolic/constraints.py
  *   symbolic/controllers/__init__.py
  *   symbolic/environment.py
+ *   symbolic/faults.py
  *   symbolic/functions.py
  *   symbolic/kepler.py
  *   symbolic/layout.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c001: control law of c001
- * Produced by `python build.py` from family 'controller_c001' (hash 11fe317d8d90f42ad7d44caa9ca6f9414c4de25fe0f0eb77f0e3e4903ae49059),
+ * Produced by `python build.py` from family 'controller_c001' (hash fdc19405b2582f28947b0a3c6c5785aebad25a0e1d99c4f9f4b4b6ba94674acf),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -11,6 +11,7 @@
  *   symbolic/controllers/__init__.py
  *   symbolic/controllers/c001.py
  *   symbolic/environment.py
+ *   symbolic/faults.py
  *   symbolic/functions.py
  *   symbolic/kepler.py
  *   symbolic/layout.py

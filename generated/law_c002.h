@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c002: control law of c002
- * Produced by `python build.py` from family 'controller_c002' (hash 40136ed93f6217bf7b1789b9af1dd0e1cd7b1e9979f2cd738241465c104a9b49),
+ * Produced by `python build.py` from family 'controller_c002' (hash 0416766b89d83ffdf22016b7dcfaee20d2dc5399a8d7b2609129e207c084b5f9),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -11,6 +11,7 @@
  *   symbolic/controllers/__init__.py
  *   symbolic/controllers/c002.py
  *   symbolic/environment.py
+ *   symbolic/faults.py
  *   symbolic/functions.py
  *   symbolic/kepler.py
  *   symbolic/layout.py

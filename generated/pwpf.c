@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * pwpf: PWPF Schmitt trigger
- * Produced by `python build.py` from family 'plant' (hash cd6a89d74649c28f1e71cdde67e34a8501aaa018b4d3a6a6746d2ab52b419783),
+ * Produced by `python build.py` from family 'plant' (hash c41d3ef04a178d01ef1d679a58fff37f0fe93ec8561408335ca64b780bc548b0),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -10,6 +10,7 @@
  *   symbolic/constraints.py
  *   symbolic/controllers/__init__.py
  *   symbolic/environment.py
+ *   symbolic/faults.py
  *   symbolic/functions.py
  *   symbolic/kepler.py
  *   symbolic/layout.py
@@ -86,9 +87,9 @@ CASADI_SYMBOL_EXPORT int pwpf_casadi_int_size(void) { return (int) sizeof(casadi
 CASADI_SYMBOL_EXPORT int pwpf_casadi_real_size(void) { return (int) sizeof(casadi_real); }
 
 static const casadi_int casadi_s0[3] = {16, 1, 1};
-static const casadi_int casadi_s1[3] = {134, 1, 1};
+static const casadi_int casadi_s1[3] = {315, 1, 1};
 
-/* pwpf:(f[16],on_prev[16],duty[16],p[134])->(on[16]) */
+/* pwpf:(f[16],on_prev[16],duty[16],p[315])->(on[16]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0, a1, a2, a3, a4, a5, a6;
   a0=arg[3]? arg[3][131] : 0;

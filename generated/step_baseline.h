@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_baseline: one closed-loop step (plant + baseline + actuators), RK4 over dt: measure, control_baseline, plant_advance
- * Produced by `python build.py` from family 'controller_baseline' (hash 62a5df61b81d56f12db111d491945d4f703d854caa11712443dcb4a767b5116e),
+ * Produced by `python build.py` from family 'controller_baseline' (hash 24614ed03e87207906eee535cb6e3adf700f6e9721dd3c92a5f9e087c2ff0a61),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -11,6 +11,7 @@
  *   symbolic/controllers/__init__.py
  *   symbolic/controllers/baseline.py
  *   symbolic/environment.py
+ *   symbolic/faults.py
  *   symbolic/functions.py
  *   symbolic/kepler.py
  *   symbolic/layout.py
@@ -25,7 +26,7 @@
  *   symbolic/special.py
  *   symbolic/structural_cse.py
  *   symbolic/to_casadi.py
- * Operations: 17024 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 23888 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c004: one closed-loop step (plant + c004 + actuators), RK4 over dt: measure, control_c004, plant_advance
- * Produced by `python build.py` from family 'controller_c004' (hash 0297cf1282a3954f02f3099e6e294fe331817ad42bf07e416ddc88a7f37d6f61),
+ * Produced by `python build.py` from family 'controller_c004' (hash 1806517adcad98ccc33cf135302c705138236c777a4de3cf551feabc0edaa9a2),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -11,6 +11,7 @@
  *   symbolic/controllers/__init__.py
  *   symbolic/controllers/c004.py
  *   symbolic/environment.py
+ *   symbolic/faults.py
  *   symbolic/functions.py
  *   symbolic/kepler.py
  *   symbolic/layout.py
@@ -25,7 +26,7 @@
  *   symbolic/special.py
  *   symbolic/structural_cse.py
  *   symbolic/to_casadi.py
- * Operations: 18773 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 25637 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * xc0_c000: initial state of c000 from the first measurement
- * Produced by `python build.py` from family 'controller_c000' (hash 353af60461980e1486ae4ff2baa8a36e1e6ed769e23e0c7f96cdcbd027b6cbac),
+ * Produced by `python build.py` from family 'controller_c000' (hash 835e9176c74c8d30eea448846854300abd6efee38328cf5fe9979cf7aecacbd3),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -11,6 +11,7 @@
  *   symbolic/controllers/__init__.py
  *   symbolic/controllers/c000.py
  *   symbolic/environment.py
+ *   symbolic/faults.py
  *   symbolic/functions.py
  *   symbolic/kepler.py
  *   symbolic/layout.py
@@ -91,10 +92,10 @@ CASADI_SYMBOL_EXPORT int xc0_c000_casadi_int_size(void) { return (int) sizeof(ca
 CASADI_SYMBOL_EXPORT int xc0_c000_casadi_real_size(void) { return (int) sizeof(casadi_real); }
 
 static const casadi_int casadi_s0[3] = {43, 1, 1};
-static const casadi_int casadi_s1[3] = {134, 1, 1};
+static const casadi_int casadi_s1[3] = {315, 1, 1};
 static const casadi_int casadi_s2[3] = {33, 1, 1};
 
-/* xc0_c000:(meas[43],p[134],k[43])->(xc0[33]) */
+/* xc0_c000:(meas[43],p[315],k[43])->(xc0[33]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12;

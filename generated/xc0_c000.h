@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * xc0_c000: initial state of c000 from the first measurement
- * Produced by `python build.py` from family 'controller_c000' (hash 353af60461980e1486ae4ff2baa8a36e1e6ed769e23e0c7f96cdcbd027b6cbac),
+ * Produced by `python build.py` from family 'controller_c000' (hash 835e9176c74c8d30eea448846854300abd6efee38328cf5fe9979cf7aecacbd3),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -11,6 +11,7 @@
  *   symbolic/controllers/__init__.py
  *   symbolic/controllers/c000.py
  *   symbolic/environment.py
+ *   symbolic/faults.py
  *   symbolic/functions.py
  *   symbolic/kepler.py
  *   symbolic/layout.py

@@ -50,6 +50,7 @@ class PlotData:
     title: str = ""
     limits: dict[str, float] = field(default_factory=dict)  # wheel_speed_max, wheel_torque_max (SI)
     goal: np.ndarray | None = None
+    faults: list[tuple[float, str]] = field(default_factory=list)  # (start time, label) of each fault
 
     @classmethod
     def from_result(cls, result: RunResult, model: Any, params: dict | None = None, gains: dict | None = None,
@@ -73,7 +74,8 @@ class PlotData:
         return cls(t=np.asarray(result.t), dt=float(result.dt), columns=cols, z_layout=z_lay, y_layout=y_lay,
                    controller=ctrl, record_every=int(result.meta.get("record_every", 1)),
                    divergence=None if div is None else (float(div.time), str(div.label)),
-                   title=title or ctrl, limits=limits, goal=goal)
+                   title=title or ctrl, limits=limits, goal=goal,
+                   faults=fault_markers(params or {}, model, float(np.asarray(result.t)[-1])))
 
     def subset(self, figure: str) -> PlotData:
         """A copy with only the columns of ``figure`` (what a worker process is sent)."""
@@ -94,3 +96,24 @@ class PlotData:
         if f is None:
             raise KeyError(name)
         return np.column_stack([self.columns[lbl] for lbl in f["labels"]])
+
+
+#: Window start of a fault that never happens (``symbolic/faults.py`` NEVER).
+FAULT_NEVER = 1e30
+
+
+def fault_markers(params: dict, model: Any, t_end: float) -> list[tuple[float, str]]:
+    """(start time, label) of every fault window that opens by ``t_end``, from the run's
+    parameters ``fault_<unit>_<kind>_start`` (one entry per unit; labels from the manifest)."""
+    layout = {f["name"]: f for f in getattr(model, "layouts", {}).get("p", [])}
+    out = []
+    for name, v in params.items():
+        if not (name.startswith("fault_") and name.endswith("_start")):
+            continue
+        what = name.removeprefix("fault_").removesuffix("_start").replace("thr_", "thruster_")
+        labels = layout.get(name, {}).get("labels") or [str(i) for i in range(np.size(v))]
+        comps = [lbl.removeprefix(name + "_") for lbl in labels]
+        for c, start in zip(comps, np.ravel(np.asarray(v, float)), strict=False):
+            if start < FAULT_NEVER and start <= t_end:
+                out.append((float(start), f"{what} {c}"))
+    return sorted(out)

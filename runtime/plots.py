@@ -136,10 +136,15 @@ def _finish(fig: Figure, axes, d: PlotData, title: str, path: Path) -> None:
         ax.grid(True, alpha=0.3)
         if d.divergence is not None:
             ax.axvline(d.divergence[0], color="red", lw=1.0, ls="--")
+        for t_f, _label in d.faults:
+            ax.axvline(t_f, color="darkorange", lw=1.0, ls=":")
     bottom = {ax.get_subplotspec().colspan.start: ax for ax in axes}  # the lowest panel of each column
     for ax in bottom.values():
         ax.set_xlabel("time [s]")
         ax.xaxis.set_tick_params(labelbottom=True)
+    if d.faults:
+        shown = "; ".join(f"{label} at {t_f:g} s" for t_f, label in d.faults[:4])
+        title = f"{title}\nfaults (dotted): {shown}{' ...' if len(d.faults) > 4 else ''}"
     if d.divergence is not None:
         title = f"{title}\nDIVERGED at t = {d.divergence[0]:.6g} s ({d.divergence[1]})"
     fig.suptitle(f"{d.title}: {title}", fontsize=11, y=1 - 0.12 / fig.get_figheight(), va="top")

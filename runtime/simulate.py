@@ -166,11 +166,16 @@ class Simulation:
             n = np.linalg.norm(z[offs[q]])
             if abs(n - 1) > 1e-6:
                 raise ModelError(f"initial state: {q} must be a unit quaternion (|q| = {n:.9g})")
+        # the sensor hold (layout "hold": sensor_<field>, the last value the sensor of <field> gave)
+        # starts at the true initial values, which a sensor frozen from t = 0 repeats
+        for name in self.model.offsets("hold"):
+            z[offs[name]] = z[offs[name.removeprefix("sensor_")]]
         entry = self.model.manifest["controllers"][self.controller]
         if "xc0" in entry and not controller:
             # the design starts its states from the first (noise-free) measurement
             nx = self.model.layout_size("x")
-            meas = self.model.functions["measure"](z[:nx], 0.0, self.p, np.zeros(self.nw))[0]
+            hold = np.concatenate([z[offs[name]] for name in self.model.offsets("hold")])
+            meas = self.model.functions["measure"](z[:nx], hold, 0.0, self.p, np.zeros(self.nw))[0]
             xc0 = np.ravel(self.model.functions[entry["xc0"]](meas, self.p, self.k)[0])
             first = self.nz - xc0.size  # controller states close the packed state (closed_loop.state_layout)
             z[first:] = xc0

@@ -10,6 +10,7 @@ from __future__ import annotations
 import sympy as sp
 
 from .rotations import cross
+from .special import Fmax, fmax
 
 # --------------------------------------------------------------------------- reaction wheels
 
@@ -171,3 +172,84 @@ def schmitt_trigger(f, on_prev, u_on, u_off):
 def pwpf_filter_step(f, demand, on, k_m, t_m, dt):
     """Prefilter state after dt: f + (1 - exp(-dt/T_m)) (K_m (demand - on) - f)."""
     return f + (1 - sp.exp(-dt / t_m)) * (k_m * (demand - on) - f)
+
+
+# --------------------------------------------------------------------------- fault-aware allocation
+# rpo's FDIR model (not the papers'): with ``fdir_allocation`` = 1 these allocations replace the
+# nominal ones, over the units the fault flags of :mod:`rpo.symbolic.faults` leave healthy.  Both
+# take the nominal minimum-norm solution and move it along the null space of the actuator matrix
+# (which changes no body torque or wrench) until the failed units are at zero: exact, closed-form
+# and as well conditioned as the nominal allocation, where a pseudo-inverse over the healthy
+# units would be singular whenever they stop spanning the axes.
+
+
+def null_space_redistribution(x, null_vectors, failed):
+    """x moved along ``null_vectors`` so that the ``failed`` entries (0/1 flags) are zero.
+
+    Each null vector has entries in {-1, 0, 1} and no two share an entry (true of the wheel
+    pyramid and of the thruster pairs, :func:`pyramid_null_vector`, :func:`thruster_pair_null_vectors`),
+    so each is moved on its own: by -n_j x_j for its one failed entry j, which zeroes it exactly.
+    With two or more failed entries on one null vector no exact solution exists; the shift then
+    averages theirs and the failed entries are set to zero (the command is not reproduced).
+    """
+    x = sp.Matrix(x)
+    for n in null_vectors:
+        members = [j for j in range(len(x)) if n[j] != 0]
+        count = sum(failed[j] for j in members)
+        c = -sum(failed[j] * n[j] * x[j] for j in members) / Fmax(count, 1)
+        x = x + c * sp.Matrix(n)
+    return sp.Matrix([(1 - failed[j]) * x[j] for j in range(len(x))])
+
+
+def pyramid_null_vector():
+    """The null space of A* (any beta): [1, -1, 1, -1] (opposite wheels' torques cancel)."""
+    return [1, -1, 1, -1]
+
+
+def allocate_wheel_torques_healthy(beta, T_cmd, T_max, avail, limit):
+    """Per-wheel torques [N m] realising T_cmd without the unavailable wheels (``avail`` 0/1).
+
+    The minimum-norm torques (eq. 46 inverted), moved along the pyramid's null space until an
+    unavailable wheel's torque is zero: with one wheel lost the remaining three (which span the
+    body axes) realise T_cmd exactly; then scaled down uniformly so that no wheel exceeds its own
+    limit ``limit_i`` T_max (0 < limit_i <= 1, a weak wheel's), keeping the direction.
+    """
+    T_w = null_space_redistribution(pyramid_pseudo_inverse(beta) * T_cmd, [pyramid_null_vector()],
+                                    [1 - a for a in avail])
+    scale = fmax(1, *[sp.Abs(T_w[i], evaluate=False) / (limit[i] * T_max) for i in range(4)])
+    return T_w / scale
+
+
+def thruster_pair_null_vectors():
+    """A basis of the null space of B8 with entries in {-1, 0, 1} and disjoint supports."""
+    B8 = thruster_pair_matrix()
+    basis = [list(v) for v in B8.nullspace()]
+    for v in basis:
+        assert all(c in (-1, 0, 1) for c in v), "thruster layout: null vector not in {-1, 0, 1}"
+    assert all(a * b == 0 for a, b in zip(*basis, strict=True)), "thruster layout: null vectors share pairs"
+    return basis
+
+
+def allocate_thrusters_healthy(F_cmd, tau_cmd, F_max, avail, thrust, stuck_on):
+    """Duty demands in [0, 1]^16 without the unavailable thrusters (rpo's FDIR model).
+
+    The known wrench of the stuck-on thrusters is subtracted from the command; the pair levels of
+    :func:`allocate_thrusters` for the rest are moved along the two null vectors of B8 until the
+    pairs with an unavailable thruster are at zero (exact for up to one such pair per null
+    vector); a weak thruster's demand is divided by its thrust fraction ``thrust_j``
+    (0 < thrust_j <= 1); all demands are scaled down together when one exceeds 1.  A pair with one
+    failed thruster is not used (its partner alone could push one way only), so this is not the
+    best allocation an optimiser (an LP) would find, but it is closed-form.
+    """
+    B = thruster_wrench_matrix()
+    B8 = thruster_pair_matrix()
+    stuck_wrench = B * sp.Matrix([stuck_on[j] * thrust[j] for j in range(16)]) * F_max
+    w = sp.Matrix.vstack(F_cmd, tau_cmd) - stuck_wrench
+    x = B8.T * (B8 * B8.T).inv() * w / F_max
+    pair_failed = [1 - avail[2 * j] * avail[2 * j + 1] for j in range(8)]
+    x = null_space_redistribution(x, thruster_pair_null_vectors(), pair_failed)
+    d = []
+    for j in range(8):
+        d += [Fmax(x[j], 0) / thrust[2 * j], Fmax(-x[j], 0) / thrust[2 * j + 1]]
+    scale = fmax(1, *d)
+    return sp.Matrix(d) / scale

@@ -15,7 +15,11 @@ Timing within a step of length dt starting at t_k (zero-order hold):
 3. each thruster's Schmitt trigger switches on the PWPF prefilter state at t_k, the on/off level
    is held over the step, and the prefilter is advanced exactly over dt;
 4. quaternions are renormalised after the step; controller states are advanced by RK4 with the
-   measurement held.
+   measurement held;
+5. fault windows (:mod:`.faults`) are evaluated at t_k and held over the step: the wheels and
+   thrusters deliver what their faults let them (``wheel_faults``, ``thruster_faults``), the
+   allocations are fault-aware when ``fdir_allocation`` = 1, and a frozen sensor repeats the value
+   it gave at the previous step (the step state's sensor hold).
 """
 
 from __future__ import annotations
@@ -25,6 +29,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from . import actuators as act
+from . import faults as flt
 from .controllers import command_layout
 from .layout import Layout
 from .plant import THRUSTERS, WHEELS, Plant
@@ -53,7 +58,7 @@ class Piece:
 
 #: The controller-independent pieces a step is composed of (the keys of :func:`plant_pieces`).
 PLANT_PIECES = ("plant_rhs", "measure", "env_outputs", "ideal_actuators", "wheel_alloc", "thruster_alloc", "pwpf",
-                "pwpf_filter")
+                "pwpf_filter", "wheel_faults", "thruster_faults")
 
 
 def plant_pieces(plant: Plant) -> dict[str, Piece]:
@@ -68,20 +73,39 @@ def plant_pieces(plant: Plant) -> dict[str, Piece]:
     f = sp.Matrix(sp.symbols("f_0:16", real=True))
     on = sp.Matrix(sp.symbols("on_0:16", real=True))
     duty = sp.Matrix(sp.symbols("d_0:16", real=True))
+    tau4 = sp.Matrix(sp.symbols("Tw_1:5", real=True))
+    hold = P.hold.vector()
+    meas = P.measurement()
+    wf, tf = flt.wheel_flags(t, pr), flt.thruster_flags(t, pr)
+    fdir = pr["fdir_allocation"]
+    wheel_ok = [(1 - wf["off"][i]) * (1 - wf["stuck"][i]) for i in range(4)]
+    thr_ok = [(1 - tf["off"][j]) * (1 - tf["stuck_on"][j]) for j in range(16)]
+    T_nominal = act.allocate_wheel_torques(pr["wheel_beta"], tau_w, pr["wheel_torque_max"])
+    T_aware = act.allocate_wheel_torques_healthy(pr["wheel_beta"], tau_w, pr["wheel_torque_max"], wheel_ok,
+                                                 wf["limit"])
+    d_nominal = act.allocate_thrusters(F_c, tau_t, pr["thruster_force"])
+    d_aware = act.allocate_thrusters_healthy(F_c, tau_t, pr["thruster_force"], thr_ok, tf["thrust"],
+                                             tf["stuck_on"])
     return {
         "plant_rhs": Piece("plant_rhs", [("x", x), ("u", u), ("t", t), ("p", p), ("w", w)],
                            [("xdot", P.rhs())]),
-        "measure": Piece("measure", [("x", x), ("t", t), ("p", p), ("w", w)], [("meas", P.measurement())]),
+        "measure": Piece("measure", [("x", x), ("hold", hold), ("t", t), ("p", p), ("w", w)],
+                         [("meas", meas), ("hold_next", P.sensor_hold_next(meas))]),
         "env_outputs": Piece("env_outputs", [("x", x), ("u", u), ("t", t), ("p", p), ("w", w)],
                              [("env", P.env_outputs())]),
         "ideal_actuators": Piece("ideal_actuators", [("F", F_c), ("tau", tau_w), ("p", p)], list(zip(
             ("F_applied", "tau_applied"), act.ideal_wrench(F_c, tau_w, pr["force_max"], pr["torque_max"]),
             strict=True))),
-        "wheel_alloc": Piece("wheel_alloc", [("tau", tau_w), ("p", p)],
-                             [("T_w", act.allocate_wheel_torques(pr["wheel_beta"], tau_w,
-                                                                 pr["wheel_torque_max"]))]),
-        "thruster_alloc": Piece("thruster_alloc", [("F", F_c), ("tau", tau_t), ("p", p)],
-                                [("duty", act.allocate_thrusters(F_c, tau_t, pr["thruster_force"]))]),
+        # the fault-aware allocation (fdir_allocation = 1) or the nominal one, exactly, when 0
+        "wheel_alloc": Piece("wheel_alloc", [("tau", tau_w), ("t", t), ("p", p)],
+                             [("T_w", fdir * T_aware + (1 - fdir) * T_nominal)]),
+        "thruster_alloc": Piece("thruster_alloc", [("F", F_c), ("tau", tau_t), ("t", t), ("p", p)],
+                                [("duty", fdir * d_aware + (1 - fdir) * d_nominal)]),
+        "wheel_faults": Piece("wheel_faults", [("T_w", tau4), ("t", t), ("p", p)], [
+            ("T_applied", flt.faulty_wheel_torques(tau4, t, pr, pr["wheel_torque_max"])),
+            ("locked", wf["stuck"])]),
+        "thruster_faults": Piece("thruster_faults", [("on", on), ("t", t), ("p", p)],
+                                 [("level", flt.faulty_thruster_levels(on, t, pr))]),
         "pwpf": Piece("pwpf", [("f", f), ("on_prev", on), ("duty", duty), ("p", p)], [
             ("on", sp.Matrix([act.schmitt_trigger(f[i], on[i], pr["pwpf_uon"], pr["pwpf_uoff"])
                               for i in range(16)])),
@@ -118,9 +142,11 @@ def output_layout(plant: Plant, ctrl) -> Layout:
         for fl in lay.fields:
             y.add(f"{prefix}_{fl.name}", fl.size, fl.unit, fl.doc, fl.components)
     y.add("wheel_cmd", 4, "N m", "allocated, saturated wheel torque command", WHEELS)
-    y.add("wheel_applied", 4, "N m", "delayed wheel command applied after t_k + delta", WHEELS)
+    y.add("wheel_applied", 4, "N m", "motor torque the wheels deliver after t_k + delta (delayed command, faults)",
+          WHEELS)
     y.add("thr_duty", 16, "-", "thruster duty demand (PWPF input)", THRUSTERS)
-    y.add("thr_on", 16, "-", "thruster on-level over the step", THRUSTERS)
+    y.add("thr_on", 16, "-", "thrust level over the step (PWPF on-level after faults; fraction of the thrust)",
+          THRUSTERS)
     for fl in plant.env.fields:
         y.add(f"env_{fl.name}", fl.size, fl.unit, fl.doc, fl.components)
     for fl in ctrl.diag.fields:
@@ -129,10 +155,12 @@ def output_layout(plant: Plant, ctrl) -> Layout:
 
 
 def state_layout(plant: Plant, ctrl=None) -> Layout:
-    """The packed step state z = [plant x, actuator states, controller states] (``ctrl`` None: the
-    plant's part zp, which :func:`plant_advance` advances)."""
+    """The packed step state z = [plant x, actuator states, sensor hold, controller states]
+    (``ctrl`` None: the plant's part zp, which :func:`plant_advance` advances)."""
     z = Layout("z")
-    blocks = [(plant.x, ""), (actuator_layout(), "")] + ([(ctrl.xc, "xc_")] if ctrl is not None else [])
+    blocks = [(plant.x, ""), (actuator_layout(), "")]
+    if ctrl is not None:
+        blocks += [(plant.hold, ""), (ctrl.xc, "xc_")]
     for lay, prefix in blocks:
         for fl in lay.fields:
             z.add(prefix + fl.name, fl.size, fl.unit, fl.doc, fl.components)
@@ -190,7 +218,7 @@ def plant_advance(ops, fn, idx, zp, t, p, w, cmd):
     # actuator model switch (0/1): wheels and PWPF thrusters, or the papers' ideal actuators
     ideal = p[idx["actuators_ideal"]]
     real = 1 - ideal
-    T_new = real * fn["wheel_alloc"](cmd[0:3], p)[0]
+    T_new = real * fn["wheel_alloc"](cmd[0:3], t, p)[0]
     F_ideal, tau_ideal = fn["ideal_actuators"](cmd[3:6], cmd[0:3] + cmd[6:9], p)
     F_ideal, tau_ideal = ideal * F_ideal, ideal * tau_ideal
 
@@ -205,15 +233,17 @@ def plant_advance(ops, fn, idx, zp, t, p, w, cmd):
             out = out + ops.if_else(j_sym == j, c, ops.zeros(4))
         return out
 
-    T_late = pick(n)          # applied during [t + delta, t + dt)
-    T_early = pick(n + 1)     # applied during [t, t + delta)
+    # what the wheels deliver (faults.py: failed, weak, locked), from the delayed commands
+    T_late, locked = fn["wheel_faults"](pick(n), t, p)   # applied during [t + delta, t + dt)
+    T_early = fn["wheel_faults"](pick(n + 1), t, p)[0]   # applied during [t, t + delta)
 
-    duty = real * fn["thruster_alloc"](cmd[3:6], cmd[6:9], p)[0]
+    duty = real * fn["thruster_alloc"](cmd[3:6], cmd[6:9], t, p)[0]
     on = fn["pwpf"](f, on_prev, duty, p)[0]
-    f_next = fn["pwpf_filter"](f, duty, on, p)[0]
+    f_next = fn["pwpf_filter"](f, duty, on, p)[0]  # the modulator's feedback is its own output
+    level = fn["thruster_faults"](on, t, p)[0]     # what the thrusters deliver
 
     def plant_with(Tw):
-        u = ops.vcat(Tw, on, F_ideal, tau_ideal)
+        u = ops.vcat(Tw, level, F_ideal, tau_ideal, locked)
         return lambda xx, tt: fn["plant_rhs"](xx, u, tt, p, w)[0]
 
     t_delta, t_next = t + delta, t + dt
@@ -231,8 +261,8 @@ def plant_advance(ops, fn, idx, zp, t, p, w, cmd):
     x_next = ops.vcat(*parts)
 
     zp_next = ops.vcat(x_next, T_new, *hist[:-1], f_next, on)
-    env = fn["env_outputs"](x, ops.vcat(T_late, on, F_ideal, tau_ideal), t, p, w)[0]
-    return zp_next, ops.vcat(T_new, T_late, duty, on, env)
+    env = fn["env_outputs"](x, ops.vcat(T_late, level, F_ideal, tau_ideal, locked), t, p, w)[0]
+    return zp_next, ops.vcat(T_new, T_late, duty, level, env)
 
 
 def step(ops, fn, idx, z, t, p, k, w):
@@ -244,12 +274,12 @@ def step(ops, fn, idx, z, t, p, k, w):
     ``fn``: callables for the pieces of :data:`PLANT_PIECES` plus ``law`` (the controller's),
     each returning a tuple of outputs; ``idx``: offsets from :func:`step_indices`.
     """
-    nzp, nc = idx["nzp"], idx["nc"]
-    zp, xc = z[0:nzp], z[nzp:nzp + nc]
-    meas = fn["measure"](zp[0:idx["nx"]], t, p, w)[0]
+    nzp, nh, nc = idx["nzp"], idx["nh"], idx["nc"]
+    zp, hold, xc = z[0:nzp], z[nzp:nzp + nh], z[nzp + nh:nzp + nh + nc]
+    meas, hold_next = fn["measure"](zp[0:idx["nx"]], hold, t, p, w)
     cmd, xc_next, diag = controller_update(ops, fn["law"], meas, xc, t, p, k, p[idx["dt"]], nc)
     zp_next, y_plant = plant_advance(ops, fn, idx, zp, t, p, w, cmd)
-    return ops.vcat(zp_next, xc_next), ops.vcat(meas, cmd, y_plant, diag)
+    return ops.vcat(zp_next, hold_next, xc_next), ops.vcat(meas, cmd, y_plant, diag)
 
 
 def step_indices(plant: Plant, ctrl=None) -> dict:
@@ -259,6 +289,7 @@ def step_indices(plant: Plant, ctrl=None) -> dict:
     return {
         "nx": plant.x.size,
         "nzp": plant.x.size + actuator_layout().size,
+        "nh": plant.hold.size,
         "nc": ctrl.xc.size if ctrl is not None else 0,
         "dt": po["dt"][0],
         "wheel_delay": po["wheel_delay"][0],

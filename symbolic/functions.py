@@ -31,11 +31,16 @@ CONTROLLERS_DIR = SYMBOLIC_DIR / "controllers"
 _SIGNATURES = {
     "plant_rhs": (["x", "u", None, "p", "w"], ["x"], "plant right-hand side dx/dt (000 eqs. 6, 10, 24, 30, 45-47)"),
     "plant_jac": (["x", "u", None, "p", "w"], [None, None], "Jacobians of plant_rhs w.r.t. x and u (CasADi AD)"),
-    "measure": (["x", None, "p", "w"], ["meas"], "truth + sensor noise -> what the controllers read"),
+    "measure": (["x", "hold", None, "p", "w"], ["meas", "hold"],
+                "truth + sensor noise, bias and faults -> what the controllers read; the sensor hold after it"),
     "env_outputs": (["x", "u", None, "p", "w"], ["env"], "environment/actuator diagnostics"),
     "ideal_actuators": ([None, None, "p"], [None, None], "ideal actuators: per-axis saturated force and torque"),
-    "wheel_alloc": ([None, "p"], [None], "pyramid wheel allocation with saturation (inverse of 000 eq. 46)"),
-    "thruster_alloc": ([None, None, "p"], [None], "thruster duty allocation"),
+    "wheel_alloc": ([None, None, "p"], [None], "pyramid wheel allocation with saturation (inverse of 000 eq. 46), "
+                    "nominal or over the healthy wheels"),
+    "thruster_alloc": ([None, None, None, "p"], [None], "thruster duty allocation, nominal or over the healthy "
+                       "thrusters"),
+    "wheel_faults": ([None, None, "p"], [None, None], "motor torques the wheels deliver, which are locked (faults)"),
+    "thruster_faults": ([None, None, "p"], [None], "thrust levels the thrusters deliver (faults)"),
     "pwpf": ([None, None, None, "p"], [None], "PWPF Schmitt trigger"),
     "pwpf_filter": ([None, None, None, "p"], [None], "PWPF prefilter update over dt"),
     "target_orbit": ([None, "p"], [None] * 8, "target orbit at t (000 eqs. 31-36, corrected LVLH rate)"),
@@ -149,7 +154,7 @@ def _build_plant(_resolve) -> FamilyOutput:
     funcs.append(Generated(casadi_plant_advance(cas, P), ["zp", None, "p", "w", None], ["zp", None],
                            "plant half of a step: actuators, delay line, PWPF, RK4 of plant_rhs over dt"))
     layouts = {name: lay.describe() for name, lay in
-               (("p", P.p), ("x", P.x), ("u", P.u), ("w", P.w), ("meas", P.meas), ("env", P.env),
+               (("p", P.p), ("x", P.x), ("u", P.u), ("w", P.w), ("meas", P.meas), ("env", P.env), ("hold", P.hold),
                 ("zp", cl.state_layout(P)))}
     return FamilyOutput(funcs, layouts, {"delay_slots": cl.DELAY_SLOTS,
                                          "quaternion_convention": QUATERNION_CONVENTION})
@@ -229,24 +234,25 @@ def composed_step(cas: dict, P, ctrl) -> Generated:
 
     name = ctrl.name
     idx = cl.step_indices(P, ctrl)
-    nzp, nc, nx = idx["nzp"], idx["nc"], idx["nx"]
+    nzp, nh, nc, nx = idx["nzp"], idx["nh"], idx["nc"], idx["nx"]
     measure, control, advance = cas["measure"], cas[f"control_{name}"], cas["plant_advance"]
-    z = ca.MX.sym("z", nzp + nc)
+    z = ca.MX.sym("z", nzp + nh + nc)
     t, p = ca.MX.sym("t"), ca.MX.sym("p", P.p.size)
     k, w = ca.MX.sym("k", ctrl.k.size), ca.MX.sym("w", P.w.size)
-    meas = measure(z[0:nx], t, p, w)
-    cmd, xc_next, diag = control(meas, z[nzp:nzp + nc], t, p, k)
+    meas, hold_next = measure(z[0:nx], z[nzp:nzp + nh], t, p, w)
+    cmd, xc_next, diag = control(meas, z[nzp + nh:nzp + nh + nc], t, p, k)
     zp_next, y_plant = advance(z[0:nzp], t, p, w, cmd)
-    fn = ca.Function(f"step_{name}", [z, t, p, k, w], [ca.vertcat(zp_next, xc_next),
+    fn = ca.Function(f"step_{name}", [z, t, p, k, w], [ca.vertcat(zp_next, hold_next, xc_next),
                                                        ca.vertcat(meas, cmd, y_plant, diag)],
                      ["z", "t", "p", "k", "w"], ["z_next", "y"])
     n_meas, n_diag, n_yp = P.meas.size, ctrl.diag.size, advance.size1_out(1)
     c_code = composed_c(
-        f"step_{name}", [("z", nzp + nc), ("t", 1), ("p", P.p.size), ("k", ctrl.k.size), ("w", P.w.size)],
-        [("z_next", ["zp_next", "xc_next"]), ("y", ["meas", "cmd", "y_plant", "diag"])],
-        [("meas", n_meas), ("cmd", 9), ("xc_next", nc), ("diag", n_diag), ("zp_next", nzp), ("y_plant", n_yp)],
-        [Call(Callee.of(measure), [("z", 0), ("t", 0), ("p", 0), ("w", 0)], ["meas"]),
-         Call(Callee.of(control), [("meas", 0), ("z", nzp), ("t", 0), ("p", 0), ("k", 0)],
+        f"step_{name}", [("z", nzp + nh + nc), ("t", 1), ("p", P.p.size), ("k", ctrl.k.size), ("w", P.w.size)],
+        [("z_next", ["zp_next", "hold_next", "xc_next"]), ("y", ["meas", "cmd", "y_plant", "diag"])],
+        [("meas", n_meas), ("hold_next", nh), ("cmd", 9), ("xc_next", nc), ("diag", n_diag), ("zp_next", nzp),
+         ("y_plant", n_yp)],
+        [Call(Callee.of(measure), [("z", 0), ("z", nzp), ("t", 0), ("p", 0), ("w", 0)], ["meas", "hold_next"]),
+         Call(Callee.of(control), [("meas", 0), ("z", nzp + nh), ("t", 0), ("p", 0), ("k", 0)],
               ["cmd", "xc_next", "diag"]),
          Call(Callee.of(advance), [("z", 0), ("t", 0), ("p", 0), ("w", 0), ("cmd", 0)], ["zp_next", "y_plant"])])
     ops = sum(int(f.n_instructions()) for f in (measure, control, advance))

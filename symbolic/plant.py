@@ -23,13 +23,19 @@ import sympy as sp
 
 from . import actuators as act
 from . import environment as env
+from . import faults as flt
 from . import orbit as orb
 from .constraints import beta_ca, beta_fov
 from .layout import NON_NEGATIVE, POSITIVE, XYZ, XYZW, Bounds, Layout, ScenarioKey
 from .mass_properties import chaser_mass_properties
 from .relative_attitude import attitude_error, rate_error
 from .relative_translation import chaser_inertial_state, relative_acceleration
-from .rigid_body import chaser_angular_acceleration, target_angular_acceleration, wheel_momentum_rate
+from .rigid_body import (
+    chaser_angular_acceleration,
+    locked_wheel_inertia,
+    locked_wheel_momentum_rate,
+    target_angular_acceleration,
+)
 from .rotations import norm, quat_conj, quat_mul, quat_rate, quat_to_dcm, vec
 
 INERTIA_COMPONENTS = ("xx", "yy", "zz", "xy", "xz", "yz")
@@ -188,7 +194,37 @@ def _params() -> Layout:
     # simulation
     p.add("dt", 1, "s", "control and integration step", default=0.01, bounds=pos,
           scenario=S("simulation.rate", "Hz", kind="reciprocal"))
+    _fault_params(p)
     return p
+
+
+SENSOR_NAMES = ("attitude", "rate", "position", "velocity")
+
+
+def _fault_params(p: Layout) -> None:
+    """The fault windows and values of :mod:`rpo.symbolic.faults`, set by the scenario's
+    ``[[faults]]`` array (``runtime/scenario/faults.py``), and the FDIR switch."""
+    never = flt.NEVER
+    window = Bounds(0.0, never)
+    for unit, kinds, names in (("wheel", flt.WHEEL_KINDS, WHEELS), ("thr", flt.THRUSTER_KINDS, THRUSTERS),
+                               ("sensor", flt.SENSOR_KINDS, SENSOR_NAMES)):
+        for kind in kinds:
+            for edge in ("start", "end"):
+                p.add(f"fault_{unit}_{kind}_{edge}", len(names), "s", f"{unit} {kind} fault: window {edge} time "
+                      f"(never: {never:g})", names, default=(never,) * len(names), bounds=window)
+    fraction = Bounds(0.0, 1.0, lo_open=True)
+    p.add("fault_wheel_weak_value", 4, "-", "weak wheel: fraction of the torque limit left", WHEELS,
+          default=(1.0,) * 4, bounds=fraction)
+    p.add("fault_thr_weak_value", 16, "-", "weak thruster: fraction of the thrust left", THRUSTERS,
+          default=(1.0,) * 16, bounds=fraction)
+    for s, unit in zip(flt.SENSORS, ("rad", "rad/s", "m", "m/s"), strict=True):
+        p.add(f"fault_bias_{s}", 3, unit, f"{s} sensor bias step (added to meas_{s}_bias)", XYZ,
+              default=(0.0,) * 3)
+        p.add(f"fault_noise_{s}_std", 1, unit, f"{s} sensor noise std during a noise fault", default=0.0,
+              bounds=NON_NEGATIVE)
+    p.add("fdir_allocation", 1, "-", "fault-aware allocation over the healthy units (1, rpo's FDIR model) "
+          "or the nominal allocation (0)", default=0,
+          scenario=ScenarioKey("fdir.allocation", kind="choice", choices=(("nominal", 0.0), ("healthy", 1.0))))
 
 
 def _state() -> Layout:
@@ -207,9 +243,11 @@ def _state() -> Layout:
 def _input() -> Layout:
     u = Layout("u")
     u.add("T_w", 4, "N m", "wheel torques on the body (delayed command)", WHEELS)
-    u.add("thr_on", 16, "-", "thruster on-levels (0 or 1)", THRUSTERS)
+    u.add("thr_on", 16, "-", "thruster thrust levels (PWPF on-level 0 or 1, after faults: a fraction)", THRUSTERS)
     u.add("F_ideal", 3, "N", "force of the ideal actuators, chaser body", XYZ)
     u.add("tau_ideal", 3, "N m", "torque of the ideal actuators, chaser body", XYZ)
+    u.add("wheel_locked", 4, "-", "wheels locked to the body (1; the wheel_stuck fault) or free (0)", WHEELS,
+          default=(0, 0, 0, 0))
     return u
 
 
@@ -243,6 +281,20 @@ def _measurement() -> Layout:
     m.add("w_e", 3, "rad/s", "rate error, chaser axes (000 eq. 17)", XYZ)
     m.add("q_cL", 4, "-", "chaser attitude relative to the LVLH frame", XYZW)
     return m
+
+
+#: The measurement fields of the four sensors a fault can name (faults.SENSORS, in order).
+SENSOR_FIELDS = ("q_c", "w_c", "r", "v")
+
+
+def _sensor_hold() -> Layout:
+    """The last value each sensor gave (a frozen sensor repeats it; rpo's sensor_freeze fault)."""
+    h = Layout("hold")
+    h.add("sensor_q_c", 4, "-", "last chaser attitude the attitude sensor gave", XYZW)
+    h.add("sensor_w_c", 3, "rad/s", "last chaser rate the rate sensor gave", XYZ)
+    h.add("sensor_r", 3, "m", "last relative position the position sensor gave", XYZ)
+    h.add("sensor_v", 3, "m/s", "last relative velocity the velocity sensor gave", XYZ)
+    return h
 
 
 def _env_outputs() -> Layout:
@@ -279,6 +331,7 @@ class Plant:
     meas: Layout
     env: Layout
     t: sp.Symbol
+    hold: Layout
 
     def orbit(self, t=None):
         """Target orbit quantities at t (default: the time symbol)."""
@@ -343,7 +396,11 @@ class Plant:
         r, v = x["r"], x["v"]
 
         Omega = act.wheel_speeds(h_w, p["wheel_inertia"], A, w_c)
+        # motor torques; a locked wheel (u wheel_locked = 1) exerts none of its own but turns with the body
+        locked = u["wheel_locked"]
         T_w = act.speed_limited_torques(u["T_w"], Omega, p["wheel_speed_max"])
+        T_free = sp.Matrix([(1 - locked[i]) * T_w[i] for i in range(4)])
+        I_locked = locked_wheel_inertia(p["wheel_inertia"], A, locked)
         F_thr, tau_thr = act.thruster_wrench(u["thr_on"], p["thruster_force"])
 
         r_c_eci, v_c_eci = chaser_inertial_state(o["r_eci"], o["v_eci"], o["C_IL"], o["n"], r, v)
@@ -376,12 +433,16 @@ class Plant:
 
         M_c = M_gg_c + M_mag_c + M_r_c + tau_thr + u["tau_ideal"] + tau_dist
         M_t = M_gg_t + M_mag_t + M_r_t
+        h_rw = A * h_w
+        w_dot = chaser_angular_acceleration(I_c, w_c, h_rw, A * T_free, M_c, I_locked)
+        T_c = A * T_free - I_locked * w_dot  # the wheels' torque on the body, locked ones included
         return {
             "orbit": o, "m_c": m_c, "I_c": I_c, "I_t": I_t, "A": A, "Omega": Omega, "T_w": T_w,
-            "T_c": A * T_w, "F_thr": F_thr, "tau_thr": tau_thr, "M_c": M_c, "M_t": M_t,
+            "w_dot": w_dot, "h_w_dot": locked_wheel_momentum_rate(T_w, p["wheel_inertia"], A, locked, w_dot),
+            "T_c": T_c, "F_thr": F_thr, "tau_thr": tau_thr, "M_c": M_c, "M_t": M_t,
             "M_gg_c": M_gg_c, "M_gg_t": M_gg_t, "M_mag_t": M_mag_t, "a_d": a_d, "a_ctrl": a_ctrl,
-            "h_rw": A * h_w, "n_L": n_L, "n_dot_L": n_dot_L, "C_IL": C_IL, "C_Ic": C_Ic,
-            "F_ctrl": F_ctrl, "tau_ctrl": A * T_w + tau_thr + u["tau_ideal"], "F_dist": F_dist, "tau_dist": tau_dist,
+            "h_rw": h_rw, "n_L": n_L, "n_dot_L": n_dot_L, "C_IL": C_IL, "C_Ic": C_Ic,
+            "F_ctrl": F_ctrl, "tau_ctrl": T_c + tau_thr + u["tau_ideal"], "F_dist": F_dist, "tau_dist": tau_dist,
         }
 
     def rhs(self) -> sp.Matrix:
@@ -391,8 +452,8 @@ class Plant:
         o = k["orbit"]
         return self.x.pack({
             "q_c": quat_rate(x["q_c"], x["w_c"]),
-            "w_c": chaser_angular_acceleration(k["I_c"], x["w_c"], k["h_rw"], k["T_c"], k["M_c"]),
-            "h_w": wheel_momentum_rate(k["T_w"]),
+            "w_c": k["w_dot"],
+            "h_w": k["h_w_dot"],
             "q_t": quat_rate(x["q_t"], x["w_t"]),
             "w_t": target_angular_acceleration(k["I_t"], x["w_t"], k["M_t"]),
             "r": x["v"],
@@ -416,25 +477,37 @@ class Plant:
         attitude (a small rotation in body axes), its rate, and the relative position and
         velocity.  The target's attitude and rate are passed exactly.
         """
-        x, p, w = self.x, self.p, self.w
+        x, p, w, t = self.x, self.p, self.w, self.t
         o = self.orbit()
         q_L, _C_IL, n_L, n_dot_L = self.reference_frame(o)
-        dtheta = p["meas_att_std"] * w["n_att"] + p["meas_att_bias"]
+        # noise and bias, with the sensor faults' windows (faults.py); then a frozen sensor repeats
+        # the last value it gave (the step state's sensor hold, self.hold)
+        nb = flt.sensor_noise_and_bias(t, p)
+        dtheta = nb["att"][0] * w["n_att"] + nb["att"][1]
         dq = vec(dtheta[0] / 2, dtheta[1] / 2, dtheta[2] / 2, 1)
-        q_c = quat_mul(x["q_c"], dq / norm(dq))
-        w_c = x["w_c"] + p["meas_rate_std"] * w["n_rate"] + p["meas_rate_bias"]
+        live = {"att": quat_mul(x["q_c"], dq / norm(dq)),
+                "rate": x["w_c"] + nb["rate"][0] * w["n_rate"] + nb["rate"][1],
+                "pos": x["r"] + nb["pos"][0] * w["n_pos"] + nb["pos"][1],
+                "vel": x["v"] + nb["vel"][0] * w["n_vel"] + nb["vel"][1]}
+        held = {s: self.hold[f"sensor_{f}"] for s, f in zip(flt.SENSORS, SENSOR_FIELDS, strict=True)}
+        out = flt.frozen(t, p, held, live)
+        q_c, w_c = out["att"], out["rate"]
         q_e = attitude_error(q_c, x["q_t"])
         g = p["gravity_on"]
         return self.meas.pack({
             "q_c": q_c, "w_c": w_c, "q_t": x["q_t"], "w_t": x["w_t"],
-            "r": x["r"] + p["meas_pos_std"] * w["n_pos"] + p["meas_pos_bias"],
-            "v": x["v"] + p["meas_vel_std"] * w["n_vel"] + p["meas_vel_bias"],
+            "r": out["pos"], "v": out["vel"],
             "q_L": q_L, "n": n_L, "n_dot": n_dot_L, "r_t": o["r"], "r_t_dot": g * o["r_dot"], "nu": o["nu"],
             "h_rw": act.pyramid_matrix(p["wheel_beta"]) * x["h_w"],
             "q_e": q_e,
             "w_e": rate_error(q_e, w_c, x["w_t"]),
             "q_cL": quat_mul(quat_conj(q_L), q_c),
         })
+
+    def sensor_hold_next(self, meas: sp.Matrix) -> sp.Matrix:
+        """The sensor hold after a step: the values the sensors gave (``meas``'s q_c, w_c, r, v)."""
+        offs = self.meas.offsets()
+        return sp.Matrix([meas[i] for f in SENSOR_FIELDS for i in range(*offs[f][:2])])
 
     def env_outputs(self) -> sp.Matrix:
         """Logged environment and actuator quantities at the start of a step."""
@@ -457,4 +530,4 @@ class Plant:
 def make_plant() -> Plant:
     """Fresh symbols and layouts of the 000 plant."""
     return Plant(_params(), _state(), _input(), _noise(), _measurement(), _env_outputs(),
-                 sp.Symbol("t", real=True))
+                 sp.Symbol("t", real=True), _sensor_hold())

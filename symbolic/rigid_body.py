@@ -10,6 +10,8 @@ no external torque acts (``tests/test_attitude.py``).
 
 from __future__ import annotations
 
+import sympy as sp
+
 from .rotations import cross, dot, quat_to_dcm
 
 
@@ -18,14 +20,34 @@ def solve3(M, b):
     return M.adjugate() * b / M.det()
 
 
-def chaser_angular_acceleration(I_c, omega, h_rw, T_c, M_ext):
+def chaser_angular_acceleration(I_c, omega, h_rw, T_c, M_ext, I_locked=None):
     """omega_dot [rad/s^2] from I_c omega_dot = -S(omega) I_c omega - S(omega) h_rw + T_c + M (000 eq. 6).
 
     ``h_rw`` = A h_w is the wheels' momentum in body axes, ``T_c`` the wheel torque on the body,
     ``M_ext`` every other torque (gravity gradient, magnetic, random, thrusters) [N m].
     I_c is taken at the current time; like the paper, no dI/dt term (see docs/errata.md).
+    ``I_locked`` (:func:`locked_wheel_inertia`) adds the reaction of locked wheels, whose torque is
+    then not in ``T_c``: (I_c + I_locked) omega_dot = the same right-hand side.
     """
-    return solve3(I_c, -cross(omega, I_c * omega) - cross(omega, h_rw) + T_c + M_ext)
+    J = I_c if I_locked is None else I_c + I_locked
+    return solve3(J, -cross(omega, I_c * omega) - cross(omega, h_rw) + T_c + M_ext)
+
+
+def locked_wheel_inertia(I_w, A, locked):
+    """I_w sum_i locked_i a_i a_i^T [kg m^2]: what locked wheels (``locked`` 0/1 each) add to the
+    chaser's inertia (rpo's ``wheel_stuck`` fault, :mod:`rpo.symbolic.faults`).
+
+    A wheel held at a constant speed relative to the body has dh_i/dt = I_w a_i . omega_dot, i.e.
+    it exerts T_i = -I_w a_i . omega_dot on the body; moved to the left of eq. 6 this is the added
+    inertia.  Zero, exactly, when no wheel is locked.
+    """
+    return I_w * A * sp.diag(*locked) * A.T
+
+
+def locked_wheel_momentum_rate(T_w, I_w, A, locked, omega_dot):
+    """dh_w/dt [N m]: -T_w for a free wheel (eq. 6), I_w a_i . omega_dot for a locked one."""
+    turn = A.T * omega_dot
+    return sp.Matrix([-(1 - locked[i]) * T_w[i] + locked[i] * I_w * turn[i] for i in range(len(T_w))])
 
 
 def target_angular_acceleration(I_t, omega, M_ext):

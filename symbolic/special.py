@@ -21,3 +21,26 @@ class Step(sp.Function):
 
     def _eval_is_real(self):
         return True
+
+
+class Fmax(sp.Function):
+    """max(a, b), opaque: SymPy's ``Max`` sorts its arguments on construction (even unevaluated),
+    which compares whole expression trees and takes minutes on the allocation's large arguments.
+    Translated to ``fmax`` (CasADi) and ``numpy.maximum``."""
+
+    nargs = 2
+
+    def fdiff(self, argindex=1):
+        a, b = self.args
+        return Step(a - b) if argindex == 1 else 1 - Step(a - b)
+
+    def _eval_is_real(self):
+        return True
+
+
+def fmax(*args):
+    """max of several values as nested :class:`Fmax` (left to right)."""
+    out = args[0]
+    for a in args[1:]:
+        out = Fmax(out, a)
+    return out

@@ -15,7 +15,7 @@ import numpy as np
 import sympy as sp
 
 from .kepler import KeplerE, solve_kepler
-from .special import Step
+from .special import Fmax, Step
 
 _UNARY = {
     sp.sin: ca.sin,
@@ -114,6 +114,8 @@ class Translator:
             return _UNARY[f](m[e.args[0]])
         if f is Step:  # 1 for x >= 0, else 0
             return m[e.args[0]] >= 0
+        if f is Fmax:
+            return ca.fmax(m[e.args[0]], m[e.args[1]])
         if f is sp.atan2:
             return ca.atan2(m[e.args[0]], m[e.args[1]])
         if f is sp.Max:
@@ -218,7 +220,8 @@ def numpy_kepler(M, e):
 
 
 #: Module mapping for ``sympy.lambdify`` so that lambdified expressions evaluate KeplerE.
-LAMBDIFY_MODULES = [{"KeplerE": numpy_kepler, "Step": lambda x: np.where(np.asarray(x) >= 0, 1.0, 0.0)}, "numpy"]
+LAMBDIFY_MODULES = [{"KeplerE": numpy_kepler, "Step": lambda x: np.where(np.asarray(x) >= 0, 1.0, 0.0),
+                     "Fmax": np.maximum}, "numpy"]
 
 
 def numpy_function(inputs: Sequence[sp.Basic], outputs: Sequence[sp.Basic]):
@@ -226,4 +229,6 @@ def numpy_function(inputs: Sequence[sp.Basic], outputs: Sequence[sp.Basic]):
     sharing already in the expression graph, :func:`~rpo.symbolic.structural_cse.structural_cse`)."""
     from .structural_cse import structural_cse
 
-    return sp.lambdify(list(inputs), list(outputs), modules=LAMBDIFY_MODULES, cse=structural_cse)
+    # use_imps=False: lambdify's search for implemented_function walks the expression as a tree,
+    # which is exponential in the depth of shared nodes (the Cholesky factors of the allocation)
+    return sp.lambdify(list(inputs), list(outputs), modules=LAMBDIFY_MODULES, cse=structural_cse, use_imps=False)

@@ -57,7 +57,7 @@ def test_relative_attitude_model_matches_two_separate_bodies(model):
     u = np.zeros(model.layout_size("u"))
     w_noise = np.zeros(model.layout_size("w"))
     meas_off = model.offsets("meas")
-    m0 = model.measure(x, 0.0, p, np.zeros(model.layout_size("w")))[0]
+    m0 = model.measure(x, np.zeros(model.layout_size("hold")), 0.0, p, np.zeros(model.layout_size("w")))[0]
     rel = np.concatenate([m0[meas_off["q_e"]], m0[meas_off["w_e"]]])
 
     def f(X, t):
@@ -75,7 +75,7 @@ def test_relative_attitude_model_matches_two_separate_bodies(model):
         X = X + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
         t = (k + 1) * dt
         if (k + 1) % 500 == 0:
-            m = model.measure(X[:nx], t, p, np.zeros(model.layout_size("w")))[0]
+            m = model.measure(X[:nx], np.zeros(model.layout_size("hold")), t, p, np.zeros(model.layout_size("w")))[0]
             q_sep, w_sep = m[meas_off["q_e"]], m[meas_off["w_e"]]
             q_rel = X[nx:nx + 4] / np.linalg.norm(X[nx:nx + 4])
             q_sep = q_sep / np.linalg.norm(q_sep)

@@ -423,7 +423,7 @@ def test_paper_model_matches_the_plant(model):
     xo, do = model.offsets("x"), model.offsets("diag_c002")
 
     def errors(xx, tt):
-        meas = np.ravel(f["measure"](xx, tt, p, w)[0])
+        meas = np.ravel(f["measure"](xx, np.zeros(model.layout_size("hold")), tt, p, w)[0])
         diag = np.ravel(f["law_c002"](meas, xc, tt, p, k)[2])
         return diag[do["rate_err"]], diag[do["pos_err"]], diag[do["vel_err"]], diag[do["q_err"]]
 

@@ -142,12 +142,12 @@ def test_pyramid_allocation_reproduces_the_command_within_limits(model):
     tmax = 0.1
     for _ in range(200):
         cmd = rng.normal(size=3) * 0.03
-        T = model.wheel_alloc(cmd, p)[0]
+        T = model.wheel_alloc(cmd, 0.0, p)[0]
         if np.abs(T).max() < tmax * (1 - 1e-9):
             assert np.allclose(A_STAR @ T, cmd, atol=1e-15)
     for _ in range(200):  # beyond the envelope: direction kept, every wheel within its limit
         cmd = rng.normal(size=3) * 1.0
-        T = model.wheel_alloc(cmd, p)[0]
+        T = model.wheel_alloc(cmd, 0.0, p)[0]
         assert np.abs(T).max() <= tmax * (1 + 1e-12)
         got = A_STAR @ T
         assert np.allclose(np.cross(got, cmd), 0, atol=1e-12) and got @ cmd > 0
@@ -163,7 +163,7 @@ def test_thruster_allocation_is_exact_non_negative_and_never_fires_opposed_pairs
     p = model.vector("p")
     for _ in range(300):
         F, tau = rng.normal(size=3) * 0.3, rng.normal(size=3) * 0.05
-        d = model.thruster_alloc(F, tau, p)[0]
+        d = model.thruster_alloc(F, tau, 0.0, p)[0]
         assert d.min() >= 0 and d.max() <= 1 + 1e-12
         assert np.all(d[0::2] * d[1::2] == 0)  # one thruster of each coaxial pair at most
         w = B @ d

@@ -10,6 +10,9 @@ their round-off is set by those terms, named in ``CANCELLATION_SCALE``: the rela
 acceleration of eq. 30 (mu/r_t^2 - mu (r_t + x)/r_c^3, terms of ~9 m/s^2) and the differential
 disturbance of eq. 45 (a_c - a_t, J2 terms of ~1.5e-2 m/s^2).  Thruster wrenches are sums of
 +-1 N forces (+-0.5 N m torques) that cancel exactly in SymPy's rationals but to ~1e-16 in floats.
+002's auxiliary states chi_1, chi_2 start at 0 and move by dt (sat(eps) - eps) / (k m) (eqs. 17-18),
+a difference of commands of order 1 that is exactly 0 in one evaluation and 1e-15 in the other
+when the command is just unsaturated; their scale is 1 (chi is dimensionless, |chi| < 20 in use).
 """
 
 from __future__ import annotations
@@ -31,6 +34,7 @@ _MANIFEST = json.loads((Path(rpo.generated.__file__).parent / "manifest.json").r
 CONTROLLERS = sorted(_MANIFEST["controllers"])
 CANCELLATION_SCALE = {("x", "v"): 10.0, ("env", "a_d"): 2e-2, ("env", "F_thr"): 1.0, ("env", "tau_thr"): 1.0,
                       ("env", "F_applied"): 1.0, ("env", "tau_applied"): 1.0}
+CANCELLATION_SCALE.update({("xc_c002", "chi1"): 1.0, ("xc_c002", "chi2"): 1.0})
 for _c in CONTROLLERS:
     for _f in ("a_d", "F_thr", "tau_thr", "F_applied", "tau_applied"):
         CANCELLATION_SCALE[(f"y_{_c}", f"env_{_f}")] = CANCELLATION_SCALE[("env", _f)]
@@ -56,14 +60,31 @@ class Inputs:
         x[o["m_prop"]] = g.uniform(0, 1)
         return x
 
+    def hold(self):
+        """A sensor hold: the last values the attitude, rate, position and velocity sensors gave."""
+        g = self.rng
+        return np.concatenate([Rotation.random(random_state=g.integers(1 << 30)).as_quat(), g.normal(0, 0.1, 3),
+                               g.normal(0, 10, 3), g.normal(0, 0.2, 3)])
+
     def p(self):
         m, g = self.m, self.rng
         p = m.vector("p").copy()
         o = m.offsets("p")
         for f in m.layouts["p"]:
             s = o[f["name"]]
-            if f["name"].endswith("_on") or f["name"] == "actuators_ideal":
+            if f["name"].endswith("_on") or f["name"] in ("actuators_ideal", "fdir_allocation"):
                 p[s] = g.integers(0, 2, f["size"])
+            elif f["name"].startswith("fault_") and f["name"].endswith("_start"):
+                # fault windows open about half of the time t in [0, 400) s the tests draw
+                start = g.uniform(0, 400, f["size"])
+                p[s] = start
+                p[o[f["name"].removesuffix("_start") + "_end"]] = start + g.uniform(0, 400, f["size"])
+            elif f["name"].startswith("fault_") and f["name"].endswith("_end"):
+                continue
+            elif f["name"].endswith("_weak_value"):
+                p[s] = g.uniform(0.2, 1.0, f["size"])
+            elif f["name"].startswith("fault_"):
+                p[s] = g.uniform(0, 0.01, f["size"])
             elif f["name"].startswith(("meas_", "dist_")):
                 p[s] = g.uniform(0, 0.01, f["size"])
             elif f["name"] in ("dt", "wheel_delay", "pwpf_uon", "pwpf_uoff"):
@@ -83,14 +104,15 @@ class Inputs:
         if name == "t":
             return g.uniform(0, 400)
         if name == "u":
-            return np.concatenate([g.normal(0, 0.05, 4), g.integers(0, 2, 16), g.normal(0, 0.5, 6)])
+            return np.concatenate([g.normal(0, 0.05, 4), g.integers(0, 2, 16), g.normal(0, 0.5, 6),
+                                   g.integers(0, 2, 4)])
         if name == "w":
             return g.normal(size=n)
         if name == "k":
             return self.m.vector(layout) * (1 + g.uniform(-0.5, 0.5, n))
         if name == "meas":
             w = g.normal(size=self.m.layout_size("w"))
-            return self.m.measure(self.x(), g.uniform(0, 400), self.p(), w)[0]
+            return self.m.measure(self.x(), self.hold(), g.uniform(0, 400), self.p(), w)[0]
         if name in ("tau", "F"):
             return g.normal(0, 0.1, n)
         if name == "f":
@@ -117,9 +139,15 @@ class Inputs:
             z[nx:nx + 16] = g.normal(0, 0.05, 16)
             z[nx + 16:nx + 32] = g.uniform(-0.1, 0.5, 16)
             z[nx + 32:nx + 48] = g.integers(0, 2, 16)
+            if n >= nx + 48 + self.m.layout_size("hold"):
+                z[nx + 48:nx + 48 + self.m.layout_size("hold")] = self.hold()
             return z
         if name == "xc":
             return g.normal(size=n)
+        if name == "hold":
+            return self.hold()
+        if name == "T_w":
+            return g.normal(0, 0.1, n)
         raise KeyError(f"no generator for input {name} of {fname}")
 
 
@@ -141,7 +169,7 @@ def assert_close(model, fname, out_desc, got, ref):
 
 
 SOURCE_FUNCS = ["plant_rhs", "measure", "env_outputs", "ideal_actuators", "wheel_alloc", "thruster_alloc", "pwpf",
-                "pwpf_filter", "target_orbit", "kepler", "relative_attitude_rhs"]
+                "pwpf_filter", "wheel_faults", "thruster_faults", "target_orbit", "kepler", "relative_attitude_rhs"]
 for _c in CONTROLLERS:
     SOURCE_FUNCS.append(f"law_{_c}")
     if "xc0" in _MANIFEST["controllers"][_c]:
@@ -211,7 +239,7 @@ def test_generated_control_equals_numpy_composition(model, sources, numpy_piece,
         # a proximity state (as for the step): far-out states saturate some designs so hard that
         # their auxiliary states overflow within one step
         x = gen.value("step", "z", (nx + 48, 1))[:nx]
-        args[0] = model.measure(x, args[2], args[3], gen.rng.normal(size=model.layout_size("w")))[0]
+        args[0] = model.measure(x, gen.hold(), args[2], args[3], gen.rng.normal(size=model.layout_size("w")))[0]
         if desc["inputs"][1]["layout"] in model.layouts:  # controller state near its defaults
             args[1] = model.vector(desc["inputs"][1]["layout"]) * (1 + gen.rng.uniform(-0.2, 0.2, args[1].size))
         return args

@@ -89,7 +89,7 @@ def test_measurement_bias_and_noise(model):
     bias = np.array([0.01, -0.02, 0.005])
     p = model.vector("p", quiet_params(meas_att_bias=bias, meas_rate_bias=[1e-3, 0, 0]))
     off = model.offsets("meas")
-    meas = np.ravel(model.measure(x, 0.0, p, np.zeros(model.layout_size("w")))[0])
+    meas = np.ravel(model.measure(x, np.zeros(model.layout_size("hold")), 0.0, p, np.zeros(model.layout_size("w")))[0])
     # the small rotation dq = [dtheta/2, 1] normalised, applied in body axes
     dq = np.r_[bias / 2, 1.0]
     ref = (Rotation.from_quat(q) * Rotation.from_quat(dq / np.linalg.norm(dq))).as_quat()
@@ -98,7 +98,7 @@ def test_measurement_bias_and_noise(model):
     assert np.allclose(meas[off["w_c"]], [0.011, 0.02, 0.03], atol=1e-15)
     p = model.vector("p", quiet_params(meas_pos_std=0.3))
     W = rng.standard_normal((4000, model.layout_size("w")))
-    r = np.array([np.ravel(model.measure(x, 0.0, p, w)[0])[off["r"]] for w in W])
+    r = np.array([np.ravel(model.measure(x, np.zeros(model.layout_size("hold")), 0.0, p, w)[0])[off["r"]] for w in W])
     assert np.std(r[:, 0] - 10) == pytest.approx(0.3, rel=0.05)
     assert np.abs(r.mean(axis=0) - [10, 20, 30]).max() < 0.03
 

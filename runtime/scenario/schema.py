@@ -34,6 +34,7 @@ from pydantic import (
 from pydantic_core import PydanticCustomError
 
 from ..errors import ModelError, ScenarioError
+from .faults import Fault, FaultConflict, fault_params
 from .messages import field_error, first_error, unknown_key
 from .params import ScenarioParam, finite, gain_bounds, manifest_defaults, param, scenario_params
 from .reproduction import Reproduction
@@ -253,6 +254,7 @@ class Scenario(_Section):
     controller: dict[str, dict[str, Any]] = Field(default_factory=dict)
     reproduction: Reproduction | None = None
     output: OutputSection = Field(default_factory=OutputSection)
+    faults: list[Fault] = Field(default_factory=list)
 
     _source: str = PrivateAttr(default="scenario")
     _manifest: dict = PrivateAttr(default_factory=dict)
@@ -292,6 +294,8 @@ class Scenario(_Section):
             e = out.get("orbit_e", float(d["orbit_e"][0]))
             r_e = out.get("r_earth", float(d["r_earth"][0]))
             out["orbit_a"] = (r_e + self.orbit.perigee_altitude) / (1.0 - e)  # perigee radius = a (1 - e)
+        if self.faults:
+            out.update(fault_params(self.faults, manifest_defaults(manifest, "p")))
         return out
 
     def params(self, manifest: dict | None = None) -> dict[str, np.ndarray]:
@@ -328,6 +332,7 @@ class Scenario(_Section):
         if self.orbit.perigee_altitude is not None and self.get(key("orbit_a")) is not None:
             raise field_error(key("orbit_a"), self.get(key("orbit_a")),
                               f"give either perigee_altitude or {key('orbit_a').rsplit('.', 1)[-1]}, not both")
+        self._check_faults(manifest)
         p: dict[str, Any] = {k: float(v[0]) if v.size == 1 else v for k, v in self.params(manifest).items()}
         sim = self.simulation
 
@@ -382,6 +387,23 @@ class Scenario(_Section):
             raise field_error(where, self.get(where),
                               f"must satisfy 0 < {a} < {b} ({a} = {p['pwpf_uoff']:g}, {b} = {p['pwpf_uon']:g})")
         return self
+
+    def _check_faults(self, manifest: dict) -> None:
+        """Faults the model can fly: one window per kind and unit; actuator faults need the
+        wheels and thrusters (the ideal actuators of 001/002/004 have no units to fail)."""
+        try:
+            fault_params(self.faults, manifest_defaults(manifest, "p"))
+        except FaultConflict as exc:
+            raise field_error(f"faults[{exc.index}]", self.faults[exc.index].kind, exc.message) from None
+        ideal = self.param_overrides(manifest).get("actuators_ideal",
+                                                   manifest_defaults(manifest, "p")["actuators_ideal"])
+        if float(np.ravel(ideal)[0]) == 1.0:
+            for n, f in enumerate(self.faults):
+                if f.family != "sensor":
+                    raise field_error(f"faults[{n}].kind", f.kind,
+                                      "wheel and thruster faults need plant.actuators = \"wheels_thrusters\" (this "
+                                      "scenario flies the ideal actuators, which have no units to fail; "
+                                      "try --plant full)")
 
     def _check_controller(self, manifest: dict) -> None:
         ctrls = manifest["controllers"]
