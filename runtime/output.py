@@ -143,10 +143,13 @@ def run_record(result: RunResult, model: Model, scenario_path: str | Path | None
         "status": "ok" if div is None else "diverged",
         "divergence": None if div is None else {
             "message": div.message(), "step": int(div.step), "time": float(div.time), "label": div.label,
-            "value": float(div.value), "bound": float(div.bound),
+            "value": float(div.value), "bound": float(div.bound), "where": getattr(div, "where", "state"),
             # both states by label: the one that failed the check and the last good one
             "state": dict(zip(result.z_labels, div.state.tolist(), strict=True)),
             "last_good_state": dict(zip(result.z_labels, div.last_good_state.tolist(), strict=True)),
+            # the failing step's outputs by label (non-finite values as text)
+            "output": None if getattr(div, "output", None) is None or len(div.output) != len(result.y_labels)
+            else dict(zip(result.y_labels, div.output.tolist(), strict=True)),
         },
         "steps_done": int(result.steps_done),
         "steps_requested": int(result.steps_requested),

@@ -37,7 +37,12 @@ DEFAULT_BOUNDS = {
 
 @dataclass
 class Divergence:
-    """Where a run stopped: the step, its end time, the offending entry and both states."""
+    """Where a run stopped: the step, its end time [s], the offending entry and both states.
+
+    ``where`` is ``"state"`` (an entry of the next state, non-finite or above its bound),
+    ``"output"`` (an entry of the step's outputs y, non-finite; ``label`` is its y label) or
+    ``"step"`` (the step function reported an error).  ``output`` is the failing step's y.
+    """
 
     step: int
     time: float
@@ -46,10 +51,13 @@ class Divergence:
     bound: float
     state: np.ndarray
     last_good_state: np.ndarray
+    where: str = "state"
+    output: np.ndarray | None = None
 
     def message(self) -> str:
         what = "non-finite" if not np.isfinite(self.value) else f"|{self.value:.6g}| > {self.bound:.6g}"
-        return (f"simulation diverged in step {self.step} (ending at t = {self.time:.6g} s): {self.label} is "
+        entry = f"output {self.label}" if self.where == "output" else self.label
+        return (f"simulation diverged in step {self.step} (ending at t = {self.time:.6g} s): {entry} is "
                 f"{what}; the results up to the step's start were kept")
 
 
@@ -216,12 +224,7 @@ class Simulation:
             if ok < n:
                 last = done + ok
                 z_bad = Zc[ok + 1].copy()
-                j = int(bad)
-                label = self.model.labels(self.z_layout)[j] if j >= 0 else "step function"
-                divergence = Divergence(step=last, time=t0 + (last + 1) * self.dt, label=label,
-                                        value=float(z_bad[j]) if j >= 0 else float("nan"),
-                                        bound=float(self.bound[j]) if j >= 0 else float("nan"),
-                                        state=z_bad, last_good_state=Zc[ok].copy())
+                divergence = self._divergence(last, t0, int(bad), z_bad, Zc[ok].copy(), Yc[ok].copy())
                 last_good = (last, Zc[ok].copy(), Yc[ok].copy())  # output of the failing step at its start
                 done = last
                 break
@@ -385,11 +388,7 @@ class Simulation:
                 Zr[G.size], Yr[G.size] = zg, yg
                 G = np.append(G, last)
             Z, Y = Zr[: G.size], Yr[: G.size]
-            label = self.model.labels(self.z_layout)[j] if j >= 0 else "step function"
-            divergence = Divergence(step=last, time=t0 + (last + 1) * self.dt, label=label,
-                                    value=float(z_bad[j]) if j >= 0 else float("nan"),
-                                    bound=float(self.bound[j]) if j >= 0 else float("nan"),
-                                    state=z_bad, last_good_state=zg)
+            divergence = self._divergence(last, t0, j, z_bad, zg, yg)
             done = last
         assert Z.shape == (G.size, nz) and Y.shape == (G.size, ny)
         return RunResult(
@@ -400,6 +399,22 @@ class Simulation:
             meta={"controller": self.controller, "seed": seed, "record_every": record_every,
                   "backend": self.model.backend},
         )
+
+    def _divergence(self, last: int, t0: float, j: int, z_bad: np.ndarray, z_good: np.ndarray,
+                    y_bad: np.ndarray) -> Divergence:
+        """The report of a run that stopped in step ``last``: ``j`` is the loops' index of the
+        offending entry (< nz: the next state ``z_bad``; nz + e: output e of ``y_bad``, the step's
+        outputs; -1: the step function failed)."""
+        common = dict(step=last, time=t0 + (last + 1) * self.dt, state=z_bad, last_good_state=z_good,
+                      output=np.array(y_bad, float))
+        if j < 0:
+            return Divergence(label="step function", value=float("nan"), bound=float("nan"), where="step", **common)
+        if j < self.nz:
+            return Divergence(label=self.model.labels(self.z_layout)[j], value=float(z_bad[j]),
+                              bound=float(self.bound[j]), **common)
+        e = j - self.nz
+        return Divergence(label=self.model.labels(self.y_layout)[e], value=float(y_bad[e]), bound=float("inf"),
+                          where="output", **common)
 
     # -- backends --------------------------------------------------------------------------
 
@@ -436,4 +451,7 @@ class Simulation:
             bad = ~np.isfinite(zn) | (np.abs(zn) > self.bound)
             if bad.any():
                 return i, int(np.argmax(bad))
+            bad_y = ~np.isfinite(y)  # the outputs too, after the state, as the C loops check them
+            if bad_y.any():
+                return i, self.nz + int(np.argmax(bad_y))
         return n, -2
