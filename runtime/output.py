@@ -135,6 +135,13 @@ def _jsonable(v: Any) -> Any:
     return v
 
 
+def _by_label(labels: Sequence[str], values: np.ndarray | None) -> dict[str, float] | None:
+    """``{label: value}``, or None when the values are missing or do not match the labels."""
+    if values is None or len(values) != len(labels):
+        return None
+    return dict(zip(labels, np.asarray(values, float).tolist(), strict=True))
+
+
 def run_record(result: RunResult, model: Model, scenario_path: str | Path | None = None,
                extra_meta: dict | None = None) -> dict[str, Any]:
     """The content of ``run.json`` (also stored in the data files' metadata)."""
@@ -148,8 +155,7 @@ def run_record(result: RunResult, model: Model, scenario_path: str | Path | None
             "state": dict(zip(result.z_labels, div.state.tolist(), strict=True)),
             "last_good_state": dict(zip(result.z_labels, div.last_good_state.tolist(), strict=True)),
             # the failing step's outputs by label (non-finite values as text)
-            "output": None if getattr(div, "output", None) is None or len(div.output) != len(result.y_labels)
-            else dict(zip(result.y_labels, div.output.tolist(), strict=True)),
+            "output": _by_label(result.y_labels, getattr(div, "output", None)),
         },
         "steps_done": int(result.steps_done),
         "steps_requested": int(result.steps_requested),

@@ -16,6 +16,7 @@ import ctypes
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -405,7 +406,7 @@ class Simulation:
         """The report of a run that stopped in step ``last``: ``j`` is the loops' index of the
         offending entry (< nz: the next state ``z_bad``; nz + e: output e of ``y_bad``, the step's
         outputs; -1: the step function failed)."""
-        common = dict(step=last, time=t0 + (last + 1) * self.dt, state=z_bad, last_good_state=z_good,
+        common: dict[str, Any] = dict(step=last, time=t0 + (last + 1) * self.dt, state=z_bad, last_good_state=z_good,
                       output=np.array(y_bad, float))
         if j < 0:
             return Divergence(label="step function", value=float("nan"), bound=float("nan"), where="step", **common)
