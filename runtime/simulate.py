@@ -186,11 +186,14 @@ class Simulation:
         return z
 
     def run(self, z0: np.ndarray, duration: float, seed: int = 0, t0: float = 0.0, record_every: int = 1,
-            chunk: int = 4096, progress: Callable[[int, int], None] | None = None) -> RunResult:
+            chunk: int = 4096, progress: Callable[[int, int], None] | None = None,
+            stop: Callable[[], bool] | None = None) -> RunResult:
         """Run ``round(duration / dt)`` steps from ``z0`` at ``t0``.
 
         Records every ``record_every``-th state and always the final one; if the run diverges, the
-        last good state (with the output of the failing step) is the final row.
+        last good state (with the output of the failing step) is the final row.  ``stop()`` is
+        asked after every chunk: True ends the run there (``meta["interrupted"]`` True, the state
+        reached is the final row, ``steps_done`` < ``steps_requested``).
         """
         n_total, record_every, chunk = self._check_run_args(z0, duration, t0, record_every, chunk)
         seed = noise.check_seed(seed)
@@ -209,6 +212,7 @@ class Simulation:
         done = 0
         divergence = None
         last_good = None  # (step, state, output) when the run stops early
+        interrupted = False
         wall0 = time.perf_counter()
         runner = self._c_runner()
         while done < n_total:
@@ -233,8 +237,13 @@ class Simulation:
             done += n
             if progress:
                 progress(done, n_total)
+            if stop is not None and done < n_total and stop():
+                interrupted = True
+                break
         keep = int(np.searchsorted(G, done, side="right"))
         G, Z, Y = G[:keep], Z[:keep], Y[:keep]
+        if interrupted and G[-1] != done:  # the state reached, off the recording grid: the final row
+            G, Z, Y = np.append(G, done), np.vstack([Z, z]), np.vstack([Y, np.full(ny, np.nan)])
         if last_good is not None:
             g, zg, yg = last_good
             if G[-1] == g:
@@ -249,7 +258,7 @@ class Simulation:
             steps_done=done, steps_requested=n_total, dt=self.dt,
             wall_time=time.perf_counter() - wall0, divergence=divergence,
             meta={"controller": self.controller, "seed": seed, "record_every": record_every,
-                  "backend": self.model.backend},
+                  "backend": self.model.backend, **({"interrupted": True} if interrupted else {})},
         )
 
     def run_batch(self, Z0: np.ndarray, duration: float, seeds, params=None, gains=None, t0: float = 0.0,
