@@ -112,23 +112,18 @@ def rpo_version() -> str:
 
 
 def _may_write(path: Path) -> bool:
-    """True if this process may create entries in the folder ``path``: ``os.access`` (which sees
-    ACLs and read-only mounts) and the folder's own mode bits for the class this user falls in
-    (the owner's, the group's or the others'), which root's access ignores: a folder the user made
-    read-only is respected even by root."""
+    """True if this process may create entries in the folder ``path``.
+
+    ``os.access`` decides (it sees ACLs and read-only mounts); for root, which may write anywhere,
+    the folder must also have a write bit for someone: a folder made read-only for everyone is
+    respected even by root."""
     try:
         st = path.stat()
     except OSError:
         return False
     if not os.access(path, os.W_OK | os.X_OK):
         return False
-    if st.st_uid == os.geteuid():
-        bits = (st.st_mode >> 6) & 0o7
-    elif st.st_gid == os.getegid() or st.st_gid in os.getgroups():
-        bits = (st.st_mode >> 3) & 0o7
-    else:
-        bits = st.st_mode & 0o7
-    return bits & 0o3 == 0o3
+    return os.geteuid() != 0 or bool(st.st_mode & 0o222)
 
 
 def check_out_dir(out_dir: str | Path) -> Path:

@@ -84,3 +84,19 @@ def test_lanes_stop_per_lane_on_an_output_and_stay_bit_identical_to_run(model):
             _check_output_divergence(b, sim, 3)
             assert (b.divergence.step, b.divergence.label) == (r.divergence.step, r.divergence.label)
             assert np.array_equal(b.divergence.output, r.divergence.output, equal_nan=True)
+
+
+def test_an_output_divergence_is_written_with_its_metrics(model, tmp_path):
+    """The folder of a run stopped by a non-finite output: status diverged, the entry by name, the
+    metrics (computed over the record, whose last output row is the non-finite one) valid JSON."""
+    from rpo.runtime.metrics import compute_metrics, result_columns
+    from rpo.runtime.output import OutputSpec, write_run
+
+    sim, z0 = _sim(model)
+    res = sim.run(z0, 1.0)
+    metrics = compute_metrics(res.t, result_columns(res), None)
+    out = write_run(res, tmp_path / "out", model, metrics=metrics, output=OutputSpec(figures=False))
+    rec = json.loads((out / "run.json").read_text())
+    assert rec["status"] == "diverged" and rec["divergence"]["where"] == "output"
+    assert rec["divergence"]["label"] in rec["divergence"]["message"] and rec["rows"] == res.steps_done + 1
+    json.loads((out / "metrics.json").read_text())  # strict JSON (non-finite values as text)
