@@ -457,10 +457,14 @@ def _compile_and_link(cc: list[str], objects: list[tuple[str, bytes, Path]], lib
         todo.sort(key=lambda item: -len(item[1]))
         with ThreadPoolExecutor(max_workers=n_jobs) as pool:
             futures = {pool.submit(_compile_object, cc, name, src, obj, flags): name for name, src, obj in todo}
-            for i, fut in enumerate(as_completed(futures), 1):
-                seconds = fut.result()
-                if log:
-                    log(f"  [{i}/{len(todo)}] {futures[fut]} ({seconds:.1f} s, {len(todo) - i} left)")
+            try:
+                for i, fut in enumerate(as_completed(futures), 1):
+                    seconds = fut.result()
+                    if log:
+                        log(f"  [{i}/{len(todo)}] {futures[fut]} ({seconds:.1f} s, {len(todo) - i} left)")
+            except BaseException:  # an error or an interrupt: start no further file (the running ones end)
+                pool.shutdown(wait=True, cancel_futures=True)
+                raise
         _run_cc([*cc, *LDFLAGS, "-o", str(tmp), *(str(obj) for _n, _s, obj in objects), "-lm"],
                 f"linking {what}", cc)
         if log:

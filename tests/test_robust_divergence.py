@@ -19,12 +19,17 @@ Z0 = {"q_c": unit(Q_C0_III), "q_t": unit(Q_T0_III), "w_t": [0.10876, 0.009113, 0
 #: inf once the controller drives |h_w| past 1.797e308 * 1e-307 = 17.98 N m s, while the state
 #: stays finite (~0.3 s in from 17.95 N m s)
 TINY_WHEEL = {"wheel_inertia": 1e-307, "wheel_speed_max": np.inf}
-H_NEAR = [17.95] * 4
+
+
+def _h(model, h: float) -> list[float]:
+    """Every wheel at momentum ``h`` [N m s] (as many as the model's layout has)."""
+    sl = model.offsets("z_baseline")["h_w"]
+    return [h] * (sl.stop - sl.start)
 
 
 def _sim(model) -> tuple[Simulation, np.ndarray]:
     sim = Simulation(model, params=TINY_WHEEL)
-    return sim, sim.initial_state({**Z0, "h_w": H_NEAR})
+    return sim, sim.initial_state({**Z0, "h_w": _h(model, 17.95)})
 
 
 def _check_output_divergence(res, sim, every: int) -> None:
@@ -55,7 +60,7 @@ def test_a_non_finite_output_stops_the_scalar_loop_and_is_named(model, every):
 
 def test_a_healthy_run_with_finite_outputs_is_unchanged(model):
     sim = Simulation(model, params=TINY_WHEEL)
-    res = sim.run(sim.initial_state({**Z0, "h_w": [-17.95] * 4}), 1.0)  # |h_w| falls: speeds stay finite
+    res = sim.run(sim.initial_state({**Z0, "h_w": _h(model, -17.95)}), 1.0)  # |h_w| falls: speeds stay finite
     assert res.divergence is None and res.steps_done == 100
 
 
@@ -72,7 +77,7 @@ def test_the_python_fallback_checks_the_outputs_too(model, monkeypatch):
 
 def test_lanes_stop_per_lane_on_an_output_and_stay_bit_identical_to_run(model):
     sim, z_bad = _sim(model)
-    z_ok = sim.initial_state({**Z0, "h_w": [-17.95] * 4})
+    z_ok = sim.initial_state({**Z0, "h_w": _h(model, -17.95)})
     cases = [z_ok, z_bad, z_ok, z_bad, z_ok]
     seeds = [1, 2, 3, 4, 5]
     batch = sim.run_batch(np.array(cases), 1.0, seeds=seeds, record_every=3, chunk=30)
