@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING, Any
 import click
 import numpy as np
 
-from . import frames
+from . import frames, interrupts
 from .errors import RpoError
 
 if TYPE_CHECKING:
@@ -442,11 +442,13 @@ def cache(prune: bool, dry_run: bool) -> int:
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``rpo`` script: user errors become one ``error:`` line and exit code 2."""
     warnings.formatwarning = _format_warning
+    interrupts.install()  # SIGINT and SIGTERM: exit 130 / 143, never a half-written folder
     try:
         rv = cli.main(args=argv, prog_name="rpo", standalone_mode=False)
-    except click.exceptions.Abort:
-        _err("error: interrupted")
-        return 130
+    except click.exceptions.Abort as exc:  # click wraps a KeyboardInterrupt (ours: Interrupted)
+        cause = exc.__cause__ or exc.__context__
+        _err(f"error: {cause}" if isinstance(cause, interrupts.Interrupted) else "error: interrupted")
+        return getattr(cause, "exit_code", 130)
     except _NO_ARGS as exc:  # `rpo` alone: the help, as click does, on stderr
         _err(exc.format_message())
         return EXIT_USAGE
@@ -456,9 +458,9 @@ def main(argv: list[str] | None = None) -> int:
     except RpoError as exc:
         _err(f"error: {exc}")
         return EXIT_USAGE
-    except KeyboardInterrupt:
-        _err("error: interrupted")
-        return 130
+    except KeyboardInterrupt as exc:
+        _err(f"error: {exc}" if isinstance(exc, interrupts.Interrupted) else "error: interrupted")
+        return getattr(exc, "exit_code", 130)
     return rv if isinstance(rv, int) else 0
 
 

@@ -11,6 +11,11 @@ Never loads stale code:
   that a process may already have loaded, and an edit recompiles only the files it changed;
 * objects and the library are written to temporary files in the cache and renamed into place
   (atomic); the link runs under a file lock, so concurrent builds are safe;
+* every cached shared library (the model's, the lane library, the fast-call extension) has a side
+  file ``.<name>.sha256`` with its name and the sha256 of its bytes, written before the library is
+  renamed into place; a library whose bytes or name do not match (truncated, corrupt, another
+  library copied under this name) is never loaded: it is rebuilt, or refused with one line if it
+  cannot be (:func:`ensure_built`).  Each file is hashed once per process (~1 ms per MB);
 * after loading, every function's input/output count and shapes are checked against the manifest.
 
 Only numpy and ctypes are needed here: no SymPy, no CasADi (except for the explicit, warned
@@ -336,16 +341,111 @@ def build_library(gen_dir: Path | None = None, cache: Path | None = None, log: C
     return _compile_and_link(cc, objects, lib, cache, log, jobs, None, "the generated model")
 
 
+def digest_path(lib: Path) -> Path:
+    """The side file of a cached library: its name and the sha256 of its bytes (JSON)."""
+    return lib.with_name(f".{lib.name}.sha256")
+
+
+#: path -> (device, inode, size, mtime) of each library whose bytes matched its side file in this
+#: process: a file is hashed once, and again only if it was replaced or touched since
+_INTACT: dict[str, tuple[int, int, int, int]] = {}
+
+
+def _sha256_file(path: Path) -> str:
+    with open(path, "rb") as fh:
+        return hashlib.file_digest(fh, "sha256").hexdigest()
+
+
+def library_intact(lib: Path) -> bool:
+    """True if ``lib`` exists and its bytes and name match its side file (:func:`digest_path`).
+
+    False for a missing side file (a library of an older rpo, or one that was not sealed), a
+    truncated or corrupt file, and a library copied from another name (the side file names the
+    library it was written for).  Hashes a file once per process, unless its identity changes.
+    """
+    try:
+        st = lib.stat()
+        rec = json.loads(digest_path(lib).read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return False
+    ident = (st.st_dev, st.st_ino, st.st_size, st.st_mtime_ns)
+    if _INTACT.get(str(lib)) == ident:
+        return True
+    if not isinstance(rec, dict) or rec.get("name") != lib.name or rec.get("size") != st.st_size:
+        return False
+    try:
+        ok = rec.get("sha256") == _sha256_file(lib)
+    except OSError:
+        return False
+    if ok:
+        _INTACT[str(lib)] = ident
+    return ok
+
+
+def _seal(tmp: Path, lib: Path) -> None:
+    """Write ``lib``'s side file for the finished ``tmp``, then rename ``tmp`` to ``lib`` (both atomic).
+
+    The side file goes first: a library under its final name always has the record it is checked
+    against (a crash in between leaves a side file without a library, which the next build rewrites).
+    """
+    rec = {"name": lib.name, "size": tmp.stat().st_size, "sha256": _sha256_file(tmp)}
+    fd, side_tmp = tempfile.mkstemp(prefix=f".{lib.name}.", suffix=".sha256.part", dir=lib.parent)
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as fh:
+            json.dump(rec, fh)
+        os.replace(side_tmp, digest_path(lib))
+    finally:
+        if os.path.exists(side_tmp):
+            os.unlink(side_tmp)
+    os.replace(tmp, lib)
+    st = lib.stat()
+    _INTACT[str(lib)] = (st.st_dev, st.st_ino, st.st_size, st.st_mtime_ns)
+
+
+def ensure_built(lib: Path, build: Callable[[Path], None], what: str,
+                 log: Callable[[str], None] | None = None) -> bool:
+    """Make sure the cached library ``lib`` exists and is intact; return True if it was (re)built.
+
+    ``build(tmp)`` writes the library into the temporary file ``tmp`` (in the cache folder).  An
+    existing ``lib`` that fails :func:`library_intact` (truncated, corrupt, swapped, or unsealed) is
+    removed and rebuilt under ``lib``'s lock; one that cannot be replaced is a :class:`ModelError`
+    naming it (never loaded).
+    """
+    if library_intact(lib):
+        return False
+    with file_lock(lib.with_name(f".{lib.name}.lock")):
+        if library_intact(lib):  # another process built it while we waited
+            return False
+        if lib.exists():
+            if log:
+                why = ("does not match its recorded name and sha256 (truncated, corrupt or replaced)"
+                       if digest_path(lib).exists() else "has no recorded sha256 (an older rpo built it)")
+                log(f"{lib} {why}: rebuilding {what}")
+            try:
+                lib.unlink()
+            except OSError as exc:
+                raise ModelError(f"cached {what} {lib} is corrupt and cannot be removed ({exc.strerror}): "
+                                 "delete it or set RPO_CACHE_DIR to a writable folder") from None
+        fd, tmp = tempfile.mkstemp(prefix=f".{lib.stem}.", suffix=f".tmp{lib.suffix}", dir=lib.parent)
+        os.close(fd)
+        try:
+            build(Path(tmp))
+            _seal(Path(tmp), lib)
+        except OSError as exc:
+            raise ModelError(f"cannot write {what} into the cache {lib.parent} ({exc.strerror or exc}): set "
+                             "RPO_CACHE_DIR to a writable folder") from None
+        finally:
+            if os.path.exists(tmp):
+                os.unlink(tmp)
+    return True
+
+
 def _compile_and_link(cc: list[str], objects: list[tuple[str, bytes, Path]], lib: Path, cache: Path,
                       log: Callable[[str], None] | None, jobs: int | None, flags: list[str] | None,
                       what: str) -> tuple[Path, bool]:
     """Compile the missing ``objects`` (name, source bytes, object path) in parallel and link ``lib``
-    from all of them, under the library's lock; (lib, compiled?)."""
-    if lib.exists():
-        return lib, False
-    with file_lock(cache / f".{lib.name}.lock"):
-        if lib.exists():  # another process finished it while we waited
-            return lib, False
+    from all of them, under the library's lock (:func:`ensure_built`); (lib, compiled?)."""
+    def build(tmp: Path) -> None:
         todo = [(name, src, obj) for name, src, obj in objects if not obj.exists()]
         n_jobs = max(1, min(jobs or default_jobs(), len(todo) or 1))
         if log and todo:
@@ -357,22 +457,20 @@ def _compile_and_link(cc: list[str], objects: list[tuple[str, bytes, Path]], lib
         todo.sort(key=lambda item: -len(item[1]))
         with ThreadPoolExecutor(max_workers=n_jobs) as pool:
             futures = {pool.submit(_compile_object, cc, name, src, obj, flags): name for name, src, obj in todo}
-            for i, fut in enumerate(as_completed(futures), 1):
-                seconds = fut.result()
-                if log:
-                    log(f"  [{i}/{len(todo)}] {futures[fut]} ({seconds:.1f} s, {len(todo) - i} left)")
-        fd, tmp = tempfile.mkstemp(prefix=f".{lib.stem}.", suffix=".tmp.so", dir=cache)
-        os.close(fd)
-        try:
-            _run_cc([*cc, *LDFLAGS, "-o", tmp, *(str(obj) for _n, _s, obj in objects), "-lm"],
-                    f"linking {what}", cc)
-            os.replace(tmp, lib)
-        finally:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
+            try:
+                for i, fut in enumerate(as_completed(futures), 1):
+                    seconds = fut.result()
+                    if log:
+                        log(f"  [{i}/{len(todo)}] {futures[fut]} ({seconds:.1f} s, {len(todo) - i} left)")
+            except BaseException:  # an error or an interrupt: start no further file (the running ones end)
+                pool.shutdown(wait=True, cancel_futures=True)
+                raise
+        _run_cc([*cc, *LDFLAGS, "-o", str(tmp), *(str(obj) for _n, _s, obj in objects), "-lm"],
+                f"linking {what}", cc)
         if log:
             log(f"linked {lib.name} from {len(objects)} objects ({time.perf_counter() - t0:.1f} s)")
-    return lib, True
+
+    return lib, ensure_built(lib, build, what, log)
 
 
 _NATIVE: dict[tuple[str, ...], tuple[list[str], str]] = {}
@@ -507,9 +605,9 @@ def prune_cache(gen_dir: Path | None = None, cache: Path | None = None, dry_run:
             size += f.stat().st_size
             if not dry_run:
                 f.unlink(missing_ok=True)
-                lock = cache / f".{f.name}.lock"
-                if f.suffix == ".so" and lock.exists():
-                    lock.unlink(missing_ok=True)
+                if f.suffix == ".so":  # its lock and its side file (the recorded sha256) go with it
+                    (cache / f".{f.name}.lock").unlink(missing_ok=True)
+                    digest_path(f).unlink(missing_ok=True)
     return n, size
 
 

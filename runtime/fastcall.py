@@ -15,7 +15,6 @@ import importlib.util
 import os
 import sys
 import sysconfig
-import tempfile
 from pathlib import Path
 from types import ModuleType
 
@@ -29,7 +28,7 @@ why_not: list[str] = []
 
 def load(cache: Path | None = None) -> ModuleType | None:
     """The ``_rpo_fastcall`` module, built if needed; None when it cannot be (see :data:`why_not`)."""
-    from .compiled import _compiler, _run_cc, cache_dir, csrc_dir, file_lock
+    from .compiled import _compiler, _run_cc, cache_dir, csrc_dir, ensure_built
 
     if os.environ.get("RPO_NO_FASTCALL"):
         why_not[:] = ["RPO_NO_FASTCALL is set"]
@@ -52,18 +51,10 @@ def load(cache: Path | None = None) -> ModuleType | None:
         return _loaded[str(path)]
     try:
         cache.mkdir(parents=True, exist_ok=True)
-        if not path.exists():
-            with file_lock(cache / f".{path.name}.lock"):
-                if not path.exists():
-                    fd, tmp = tempfile.mkstemp(prefix=".fastcall.", suffix=suffix, dir=cache)
-                    os.close(fd)
-                    try:
-                        _run_cc([*cc, "-O2", "-fPIC", "-shared", "-I", include, str(csrc_dir() / SOURCE), "-o", tmp],
-                                "compiling the fast-call extension", cc)
-                        os.replace(tmp, path)
-                    finally:
-                        if os.path.exists(tmp):
-                            os.unlink(tmp)
+        # built, or rebuilt when its bytes do not match the recorded sha256, before it is imported
+        ensure_built(path, lambda tmp: _run_cc([*cc, "-O2", "-fPIC", "-shared", "-I", include,
+                                                str(csrc_dir() / SOURCE), "-o", str(tmp)],
+                                               "compiling the fast-call extension", cc), "the fast-call extension")
         loader = importlib.machinery.ExtensionFileLoader("_rpo_fastcall", str(path))
         spec = importlib.util.spec_from_file_location("_rpo_fastcall", str(path), loader=loader)
         assert spec is not None

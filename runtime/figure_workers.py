@@ -22,6 +22,7 @@ import atexit
 import os
 import pickle
 import queue
+import signal
 import subprocess
 import sys
 import threading
@@ -58,13 +59,17 @@ class _Worker:
             raise
 
     def close(self) -> None:
+        if self.proc is not None:
+            # idle, or retired by Drawing.abandon (its folder is gone): nothing is lost.  Killed
+            # first, so that a thread still reading its answer sees EOF at once (closing a pipe
+            # that another thread reads waits for that read)
+            self.proc.kill()
         for f in (self.send, self.recv):
             try:
                 f.close()
             except OSError:
                 pass
         if self.proc is not None:
-            self.proc.kill()  # idle (every drawing was waited for): nothing is lost
             self.proc.wait()
 
 
@@ -134,6 +139,7 @@ class Drawing:
         start()
         with _lock:
             workers = list(_workers)
+        self._workers = workers
         self._threads = [threading.Thread(target=self._serve, args=(w,), daemon=True) for w in workers]
         for t in self._threads:
             t.start()
@@ -145,6 +151,10 @@ class Drawing:
             return None
 
     def _serve(self, worker: _Worker | None) -> None:
+        if threading.current_thread() is not threading.main_thread():
+            # SIGINT/SIGTERM go to the main thread, which is waiting for us: delivered to this
+            # thread, they would wake nothing until the figures were done
+            signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
         while (job := self._take()) is not None:
             name = job[3]
             try:
@@ -172,6 +182,16 @@ class Drawing:
             pass
         for t in self._threads:
             t.join(timeout=60)
+
+    def abandon(self) -> None:
+        """Start no further figure and do not wait for those being drawn (the caller removes their
+        folder): the workers drawing them are retired, so that a later drawing starts fresh ones
+        and never reads an answer meant for this one."""
+        self._cancelled = True
+        while self._take() is not None:
+            pass
+        for w in self._workers:
+            w.broken = True
 
     def wait(self) -> tuple[dict[str, list[str]], str]:
         for t in self._threads:
@@ -206,6 +226,10 @@ def _serve(jobs: Any, results: Any) -> int:  # pragma: no cover - runs in a work
 def _main(argv: list[str]) -> int:  # pragma: no cover - runs in the worker process
     import warnings
 
+    # Ctrl-C reaches the whole process group: the parent decides (it stops drawing and removes the
+    # folder, or waits for the figures); a worker dying of it mid-figure would only make the parent
+    # draw that figure itself.  The workers exit when their pipes close.
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
     warnings.simplefilter("ignore")
     from . import plots
     fig = plots.Figure(figsize=(2, 1))  # fonts and the Agg canvas loaded before the first job

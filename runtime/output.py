@@ -44,6 +44,8 @@ A diverged run is written the same way, with the data up to its last good step.
 
 from __future__ import annotations
 
+import ctypes
+import errno
 import json
 import os
 import platform
@@ -61,7 +63,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import figure_workers
+from . import figure_workers, interrupts
 from .channels import Selection, select
 from .errors import OutputError
 from .plotdata import FIGURE_FIELDS, FIGURE_FORMATS, FIGURE_ORDER, PlotData
@@ -109,15 +111,68 @@ def rpo_version() -> str:
         return "unknown"
 
 
+def _may_write(path: Path) -> bool:
+    """True if this process may create entries in the folder ``path``.
+
+    ``os.access`` decides (it sees ACLs and read-only mounts); for root, which may write anywhere,
+    the folder must also have a write bit for someone: a folder made read-only for everyone is
+    respected even by root."""
+    try:
+        st = path.stat()
+    except OSError:
+        return False
+    if not os.access(path, os.W_OK | os.X_OK):
+        return False
+    return os.geteuid() != 0 or bool(st.st_mode & 0o222)
+
+
 def check_out_dir(out_dir: str | Path) -> Path:
-    """Raise :class:`OutputError` unless ``out_dir`` is absent or an empty folder; returns it as a Path."""
-    out = Path(out_dir)
-    if out.exists() or out.is_symlink():
-        if not out.is_dir():
-            raise OutputError(f"output folder {out} exists and is not a folder: refusing to overwrite it")
-        if any(out.iterdir()):
-            raise OutputError(f"output folder {out} exists and is not empty: refusing to overwrite it "
+    """Check the results folder completely before anything is computed; return where the results go.
+
+    Refused with :class:`OutputError` (one line, nothing touched): ``.``, ``..``, ``/`` or the
+    current folder; a path that exists and is not a folder, or a folder that is not empty; an
+    empty folder this user may not write into (its permissions are respected: it is never
+    replaced by a writable one); an absent folder whose nearest existing parent is not a folder
+    or not writable.  A symlink (in any component) is resolved and the target checked the same
+    way; the resolved path is returned then (the results are written there, the link is left as
+    it is), else ``out_dir`` as given.
+    """
+    given = Path(out_dir)
+    if given.name in ("", ".", ".."):
+        raise OutputError(f"output folder {str(out_dir)!r}: must name a folder of its own (not ., .. or /)")
+    real = Path(os.path.realpath(given))
+    out = given if real == Path(os.path.abspath(given)) else real
+    shown = str(given) if out is given else f"{given} (-> {real})"
+    try:
+        is_cwd = real == Path.cwd().resolve()
+    except OSError:  # the current folder was removed: it cannot be the target
+        is_cwd = False
+    if is_cwd:
+        raise OutputError(f"output folder {shown} is the current folder: choose a new folder (--out)")
+    if real.exists():
+        if not real.is_dir():
+            raise OutputError(f"output folder {shown} exists and is not a folder: refusing to overwrite it")
+        try:
+            with os.scandir(real) as it:
+                entries = next(it, None) is not None
+        except OSError as exc:
+            raise OutputError(f"output folder {shown} cannot be read ({exc.strerror}): choose another --out") from None
+        if entries:
+            raise OutputError(f"output folder {shown} exists and is not empty: refusing to overwrite it "
                               "(choose another --out)")
+        if not _may_write(real):
+            mode = oct(real.stat().st_mode & 0o777)
+            raise OutputError(f"output folder {shown} is empty but not writable (mode {mode}): refusing to "
+                              "write into it or replace it (make it writable or choose another --out)")
+        return out
+    parent = real.parent
+    while not parent.exists() and parent != parent.parent:
+        parent = parent.parent
+    if not parent.is_dir():
+        raise OutputError(f"output folder {shown}: {parent} is not a folder")
+    if not _may_write(parent):
+        raise OutputError(f"output folder {shown}: its parent {parent} is not writable "
+                          "(choose another --out)")
     return out
 
 
@@ -135,18 +190,27 @@ def _jsonable(v: Any) -> Any:
     return v
 
 
+def _by_label(labels: Sequence[str], values: np.ndarray | None) -> dict[str, float] | None:
+    """``{label: value}``, or None when the values are missing or do not match the labels."""
+    if values is None or len(values) != len(labels):
+        return None
+    return dict(zip(labels, np.asarray(values, float).tolist(), strict=True))
+
+
 def run_record(result: RunResult, model: Model, scenario_path: str | Path | None = None,
                extra_meta: dict | None = None) -> dict[str, Any]:
     """The content of ``run.json`` (also stored in the data files' metadata)."""
     div = result.divergence
     rec = {
-        "status": "ok" if div is None else "diverged",
+        "status": "diverged" if div is not None else "interrupted" if result.meta.get("interrupted") else "ok",
         "divergence": None if div is None else {
             "message": div.message(), "step": int(div.step), "time": float(div.time), "label": div.label,
-            "value": float(div.value), "bound": float(div.bound),
+            "value": float(div.value), "bound": float(div.bound), "where": getattr(div, "where", "state"),
             # both states by label: the one that failed the check and the last good one
             "state": dict(zip(result.z_labels, div.state.tolist(), strict=True)),
             "last_good_state": dict(zip(result.z_labels, div.last_good_state.tolist(), strict=True)),
+            # the failing step's outputs by label (non-finite values as text)
+            "output": _by_label(result.y_labels, getattr(div, "output", None)),
         },
         "steps_done": int(result.steps_done),
         "steps_requested": int(result.steps_requested),
@@ -310,15 +374,19 @@ def write_run(result: RunResult, out_dir: str | Path, model: Model, scenario_pat
     the folder.
     """
     spec = output or OutputSpec()
-    out = check_out_dir(out_dir)
-    parent = out.parent
-    try:
-        parent.mkdir(parents=True, exist_ok=True)
-        # os.mkdir (not mkdtemp, which makes it 0700): the results get the user's usual permissions
-        tmp = parent / f".{out.name}.{secrets.token_hex(6)}.tmp"
-        os.mkdir(tmp)
-    except OSError as exc:
-        raise OutputError(f"cannot create the output folder {out}: {exc.strerror or exc}") from None
+    out = check_out_dir(out_dir)  # again: the folder may have changed while the run simulated
+    # an existing (empty, writable) folder is filled in place, so it keeps its permissions, owner
+    # and identity; an absent one is made from a temporary sibling by one rename
+    in_place = out.is_dir()
+    # os.mkdir (not mkdtemp, which makes it 0700): the results get the user's usual permissions
+    tmp = (out if in_place else out.parent) / f".{out.name}.{secrets.token_hex(6)}.tmp"
+    with interrupts.deferred():  # a signal here cannot leave the hidden folder behind
+        try:
+            if not in_place:
+                out.parent.mkdir(parents=True, exist_ok=True)
+            os.mkdir(tmp)
+        except OSError as exc:
+            raise OutputError(f"cannot create the output folder {out}: {exc.strerror or exc}") from None
     drawing = None
     clock = time.perf_counter()
     try:
@@ -360,24 +428,88 @@ def write_run(result: RunResult, out_dir: str | Path, model: Model, scenario_pat
         meta["figures"] = names
         (tmp / "run.json").write_text(json.dumps(meta, indent=2, sort_keys=False, allow_nan=False) + "\n",
                                       encoding="utf-8")
-        try:
-            # rename(2) replaces an empty folder atomically and fails on a non-empty one: an
-            # existing result is never overwritten, even if it appeared while we were writing.
-            os.rename(tmp, out)
-        except OSError as exc:
-            raise OutputError(f"cannot move the results into {out}: {exc.strerror or exc} "
-                              f"(is it non-empty now?)") from None
     except OSError as exc:
         _abandon(drawing, tmp)
         raise OutputError(f"cannot write the results into {out}: {exc}") from None
     except BaseException:
         _abandon(drawing, tmp)
         raise
+    with interrupts.deferred():  # the move is never cut in half; a signal is raised after it
+        _move_into_place(tmp, out, in_place)
     return out
 
 
+def _rename_noreplace(src: Path, dst: Path) -> None:
+    """Rename ``src`` to ``dst``, failing (FileExistsError) if ``dst`` exists, even an empty folder:
+    renameat2(RENAME_NOREPLACE) where the C library and file system have it, else a check and rename."""
+    fn = getattr(_libc(), "renameat2", None)
+    if fn is not None:
+        at_fdcwd, noreplace = -100, 1
+        if fn(at_fdcwd, os.fsencode(src), at_fdcwd, os.fsencode(dst), noreplace) == 0:
+            return
+        err = ctypes.get_errno()
+        if err not in (errno.ENOSYS, errno.EINVAL):  # EINVAL: this file system has no RENAME_NOREPLACE
+            raise OSError(err, os.strerror(err), str(dst))
+    if os.path.lexists(dst):
+        raise FileExistsError(errno.EEXIST, os.strerror(errno.EEXIST), str(dst))
+    os.rename(src, dst)
+
+
+_LIBC: list[Any] = []
+
+
+def _libc() -> Any:
+    if not _LIBC:
+        try:
+            _LIBC.append(ctypes.CDLL(None, use_errno=True))
+        except OSError:  # pragma: no cover - no C library to ask
+            _LIBC.append(None)
+    return _LIBC[0]
+
+
+def _move_into_place(tmp: Path, out: Path, in_place: bool) -> None:
+    """The final move of a complete results folder ``tmp`` to ``out``.
+
+    ``in_place``: ``tmp`` is inside the existing empty folder ``out``; its entries are moved up
+    (run.json last), then it is removed.  Else ``tmp`` is renamed to ``out`` (atomic, never over an
+    existing folder).  If the move fails, what was moved goes back and the results stay in ``tmp``:
+    the :class:`OutputError` gives that path.
+    """
+    moved: list[str] = []
+    try:
+        if not in_place:
+            _rename_noreplace(tmp, out)
+            return
+        others = sorted(set(os.listdir(out)) - {tmp.name})
+        if others:
+            raise FileExistsError(errno.ENOTEMPTY, f"it is not empty any more ({', '.join(others[:3])})")
+        names = sorted(os.listdir(tmp), key=lambda n: n == "run.json")  # run.json last: the folder is done
+        for name in names:
+            _rename_noreplace(tmp / name, out / name)
+            moved.append(name)
+        os.rmdir(tmp)
+    except OSError as exc:
+        for name in reversed(moved):
+            try:
+                os.rename(out / name, tmp / name)
+            except OSError:
+                pass
+        raise OutputError(f"cannot move the results into {out} ({exc.strerror or exc}); they are complete "
+                          f"in {tmp}") from None
+
+
 def _abandon(drawing: figure_workers.Drawing | None, tmp: Path) -> None:
-    """Let the figures being drawn into ``tmp`` finish (no new ones start), then remove it."""
-    if drawing is not None:
-        drawing.cancel()
-    shutil.rmtree(tmp, ignore_errors=True)
+    """Remove ``tmp`` without waiting for the figures being drawn into it (a signal in between
+    waits: the hidden folder is never left half removed).
+
+    ``tmp`` is renamed first: a worker still drawing opens ``tmp/<figure>`` by name, which then
+    fails, so nothing can be created in the folder while it is removed."""
+    with interrupts.deferred():
+        if drawing is not None:
+            drawing.abandon()
+        gone = tmp.with_name(f"{tmp.name}.gone")
+        try:
+            os.rename(tmp, gone)
+        except OSError:
+            gone = tmp
+        shutil.rmtree(gone, ignore_errors=True)

@@ -4,7 +4,8 @@
 
 1. **scenario**: read and validate the file (or take a validated :class:`Scenario`), apply the
    overrides (duration, seed, controller, plant, gains) and validate again;
-2. **output folder**: refuse one that exists and is not empty, before anything slow happens;
+2. **output folder**: checked completely (:func:`rpo.runtime.output.check_out_dir`: not empty,
+   writable, parent writable, symlinks resolved) before anything slow happens;
 3. **inputs**: load the model (``model`` may be a callable, so a bad scenario or folder never
    waits for a compile), map the scenario to SI parameters, gains and the initial state;
 4. **simulation** (every ``simulation.record_every``-th step kept in memory, default every
@@ -28,7 +29,9 @@ from typing import Any
 
 import numpy as np
 
+from . import interrupts
 from .compiled import Model
+from .interrupts import Interrupted
 from .metrics import compute_metrics, result_columns
 from .output import OutputSpec, check_out_dir, warm_figures, write_run
 from .scenario import RunInputs, Scenario, load_scenario
@@ -77,7 +80,25 @@ def execute_run(scenario: str | Path | Scenario, out_dir: str | Path | None, mod
     controller the run flies (``model(name)``, so a first run compiles only what it needs), called
     once the scenario and the folder are known to be good.  ``formats`` and ``figure_format``
     replace the scenario's ``[output] formats`` / ``figure_format``; ``plots=False`` writes no
-    figure."""
+    figure.
+
+    SIGINT and SIGTERM (:mod:`rpo.runtime.interrupts`): before the simulation, nothing is written;
+    during it, the run stops at its next chunk and the folder is written with what was computed,
+    ``status = "interrupted"`` in ``run.json`` and ``metrics.json``, then :class:`Interrupted` is
+    raised (naming the folder); while the folder is written (or a second signal), the temporary
+    folder is removed and nothing is left.  The exception's ``exit_code`` is 130 or 143."""
+    with interrupts.handling():
+        return _execute_run(scenario, out_dir, model, duration=duration, seed=seed, controller=controller, plant=plant,
+                            gains=gains, plots=plots, thresholds=thresholds, error_times=error_times, log=log,
+                            progress=progress, extra_meta=extra_meta, formats=formats, figure_format=figure_format)
+
+
+def _execute_run(scenario: str | Path | Scenario, out_dir: str | Path | None, model: Model | Callable[[str], Model],
+                 *, duration: float | None, seed: int | None, controller: str | None, plant: str | None,
+                 gains: Mapping[str, Any] | None, plots: bool, thresholds: Mapping[str, float] | None,
+                 error_times: Iterable[float], log: Callable[[str], None] | None,
+                 progress: Callable[[int, int], None] | None, extra_meta: dict[str, Any] | None,
+                 formats: Iterable[str] | None, figure_format: str | None) -> RunOutcome:
     clock = time.perf_counter()
     timings: dict[str, float] = {}
 
@@ -108,15 +129,23 @@ def execute_run(scenario: str | Path | Scenario, out_dir: str | Path | None, mod
     if log:
         log(f"{sc.name}: {n_steps} steps of {sim.dt:g} s ({inputs.duration:g} s), controller "
             f"{inputs.controller}, seed {inputs.seed}, backend {model.backend}")
-    # 4. simulation
-    result = sim.run(z0, inputs.duration, seed=inputs.seed, record_every=inputs.record_every, progress=progress)
+    # 4. simulation (a first signal ends it at the next chunk, with what it has)
+    with interrupts.stop_request() as stop:
+        result = sim.run(z0, inputs.duration, seed=inputs.seed, record_every=inputs.record_every, progress=progress,
+                         stop=stop.requested)
     lap("simulation")
+    # a signal that came during the last chunk still counts: the folder says so and the exit code too
+    stopped_by = stop.signum
+    if stopped_by is not None:
+        result.meta["interrupted"] = True
     if log:
-        log(f"simulated {result.steps_done} steps in {result.wall_time:.3g} s; writing {out} ...")
+        how = f" (stopped by {interrupts.signal_name(stopped_by)})" if stopped_by is not None else ""
+        log(f"simulated {result.steps_done} steps in {result.wall_time:.3g} s{how}; writing {out} ...")
     # 5. metrics
     goal = np.ravel(inputs.gains["r_goal"]) if "r_goal" in inputs.gains else None
     metrics = compute_metrics(result.t, result_columns(result), thresholds, goal=goal, error_times=error_times)
-    metrics["status"] = "ok" if result.divergence is None else "diverged"
+    metrics["status"] = ("diverged" if result.divergence is not None else
+                         "interrupted" if stopped_by is not None else "ok")
     lap("metrics")
     # 6. outputs
     overrides: dict[str, Any] = {k: v for k, v in (("duration", duration), ("seed", seed),
@@ -125,12 +154,19 @@ def execute_run(scenario: str | Path | Scenario, out_dir: str | Path | None, mod
         overrides["gains"] = {k: np.ravel(np.asarray(v, float)).tolist() for k, v in gains.items()}
     extra = {"scenario": sc.name, "scenario_meta": sc.meta.model_dump(), "overrides": overrides,
              "inputs": inputs.to_json(), "z0": z0, **(extra_meta or {})}
+    if stopped_by is not None:
+        extra["interrupted"] = {"signal": interrupts.signal_name(stopped_by), "step": int(result.steps_done),
+                                "time": float(result.t[-1]), "steps_requested": int(result.steps_requested)}
     parts: dict[str, float] = {}
     write_run(result, out, model, scenario_path=base.source, scenario_text=sc.text, extra_meta=extra,
               plots=plots, params=inputs.params, gains=inputs.gains, title=sc.name, metrics=metrics, output=spec,
               timings=parts)
     lap("write")
     timings.update({f"write.{k}": v for k, v in parts.items()})
+    if stopped_by is not None:  # written; now the interrupt goes on (never swallowed)
+        raise Interrupted(stopped_by, f"interrupted by {interrupts.signal_name(stopped_by)} in step "
+                                      f"{result.steps_done} of {result.steps_requested} (t = {result.t[-1]:.6g} s); "
+                                      f"the results so far were written to {out}")
     return RunOutcome(result=result, out_dir=out, metrics=metrics, inputs=inputs, scenario=sc, model=model,
                       write_time=timings["write"], timings=timings)
 

@@ -16,6 +16,7 @@ import ctypes
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -37,7 +38,12 @@ DEFAULT_BOUNDS = {
 
 @dataclass
 class Divergence:
-    """Where a run stopped: the step, its end time, the offending entry and both states."""
+    """Where a run stopped: the step, its end time [s], the offending entry and both states.
+
+    ``where`` is ``"state"`` (an entry of the next state, non-finite or above its bound),
+    ``"output"`` (an entry of the step's outputs y, non-finite; ``label`` is its y label) or
+    ``"step"`` (the step function reported an error).  ``output`` is the failing step's y.
+    """
 
     step: int
     time: float
@@ -46,10 +52,13 @@ class Divergence:
     bound: float
     state: np.ndarray
     last_good_state: np.ndarray
+    where: str = "state"
+    output: np.ndarray | None = None
 
     def message(self) -> str:
         what = "non-finite" if not np.isfinite(self.value) else f"|{self.value:.6g}| > {self.bound:.6g}"
-        return (f"simulation diverged in step {self.step} (ending at t = {self.time:.6g} s): {self.label} is "
+        entry = f"output {self.label}" if self.where == "output" else self.label
+        return (f"simulation diverged in step {self.step} (ending at t = {self.time:.6g} s): {entry} is "
                 f"{what}; the results up to the step's start were kept")
 
 
@@ -182,11 +191,14 @@ class Simulation:
         return z
 
     def run(self, z0: np.ndarray, duration: float, seed: int = 0, t0: float = 0.0, record_every: int = 1,
-            chunk: int = 4096, progress: Callable[[int, int], None] | None = None) -> RunResult:
+            chunk: int = 4096, progress: Callable[[int, int], None] | None = None,
+            stop: Callable[[], bool] | None = None) -> RunResult:
         """Run ``round(duration / dt)`` steps from ``z0`` at ``t0``.
 
         Records every ``record_every``-th state and always the final one; if the run diverges, the
-        last good state (with the output of the failing step) is the final row.
+        last good state (with the output of the failing step) is the final row.  ``stop()`` is
+        asked after every chunk: True ends the run there (``meta["interrupted"]`` True, the state
+        reached is the final row, ``steps_done`` < ``steps_requested``).
         """
         n_total, record_every, chunk = self._check_run_args(z0, duration, t0, record_every, chunk)
         seed = noise.check_seed(seed)
@@ -205,6 +217,7 @@ class Simulation:
         done = 0
         divergence = None
         last_good = None  # (step, state, output) when the run stops early
+        interrupted = False
         wall0 = time.perf_counter()
         runner = self._c_runner()
         while done < n_total:
@@ -221,12 +234,7 @@ class Simulation:
             if ok < n:
                 last = done + ok
                 z_bad = Zc[ok + 1].copy()
-                j = int(bad)
-                label = self.model.labels(self.z_layout)[j] if j >= 0 else "step function"
-                divergence = Divergence(step=last, time=t0 + (last + 1) * self.dt, label=label,
-                                        value=float(z_bad[j]) if j >= 0 else float("nan"),
-                                        bound=float(self.bound[j]) if j >= 0 else float("nan"),
-                                        state=z_bad, last_good_state=Zc[ok].copy())
+                divergence = self._divergence(last, t0, int(bad), z_bad, Zc[ok].copy(), Yc[ok].copy())
                 last_good = (last, Zc[ok].copy(), Yc[ok].copy())  # output of the failing step at its start
                 done = last
                 break
@@ -234,8 +242,13 @@ class Simulation:
             done += n
             if progress:
                 progress(done, n_total)
+            if stop is not None and done < n_total and stop():
+                interrupted = True
+                break
         keep = int(np.searchsorted(G, done, side="right"))
         G, Z, Y = G[:keep], Z[:keep], Y[:keep]
+        if interrupted and G[-1] != done:  # the state reached, off the recording grid: the final row
+            G, Z, Y = np.append(G, done), np.vstack([Z, z]), np.vstack([Y, np.full(ny, np.nan)])
         if last_good is not None:
             g, zg, yg = last_good
             if G[-1] == g:
@@ -250,7 +263,7 @@ class Simulation:
             steps_done=done, steps_requested=n_total, dt=self.dt,
             wall_time=time.perf_counter() - wall0, divergence=divergence,
             meta={"controller": self.controller, "seed": seed, "record_every": record_every,
-                  "backend": self.model.backend},
+                  "backend": self.model.backend, **({"interrupted": True} if interrupted else {})},
         )
 
     def run_batch(self, Z0: np.ndarray, duration: float, seeds, params=None, gains=None, t0: float = 0.0,
@@ -390,11 +403,7 @@ class Simulation:
                 Zr[G.size], Yr[G.size] = zg, yg
                 G = np.append(G, last)
             Z, Y = Zr[: G.size], Yr[: G.size]
-            label = self.model.labels(self.z_layout)[j] if j >= 0 else "step function"
-            divergence = Divergence(step=last, time=t0 + (last + 1) * self.dt, label=label,
-                                    value=float(z_bad[j]) if j >= 0 else float("nan"),
-                                    bound=float(self.bound[j]) if j >= 0 else float("nan"),
-                                    state=z_bad, last_good_state=zg)
+            divergence = self._divergence(last, t0, j, z_bad, zg, yg)
             done = last
         assert Z.shape == (G.size, nz) and Y.shape == (G.size, ny)
         return RunResult(
@@ -405,6 +414,22 @@ class Simulation:
             meta={"controller": self.controller, "seed": seed, "record_every": record_every,
                   "backend": self.model.backend},
         )
+
+    def _divergence(self, last: int, t0: float, j: int, z_bad: np.ndarray, z_good: np.ndarray,
+                    y_bad: np.ndarray) -> Divergence:
+        """The report of a run that stopped in step ``last``: ``j`` is the loops' index of the
+        offending entry (< nz: the next state ``z_bad``; nz + e: output e of ``y_bad``, the step's
+        outputs; -1: the step function failed)."""
+        common: dict[str, Any] = dict(step=last, time=t0 + (last + 1) * self.dt, state=z_bad, last_good_state=z_good,
+                      output=np.array(y_bad, float))
+        if j < 0:
+            return Divergence(label="step function", value=float("nan"), bound=float("nan"), where="step", **common)
+        if j < self.nz:
+            return Divergence(label=self.model.labels(self.z_layout)[j], value=float(z_bad[j]),
+                              bound=float(self.bound[j]), **common)
+        e = j - self.nz
+        return Divergence(label=self.model.labels(self.y_layout)[e], value=float(y_bad[e]), bound=float("inf"),
+                          where="output", **common)
 
     # -- backends --------------------------------------------------------------------------
 
@@ -441,4 +466,7 @@ class Simulation:
             bad = ~np.isfinite(zn) | (np.abs(zn) > self.bound)
             if bad.any():
                 return i, int(np.argmax(bad))
+            bad_y = ~np.isfinite(y)  # the outputs too, after the state, as the C loops check them
+            if bad_y.any():
+                return i, self.nz + int(np.argmax(bad_y))
         return n, -2

@@ -100,7 +100,7 @@ RPO_EXPORT long long rpo_batch_lanes(rpo_lane_fn f, long long sz_w, int n_in, co
  * output, into rows r of Zrec[l] and Yrec[l] (r counts recorded steps in this call).  status[l]: in,
  * 1 for a run to advance and 0 for a lane to ignore; out, 0 once the run diverged, with
  * steps_ok[l] the global count of its healthy steps, bad[l] the first offending entry of the
- * next state (-1: the step function failed), Zbad[l] that state, Ylast[l] the failing step's
+ * next state (nz + e: entry e of the step's output, non-finite; -1: the step function failed), Zbad[l] that state, Ylast[l] the failing step's
  * output.  Returns 0, or -1 when memory is short. */
 RPO_EXPORT int rpo_run_lanes(rpo_lane_fn step, long long sz_w, double t0, double dt, long long k0, int n,
                              long long every, const double* P, int np, const double* G, int nk,
@@ -151,6 +151,8 @@ RPO_EXPORT int rpo_run_lanes(rpo_lane_fn step, long long sz_w, double t0, double
             rpo_v a = rpo_fabs(zn[e]);
             m = RPO_MOR(m, RPO_MOR(RPO_MNOT(RPO_LT(a, RPO_SPLAT(INFINITY))), RPO_GT(a, RPO_SPLAT(bound[e]))));
         }
+        /* and a non-finite output, as rpo_run checks it (index nz + e, after the state's) */
+        for (int e = 0; e < ny; ++e) m = RPO_MOR(m, RPO_MNOT(RPO_LT(rpo_fabs(y[e]), RPO_SPLAT(INFINITY))));
         if (failed || RPO_ANY(m)) {
             for (int l = 0; l < K; ++l) {
                 if (!status[l]) continue;
@@ -159,6 +161,8 @@ RPO_EXPORT int rpo_run_lanes(rpo_lane_fn step, long long sz_w, double t0, double
                     double v = LANE(zn, e, l);
                     if (!isfinite(v) || fabs(v) > bound[e]) j = e;
                 }
+                for (int e = 0; e < ny && j == -2; ++e)
+                    if (!isfinite(LANE(y, e, l))) j = nz + e;
                 if (j == -2) continue;
                 status[l] = 0;
                 --active;

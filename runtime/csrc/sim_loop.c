@@ -4,8 +4,9 @@
  * shared library by rpo.runtime.compiled.  The step function has CasADi's calling convention:
  *   step(arg = {z_k, t_k, p, k, w_k}, res = {z_{k+1}, y_k}, iw, w, mem)
  * w_k, the standard-normal inputs of step k, are drawn here (rpo_noise.h) from the run's key.
- * Divergence (a non-finite entry, or |z_j| above bound[j]) stops the loop after writing the
- * offending state, so the caller keeps everything computed so far.
+ * Divergence (a non-finite state entry, |z_j| above bound[j], or a non-finite output y_j) stops
+ * the loop after writing the offending state and output, so the caller keeps everything computed
+ * so far.
  */
 #define RPO_LANES 1
 #include "rpo_noise.h"
@@ -21,8 +22,9 @@ typedef int (*rpo_step_fn)(const double** arg, double** res, casadi_int* iw, dou
 int rpo_selftest_nan(double x) { return isfinite(x) ? 1 : 0; }
 
 /* Returns the number of completed, healthy steps (0..n).  If it is less than n, *bad_index is
- * the index of the first offending entry of Z[ret + 1] (or -1 when the step function itself
- * reported an error).  t_k = t0 + (k0 + k) dt, formed from the integer step count so that
+ * the index j of the first offending entry of Z[ret + 1] (0 <= j < nz), or nz + j for a
+ * non-finite entry j of Y[ret] when the state is healthy, or -1 when the step function itself
+ * reported an error.  t_k = t0 + (k0 + k) dt, formed from the integer step count so that
  * time does not drift over millions of steps. */
 int rpo_run(rpo_step_fn step, casadi_int* iw, double* work, double t0, double dt, long long k0,
             int n, const double* p, const double* gains, unsigned long long key, int nw, double* Z,
@@ -55,6 +57,15 @@ int rpo_run(rpo_step_fn step, casadi_int* iw, double* work, double t0, double dt
         for (int j = 0; j < nz; ++j) {
             if (!isfinite(zn[j]) || fabs(zn[j]) > bound[j]) {
                 *bad_index = j;
+                return i;
+            }
+        }
+        /* the outputs too: a non-finite output (e.g. a wheel speed over a near-zero inertia) is a
+         * divergence even while the state stays finite; one compare per entry, no bound */
+        const double* yn = res[1];
+        for (int j = 0; j < ny; ++j) {
+            if (!isfinite(yn[j])) {
+                *bad_index = nz + j;
                 return i;
             }
         }
