@@ -55,7 +55,8 @@ what the units delivered, ``wheel_applied_<i>`` [N m], ``env_wheel_speed_<i>`` [
   are the parameters ``wheel_torque_max``, ``wheel_speed_max`` (nominal, the same for every wheel);
   without ``params`` the two fractions are ``None``;
 * per thruster ``j``: ``on_time_s`` = time with ``thr_on_j > 0``; ``firings`` = number of
-  off-to-on transitions between recorded samples (on at the first sample counts as one);
+  off-to-on transitions between recorded samples (on at the first sample counts as one; the
+  final sample, which holds over no time, starts none);
   ``propellant_kg`` = integral of ``thr_on_j F / (Isp g0)`` dt (parameters ``thruster_force``,
   ``thruster_isp``, ``g0``; ``None`` without ``params``); ``propellant_share`` = the unit's
   integral of ``thr_on_j`` over the sum of all units' (``None`` when nothing fired).
@@ -279,7 +280,9 @@ def unit_use(t: ArrayLike, columns: Mapping[str, Any], params: Mapping[str, Any]
         thrusters = []
         for u, x in level.items():
             firing = x > 0
-            starts = int(firing[0]) + int(np.count_nonzero(firing[1:] & ~firing[:-1])) if len(x) else 0
+            # a firing starts at a sample that holds over time (the final sample holds over none)
+            rising = firing & (w > 0) & ~np.concatenate([[False], firing[:-1]])
+            starts = int(np.count_nonzero(rising))
             thrusters.append({
                 "unit": u,
                 "on_time_s": float(np.sum(w * firing)),

@@ -65,11 +65,11 @@ APPLIED_TOL = 1e-6
 GOALS = {"att": "attitude", "pos": "position"}
 #: what each family's saturation means, for the verdict's text
 FAMILY_TEXT = {
-    "wheel_torque": "wheels at their torque limit (or delivering less than allocated)",
-    "wheel_speed": "wheels at their speed limit with the command driving them further",
-    "thrusters": "thrusters asked for more than full thrust (allocation scaled down)",
-    "ideal_force": "force actuator saturated (applied < commanded)",
-    "ideal_torque": "torque actuator saturated (applied < commanded)",
+    "wheel_torque": "wheels torque-limited",
+    "wheel_speed": "wheels at their speed limit",
+    "thrusters": "thrusters saturated",
+    "ideal_force": "force actuator saturated",
+    "ideal_torque": "torque actuator saturated",
 }
 CONSTRAINTS = {"env_beta_fov": ("beta_fov", "camera field of view", "m"),
                "env_beta_ca": ("beta_ca", "collision envelope", "m^2")}
