@@ -19,7 +19,7 @@ Figures (medians of ``--repeat``; the keys of the ``--json`` line):
   points, per point; ``plant_rhs_loop_us_per_point``: the compiled lane code's own cost per
   evaluation (K points evaluated repeatedly in C, nothing gathered or returned), and
   ``plant_rhs_batch_ratio`` = batch / loop (target: within 1.25);
-* ``run_total_s``, ``run_write_s``, ``output_mb``: the README's first command's ``rpo run`` with the
+* ``run_total_s``, ``run_write_s``, ``output_mb``: scenario III's ``rpo run`` (000, the README's second run) with the
   compile cached (``benchmarks/bench_run.py``, fresh processes).
 
 With ``--references`` also the per-step cost of the same step evaluated by CasADi's virtual machine

@@ -106,7 +106,8 @@ def cli() -> None:
 @click.option("--figure-format", type=click.Choice(["png", "svg", "pdf"]), default=None,
               help="Figure file format (default png, or [output] figure_format).")
 @click.option("--no-plots", is_flag=True, help="Do not write the figures.")
-@click.option("--quiet", "-q", is_flag=True, help="Print only errors and the divergence message.")
+@click.option("--quiet", "-q", is_flag=True,
+              help="Print only errors and the divergence message (the verdict is still in metrics.json, run.json).")
 def run(scenario: str, out: str | None, duration: float | None, seed: int | None, controller: str | None,
         plant: str | None, backend: str, formats: tuple[str, ...] | None, figure_format: str | None,
         no_plots: bool, quiet: bool) -> int:
@@ -114,8 +115,10 @@ def run(scenario: str, out: str | None, duration: float | None, seed: int | None
 
     The folder gets timeseries.parquet (and the other --format files), metrics.json, run.json, a
     copy of the scenario and the figures.  The scenario's [output] table chooses the columns and
-    rows written (docs/scenarios.md); the metrics always use every recorded step.  Exit code 3 if
-    the simulation diverged (the results up to that point are still written).
+    rows written (docs/scenarios.md); the metrics always use every recorded step.  The output ends
+    with the verdict: which goals were reached and when, and the main reason for each one that
+    was not (docs/verdict.md).  Exit code 3 if the simulation diverged (the results up to that
+    point are still written).
     """
     if not no_plots:  # matplotlib is imported by the figure workers while this process works
         from .figure_workers import start
@@ -140,11 +143,15 @@ def run(scenario: str, out: str | None, duration: float | None, seed: int | None
     if result.divergence is not None:
         _err(f"diverged: {result.divergence.message()}")
         _err(f"results up to t = {result.t[-1]:.6g} s written to {outcome.out_dir}")
+        if not quiet:
+            click.echo(outcome.metrics["verdict"]["line"])
         return EXIT_DIVERGED
     if not quiet:
         _summary(result, outcome.model, outcome.inputs, outcome.out_dir, outcome.write_time)
         click.echo("metrics (metrics.json; definitions in rpo.runtime.metrics):")
         click.echo(format_table(outcome.metrics))
+        # last, so that the run ends with it (rule: rpo.runtime.verdict, docs/verdict.md)
+        click.echo(outcome.metrics["verdict"]["line"])
     return 0
 
 

@@ -5,7 +5,7 @@ column label (``r_x``, ``ctrl_att_err``, ``env_F_applied_y``...) to a 1-D array 
 length, and returns a flat, JSON-ready dict.  Keys carry their unit (``_s``, ``_m``, ``_rad``...).
 A metric whose input columns are absent is ``None``, with the reason in ``unavailable[key]``;
 ``sources[quantity]`` names the columns each error was computed from.  Rows where a signal is
-not finite are ignored (the last ``y`` row of a run is NaN: no step starts at the final state).
+not finite are ignored (e.g. the outputs of a diverged step).
 
 Error signals (first available source wins):
 
@@ -40,6 +40,28 @@ Definitions (``t_end`` = last time with finite data; ``T = t_end - t[0]``):
   consecutive samples, summed over the axes, divided by ``T`` (samples with
   ``|u| <= chatter_deadband`` x the group's max |u| are skipped, so noise around zero does not count).
   Both depend on the recording step (``record_every``): they are per recorded sample.
+
+Per-unit actuator use (``per_wheel``, ``per_thruster``: one entry per unit, from the columns of
+what the units delivered, ``wheel_applied_<i>`` [N m], ``env_wheel_speed_<i>`` [rad/s] and
+``thr_on_<j>`` [-], the thrust level in [0, 1]; time fractions and integrals weight sample i by
+``t_{i+1} - t_i`` as above, so they are exact when ``record_every = 1``):
+
+* per wheel ``i``: ``torque_peak_N_m`` = max ``|wheel_applied_i|``; ``torque_rms_N_m`` = the
+  time-weighted RMS of ``wheel_applied_i``; ``speed_peak_rad_s`` = max ``|env_wheel_speed_i|``;
+  ``torque_limit_fraction``: fraction of the run with ``|wheel_applied_i| >= (1 - 1e-6)
+  wheel_torque_max``; ``speed_limit_fraction``: with ``|env_wheel_speed_i| >= 0.99
+  wheel_speed_max`` (a wheel held at its limit hovers within ~0.1 % of it: one step of full torque
+  changes its speed by ``T dt / I_w``, and the body rate moves it by ``a_i . omega``).  The limits
+  are the parameters ``wheel_torque_max``, ``wheel_speed_max`` (nominal, the same for every wheel);
+  without ``params`` the two fractions are ``None``;
+* per thruster ``j``: ``on_time_s`` = time with ``thr_on_j > 0``; ``firings`` = number of
+  off-to-on transitions between recorded samples (on at the first sample counts as one; the
+  final sample, which holds over no time, starts none);
+  ``propellant_kg`` = integral of ``thr_on_j F / (Isp g0)`` dt (parameters ``thruster_force``,
+  ``thruster_isp``, ``g0``; ``None`` without ``params``); ``propellant_share`` = the unit's
+  integral of ``thr_on_j`` over the sum of all units' (``None`` when nothing fired).
+* Both are ``None`` (reason in ``unavailable``) when the run flies the ideal actuators
+  (``actuators_ideal = 1``: no wheel or thruster exists) or the columns are not recorded.
 
 ``errors_at(t, columns, times)`` returns the error components at given times (the latest recorded
 sample at or before each time), e.g. 001's Table 2 at 3000/4000/5000 s.
@@ -174,6 +196,103 @@ def _zoh_integral(t, x) -> float | None:
     return float(np.sum(x * np.diff(t)))
 
 
+#: "at the torque limit": |torque| >= (1 - TORQUE_LIMIT_TOL) x limit (the allocation scales onto it)
+TORQUE_LIMIT_TOL = 1e-6
+#: "at the speed limit": |speed| >= (1 - SPEED_LIMIT_TOL) x limit (see the module docstring)
+SPEED_LIMIT_TOL = 0.01
+
+
+def hold_weights(t: ArrayLike) -> np.ndarray:
+    """Sample-and-hold weights [s]: sample i holds over ``[t_i, t_{i+1})``, the last sample over 0."""
+    t = np.asarray(t, float)
+    return np.append(np.diff(t), 0.0) if len(t) else np.zeros(0)
+
+
+def time_fraction(t: ArrayLike, flag: ArrayLike) -> float | None:
+    """Fraction of the run ``[t_0, t_end]`` during which the held boolean ``flag`` is true."""
+    w = hold_weights(t)
+    total = float(np.sum(w))
+    return None if total <= 0 else float(np.sum(w * np.asarray(flag, bool))) / total
+
+
+def unit_columns(columns: Mapping[str, Any], prefix: str) -> list[tuple[str, np.ndarray]]:
+    """``[(unit, column)]`` of the columns ``<prefix>_<digits>`` (``wheel_applied_1``,
+    ``thr_on_07``), in unit order."""
+    found = [(k[len(prefix) + 1:], k) for k in columns
+             if k.startswith(prefix + "_") and k[len(prefix) + 1:].isdigit()]
+    return [(u, np.asarray(columns[k], float)) for u, k in sorted(found, key=lambda x: int(x[0]))]
+
+
+def param(params: Mapping[str, Any] | None, name: str) -> float | None:
+    """A scalar parameter [SI] from a run's parameter mapping (arrays of one value), or None."""
+    if params is None or name not in params:
+        return None
+    return float(np.ravel(np.asarray(params[name], float))[0])
+
+
+def unit_use(t: ArrayLike, columns: Mapping[str, Any], params: Mapping[str, Any] | None = None
+             ) -> tuple[list[dict] | None, list[dict] | None, dict[str, str]]:
+    """(per_wheel, per_thruster, unavailable): the per-unit use of the module docstring."""
+    t = np.asarray(t, float)
+    w = hold_weights(t)
+    span = float(np.sum(w))
+    unavailable: dict[str, str] = {}
+    if param(params, "actuators_ideal") == 1.0:
+        why = "the run flies the ideal force/torque actuators (actuators_ideal = 1): no wheel or thruster"
+        return None, None, {"per_wheel": why, "per_thruster": why}
+
+    def fin(x):
+        return np.nan_to_num(x, nan=0.0, posinf=0.0, neginf=0.0)
+
+    wheels: list[dict] | None = None
+    applied = unit_columns(columns, "wheel_applied")
+    speeds = dict(unit_columns(columns, "env_wheel_speed"))
+    if not applied:
+        unavailable["per_wheel"] = "columns wheel_applied_* not recorded"
+    else:
+        t_max, s_max = param(params, "wheel_torque_max"), param(params, "wheel_speed_max")
+        wheels = []
+        for u, tq in applied:
+            sp_ = speeds.get(u)
+            a = np.abs(tq)
+            e: dict[str, Any] = {
+                "unit": u,
+                "torque_peak_N_m": float(np.nanmax(a)) if np.isfinite(a).any() else None,
+                "torque_rms_N_m": float(np.sqrt(np.sum(w * fin(tq) ** 2) / span)) if span > 0 else None,
+                "speed_peak_rad_s": (float(np.nanmax(np.abs(sp_))) if sp_ is not None and np.isfinite(sp_).any()
+                                     else None),
+                "torque_limit_fraction": None if t_max is None else
+                time_fraction(t, a >= (1 - TORQUE_LIMIT_TOL) * t_max),
+                "speed_limit_fraction": None if s_max is None or sp_ is None else
+                time_fraction(t, np.abs(sp_) >= (1 - SPEED_LIMIT_TOL) * s_max),
+            }
+            wheels.append(e)
+
+    thrusters: list[dict] | None = None
+    on = unit_columns(columns, "thr_on")
+    if not on:
+        unavailable["per_thruster"] = "columns thr_on_* not recorded"
+    else:
+        F, isp, g0 = (param(params, k) for k in ("thruster_force", "thruster_isp", "g0"))
+        level = {u: fin(x) for u, x in on}
+        used = {u: float(np.sum(w * x)) for u, x in level.items()}  # s at full thrust
+        total = sum(used.values())
+        thrusters = []
+        for u, x in level.items():
+            firing = x > 0
+            # a firing starts at a sample that holds over time (the final sample holds over none)
+            rising = firing & (w > 0) & ~np.concatenate([[False], firing[:-1]])
+            starts = int(np.count_nonzero(rising))
+            thrusters.append({
+                "unit": u,
+                "on_time_s": float(np.sum(w * firing)),
+                "firings": starts,
+                "propellant_kg": None if None in (F, isp, g0) else used[u] * F / (isp * g0),  # type: ignore[operator]
+                "propellant_share": used[u] / total if total > 0 else None,
+            })
+    return wheels, thrusters, unavailable
+
+
 def chatter(t: np.ndarray, u: np.ndarray, deadband: float = 0.0) -> tuple[float, float]:
     """(total variation per second, sign changes per second) of the command block ``u`` (rows =
     samples, columns = axes), summed over axes; see the module docstring."""
@@ -191,9 +310,11 @@ def chatter(t: np.ndarray, u: np.ndarray, deadband: float = 0.0) -> tuple[float,
 
 
 def compute_metrics(t: ArrayLike, columns: Mapping[str, np.ndarray], thresholds: Mapping[str, float] | None = None, *,
-                    goal: ArrayLike | None = None, error_times: Iterable[float] = ()) -> dict[str, Any]:
+                    goal: ArrayLike | None = None, error_times: Iterable[float] = (),
+                    params: Mapping[str, Any] | None = None) -> dict[str, Any]:
     """All metrics of one run (see the module docstring); ``goal`` is the goal position [m] used
-    when the controller logs no ``ctrl_pos_err``; ``error_times`` adds ``errors_at``."""
+    when the controller logs no ``ctrl_pos_err``; ``error_times`` adds ``errors_at``; ``params``
+    (the run's parameters by name, SI) give the actuator limits of the per-unit use."""
     th = {**DEFAULT_THRESHOLDS, **(thresholds or {})}
     t = np.asarray(t, float)
     m: dict = {k: None for k in UNITS}
@@ -257,6 +378,9 @@ def compute_metrics(t: ArrayLike, columns: Mapping[str, np.ndarray], thresholds:
             m[f"chatter_{g}_tv_per_s"], m[f"chatter_{g}_sign_changes_per_s"] = tv, sc
         else:
             unavailable[f"chatter_{g}_sign_changes_per_s"] = unavailable[f"chatter_{g}_tv_per_s"]
+
+    m["per_wheel"], m["per_thruster"], why = unit_use(t, columns, params)
+    unavailable.update(why)
 
     settled = [m[f"{q}_settling_time_s"] for q in ("att", "pos") if q in sig]
     m["converged"] = bool(settled) and all(s is not None for s in settled)
@@ -338,6 +462,18 @@ def format_table(m: dict) -> str:
         ("chattering", ", ".join(f"{g} {f(m[f'chatter_{g}_tv_per_s'])} {CHATTER_GROUPS[g]}/s, "
                                  f"{f(m[f'chatter_{g}_sign_changes_per_s'])} sign changes/s" for g in CHATTER_GROUPS)),
     ]
+    rpm = 60 / (2 * np.pi)
+    pct = lambda v: "-" if v is None else f"{100 * v:.3g} %"  # noqa: E731
+    for e in m.get("per_wheel") or []:
+        rows.append((f"wheel {e['unit']}", f"torque peak {f(e['torque_peak_N_m'])} N m, RMS {f(e['torque_rms_N_m'])} "
+                     f"N m; speed peak {f(e['speed_peak_rad_s'], rpm)} rpm; at the torque limit "
+                     f"{pct(e['torque_limit_fraction'])}, at the speed limit {pct(e['speed_limit_fraction'])}"))
+    if m.get("per_thruster"):
+        thr = m["per_thruster"]
+        rows.append(("thrusters", f"{sum(e['firings'] for e in thr)} firings, {f(sum(e['on_time_s'] for e in thr))} s "
+                     "on in all; per unit on-time s/firings/propellant share: "
+                     + ", ".join(f"{e['unit']} {f(e['on_time_s'], fmt='.3g')}/{e['firings']}/"
+                                 f"{pct(e['propellant_share'])}" for e in thr)))
     lines = [f"  {k:<15s} {v}" for k, v in rows]
     missing = [q for q in ERROR_QUANTITIES if f"{q}_err_final_{_SUFFIX[q]}" in m["unavailable"]]
     if missing:

@@ -9,7 +9,8 @@
 3. **inputs**: load the model (``model`` may be a callable, so a bad scenario or folder never
    waits for a compile), map the scenario to SI parameters, gains and the initial state;
 4. **simulation** (every ``simulation.record_every``-th step kept in memory, default every
-   step); 5. **metrics** (:mod:`rpo.runtime.metrics`) from that full in-memory record;
+   step); 5. **metrics** (:mod:`rpo.runtime.metrics`) and the **verdict**
+   (:mod:`rpo.runtime.verdict`, in metrics.json and run.json) from that full in-memory record;
    6. **outputs** (:func:`rpo.runtime.output.write_run`, atomic, never over existing files): the
    scenario's ``[output]`` (channels, rows, formats, figures) with the command-line overrides.
    The figure workers are started at stage 2, so matplotlib is imported while the run simulates.
@@ -36,6 +37,7 @@ from .metrics import compute_metrics, result_columns
 from .output import OutputSpec, check_out_dir, warm_figures, write_run
 from .scenario import RunInputs, Scenario, load_scenario
 from .simulate import RunResult, Simulation
+from .verdict import verdict
 
 
 @dataclass
@@ -143,9 +145,11 @@ def _execute_run(scenario: str | Path | Scenario, out_dir: str | Path | None, mo
         log(f"simulated {result.steps_done} steps in {result.wall_time:.3g} s{how}; writing {out} ...")
     # 5. metrics
     goal = np.ravel(inputs.gains["r_goal"]) if "r_goal" in inputs.gains else None
-    metrics = compute_metrics(result.t, result_columns(result), thresholds, goal=goal, error_times=error_times)
+    columns = result_columns(result)
+    metrics = compute_metrics(result.t, columns, thresholds, goal=goal, error_times=error_times, params=inputs.params)
     metrics["status"] = ("diverged" if result.divergence is not None else
                          "interrupted" if stopped_by is not None else "ok")
+    metrics["verdict"] = verdict(metrics, result.t, columns, inputs.params, result.divergence)  # also in run.json
     lap("metrics")
     # 6. outputs
     overrides: dict[str, Any] = {k: v for k, v in (("duration", duration), ("seed", seed),
@@ -153,7 +157,7 @@ def _execute_run(scenario: str | Path | Scenario, out_dir: str | Path | None, mo
     if gains:
         overrides["gains"] = {k: np.ravel(np.asarray(v, float)).tolist() for k, v in gains.items()}
     extra = {"scenario": sc.name, "scenario_meta": sc.meta.model_dump(), "overrides": overrides,
-             "inputs": inputs.to_json(), "z0": z0, **(extra_meta or {})}
+             "inputs": inputs.to_json(), "z0": z0, "verdict": metrics["verdict"], **(extra_meta or {})}
     if stopped_by is not None:
         extra["interrupted"] = {"signal": interrupts.signal_name(stopped_by), "step": int(result.steps_done),
                                 "time": float(result.t[-1]), "steps_requested": int(result.steps_requested)}

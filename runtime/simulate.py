@@ -64,8 +64,14 @@ class Divergence:
 
 @dataclass
 class RunResult:
-    """Time histories of one run.  ``z[i]`` is the state at ``t[i]``; ``y[i]`` the outputs over the
-    step starting at ``t[i]`` (NaN in the final row of a completed run: no step starts there)."""
+    """Time histories of one run.  ``z[i]`` is the state at ``t[i]`` [s]; ``y[i]`` the outputs over
+    the step starting at ``t[i]``.  The final row of a completed run holds the outputs at the final
+    state (one more evaluation of the step, its next state discarded), so no row is NaN.
+
+    Named access: ``res["r"]`` is the (N, 3) array of the layout field ``r`` (state or outputs),
+    ``res["r_x"]`` one column, ``res["t"]`` the time; ``res.unit("r")`` its unit (``"m"``);
+    ``res.fields`` the field names; ``res.to_pandas()`` a DataFrame (needs pandas).
+    """
 
     t: np.ndarray
     z: np.ndarray
@@ -80,10 +86,17 @@ class RunResult:
     wall_time: float
     divergence: Divergence | None = None
     meta: dict = field(default_factory=dict)
+    #: layout field name -> its column labels, state fields first (the model's layouts)
+    field_labels: dict[str, list[str]] = field(default_factory=dict)
 
     @property
     def ok(self) -> bool:
         return self.divergence is None
+
+    @property
+    def fields(self) -> list[str]:
+        """The layout field names, state first, then outputs (``q_c``, ``r``, ..., ``cmd_F``, ...)."""
+        return list(self.field_labels)
 
     def column(self, label: str) -> np.ndarray:
         """One column by label, from the state z or the outputs y."""
@@ -99,6 +112,49 @@ class RunResult:
         if labels is None:
             raise KeyError(name)
         return np.column_stack([self.column(lbl) for lbl in labels])
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        """``"t"`` [s]; a layout field (2-D, one column per component, also for a 1-value field);
+        else a column label (1-D).  A view where possible: copy before editing."""
+        if name == "t":
+            return self.t
+        if name in self.field_labels:
+            return np.column_stack([self.column(lbl) for lbl in self.field_labels[name]])
+        try:
+            return self.column(name)
+        except KeyError:
+            raise KeyError(f"{name!r} is neither a field nor a column of this run; fields: "
+                           f"{', '.join(self.fields)}") from None
+
+    def __contains__(self, name: object) -> bool:
+        return name == "t" or name in self.field_labels or name in self.z_labels or name in self.y_labels
+
+    def unit(self, name: str) -> str:
+        """The unit of a field or column label (``"s"`` for ``"t"``; ``"-"`` when dimensionless)."""
+        if name == "t":
+            return "s"
+        if name in self.field_labels:
+            name = self.field_labels[name][0]
+        if name in self.z_labels:
+            return self.z_units[self.z_labels.index(name)]
+        if name in self.y_labels:
+            return self.y_units[self.y_labels.index(name)]
+        raise KeyError(f"{name!r} is neither a field nor a column of this run")
+
+    def to_pandas(self) -> Any:
+        """A ``pandas.DataFrame``: column ``t`` [s], then every state and output column by label;
+        ``df.attrs["units"]`` maps each column to its unit.  pandas is imported here (optional:
+        ``pip install pandas``)."""
+        try:
+            import pandas as pd
+        except ImportError:
+            raise ModelError("RunResult.to_pandas needs pandas: pip install pandas") from None
+        data = {"t": self.t, **{lbl: self.z[:, i] for i, lbl in enumerate(self.z_labels)},
+                **{lbl: self.y[:, i] for i, lbl in enumerate(self.y_labels)}}
+        df = pd.DataFrame(data)
+        df.attrs["units"] = {"t": "s", **dict(zip(self.z_labels, self.z_units, strict=True)),
+                             **dict(zip(self.y_labels, self.y_units, strict=True))}
+        return df
 
 
 class Simulation:
@@ -255,6 +311,8 @@ class Simulation:
                 Y[-1] = yg
             else:  # the last good state was not on the recording grid: keep it as the final row
                 G, Z, Y = np.append(G, g), np.vstack([Z, zg]), np.vstack([Y, yg])
+        if divergence is None:  # the outputs at the final state (one more evaluation, next state discarded)
+            Y[-1] = self._final_output(Z[-1], int(G[-1]), seed, t0)
         T = t0 + G * self.dt
         return RunResult(
             t=T, z=Z, y=Y,
@@ -264,6 +322,7 @@ class Simulation:
             wall_time=time.perf_counter() - wall0, divergence=divergence,
             meta={"controller": self.controller, "seed": seed, "record_every": record_every,
                   "backend": self.model.backend, **({"interrupted": True} if interrupted else {})},
+            field_labels=self._field_labels(),
         )
 
     def run_batch(self, Z0: np.ndarray, duration: float, seeds, params=None, gains=None, t0: float = 0.0,
@@ -320,6 +379,8 @@ class Simulation:
             assert r is not None
             r.wall_time = wall / n_runs
             r.meta.update({"seed": seeds[i], "lanes": K, "batch_index": i})
+            if r.divergence is None:  # as run(): the outputs at the final state, by the same scalar call
+                r.y[-1] = Simulation._with(self, P[i], G[i])._final_output(r.z[-1], n_total, seeds[i], t0)
         return [r for r in results if r is not None]
 
     def _per_case(self, what: str, values, n: int, layout: str, base: dict) -> np.ndarray:
@@ -413,6 +474,7 @@ class Simulation:
             steps_done=done, steps_requested=n_total, dt=self.dt, wall_time=0.0, divergence=divergence,
             meta={"controller": self.controller, "seed": seed, "record_every": record_every,
                   "backend": self.model.backend},
+            field_labels=self._field_labels(),
         )
 
     def _divergence(self, last: int, t0: float, j: int, z_bad: np.ndarray, z_good: np.ndarray,
@@ -430,6 +492,24 @@ class Simulation:
         e = j - self.nz
         return Divergence(label=self.model.labels(self.y_layout)[e], value=float(y_bad[e]), bound=float("inf"),
                           where="output", **common)
+
+    def _field_labels(self) -> dict[str, list[str]]:
+        """Layout field -> column labels, state fields then outputs (for :class:`RunResult` access)."""
+        lay = self.model.layouts
+        return {f["name"]: list(f["labels"]) for name in (self.z_layout, self.y_layout) for f in lay[name]}
+
+    def _final_output(self, z_end: np.ndarray, step: int, seed: int, t0: float) -> np.ndarray:
+        """The outputs y at the final state: one more step from ``z_end`` at global ``step`` with
+        that step's noise, by the same code path as the run (the C loop when compiled), its next
+        state discarded.  NaN if the step function reports an error."""
+        Zc, Yc = np.empty((2, self.nz)), np.full((1, self.ny), np.nan)
+        Zc[0] = z_end
+        runner = self._c_runner()
+        if runner:
+            _, bad = runner(Zc, Yc, noise.key(seed), 1, step, t0)
+        else:
+            _, bad = self._py_run(Zc, Yc, seed, 1, step, t0)
+        return Yc[0] if bad != -1 else np.full(self.ny, np.nan)
 
     # -- backends --------------------------------------------------------------------------
 

@@ -125,3 +125,77 @@ def test_numbered_components_are_accepted():
     pos = {f"ctrl_pos_err_{i}": (i + 1) * np.exp(-T) for i in range(3)}
     m = M.compute_metrics(T, {"ctrl_att_err": 0 * T, **pos})
     assert m["pos_err_final_m"] == pytest.approx(np.sqrt(14) * np.exp(-100))
+
+
+# --------------------------------------------------------------------------- per-unit use
+
+WHEEL_P = {"wheel_torque_max": np.array([0.1]), "wheel_speed_max": np.array([700.0]), "thruster_force": np.array([2.0]),
+           "thruster_isp": np.array([200.0]), "g0": np.array([10.0]), "actuators_ideal": np.array([0.0])}
+
+
+def unit_cols():
+    """Wheel 1 at +-0.1 N m for t < 25 s then 0.05 N m; wheel 2 ramps to 700 rad/s at t = 50 s;
+    thruster 00 pulses 1 s on / 1 s off (50 firings); thruster 01 on at half thrust from t = 80 s."""
+    sign = np.where(T < 12.5, 1.0, -1.0)
+    cols = {"wheel_applied_1": np.where(T < 25, 0.1 * sign, 0.05), "wheel_applied_2": 0 * T + 0.01,
+            "env_wheel_speed_1": 0 * T + 10.0, "env_wheel_speed_2": -np.minimum(14 * T, 700.0),
+            "thr_on_00": (np.floor(T) % 2 == 0).astype(float), "thr_on_01": np.where(T >= 80, 0.5, 0.0)}
+    return cols
+
+
+def test_per_wheel_use_known_values():
+    m = M.compute_metrics(T, {"ctrl_att_err": 0 * T, **unit_cols()}, params=WHEEL_P)
+    w1, w2 = m["per_wheel"]
+    assert (w1["unit"], w2["unit"]) == ("1", "2")
+    assert w1["torque_peak_N_m"] == pytest.approx(0.1) and w2["torque_peak_N_m"] == pytest.approx(0.01)
+    # RMS over [0, 100) s, sample-and-hold: 0.1^2 for 25 s, 0.05^2 for 75 s
+    assert w1["torque_rms_N_m"] == pytest.approx(np.sqrt((25 * 0.01 + 75 * 0.0025) / 100), rel=1e-3)
+    assert w1["torque_limit_fraction"] == pytest.approx(0.25, abs=1e-3) and w2["torque_limit_fraction"] == 0
+    assert w2["speed_peak_rad_s"] == pytest.approx(700.0)
+    # |speed| >= 0.99 * 700 from t = 49.5 s
+    assert w2["speed_limit_fraction"] == pytest.approx(0.505, abs=1e-3) and w1["speed_limit_fraction"] == 0
+    assert "wheel 2" in M.format_table(m) and "at the speed limit 50.5 %" in M.format_table(m)
+
+
+def test_per_thruster_use_known_values():
+    m = M.compute_metrics(T, {"ctrl_att_err": 0 * T, **unit_cols()}, params=WHEEL_P)
+    t0, t1 = m["per_thruster"]
+    assert t0["unit"] == "00" and t0["firings"] == 50 and t0["on_time_s"] == pytest.approx(50.0, abs=0.02)
+    assert t1["firings"] == 1 and t1["on_time_s"] == pytest.approx(20.0, abs=0.02)
+    flow = 2.0 / (200.0 * 10.0)  # kg/s at full thrust
+    assert t0["propellant_kg"] == pytest.approx(50 * flow, rel=1e-3)
+    assert t1["propellant_kg"] == pytest.approx(10 * flow, rel=1e-3)  # half thrust for 20 s
+    assert t0["propellant_share"] + t1["propellant_share"] == pytest.approx(1.0)
+    assert t0["propellant_share"] == pytest.approx(50 / 60, rel=1e-3)
+    assert "thrusters" in M.format_table(m)
+
+
+def test_per_unit_use_without_params_or_on_ideal_actuators():
+    cols = {"ctrl_att_err": 0 * T, **unit_cols()}
+    m = M.compute_metrics(T, cols)  # no limits known: the fractions and the propellant are None
+    assert m["per_wheel"][0]["torque_limit_fraction"] is None and m["per_wheel"][0]["torque_peak_N_m"] == 0.1
+    assert m["per_thruster"][0]["propellant_kg"] is None and m["per_thruster"][0]["firings"] == 50
+    m = M.compute_metrics(T, cols, params={**WHEEL_P, "actuators_ideal": np.array([1.0])})
+    assert m["per_wheel"] is None and m["per_thruster"] is None and "ideal" in m["unavailable"]["per_wheel"]
+    m = M.compute_metrics(T, {"ctrl_att_err": 0 * T})
+    assert m["per_wheel"] is None and "wheel_applied" in m["unavailable"]["per_wheel"]
+
+
+def test_per_thruster_propellant_adds_up_to_the_plants_on_a_run(model):
+    """On a real run (000 scenario III's wheels and PWPF thrusters), the units' propellant sums to
+    the plant's m_prop and the shares to 1; no wheel exceeds its limits."""
+    from rpo.runtime.simulate import Simulation
+
+    from conftest import Q_C0_III, Q_T0_III, unit
+    sim = Simulation(model, "baseline")
+    res = sim.run(sim.initial_state({"q_c": unit(Q_C0_III), "q_t": unit(Q_T0_III), "w_t": [0.1, 0.0, 0.05],
+                                     "r": [60, 0, 25], "v": [3, -0.5, 5]}), 3.0)
+    params = {f["name"]: sim.p[model.offsets("p")[f["name"]]] for f in model.layouts["p"]}
+    m = M.compute_metrics(res.t, M.result_columns(res), params=params)
+    thr = m["per_thruster"]
+    assert len(thr) == 16 and len(m["per_wheel"]) == 4
+    assert m["propellant_kg"] > 0
+    assert sum(e["propellant_kg"] for e in thr) == pytest.approx(m["propellant_kg"], rel=1e-9)
+    assert sum(e["propellant_share"] for e in thr if e["propellant_share"]) == pytest.approx(1.0)
+    assert sum(e["firings"] for e in thr) > 0
+    assert all(e["torque_peak_N_m"] <= params["wheel_torque_max"][0] * (1 + 1e-12) for e in m["per_wheel"])

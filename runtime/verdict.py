@@ -1,0 +1,236 @@
+"""The verdict of a run: which goals were reached and when, and for each goal that was not, the
+main reason rpo can measure (pure NumPy, from the recorded columns, the metrics and the run's
+parameters; no model).
+
+Goals (as :mod:`rpo.runtime.metrics` defines them): **attitude** reached when its settling time
+exists (the error stays below ``att_deg``, 1 deg by default, from then to the end of the run), at
+that time; **position** likewise with ``pos_m`` (0.5 m).  A goal whose error the controller does
+not log is "not measured".
+
+Measured reasons (each a fraction of the run ``[t_0, t_end]``, sample i held over
+``[t_i, t_{i+1})``: exact when ``record_every = 1``):
+
+* actuator saturation against what the command asked, per family (only the families the run
+  flies, from ``actuators_ideal``):
+
+  - ``wheel_torque`` (attitude): the wheel allocation was scaled down onto the torque limit
+    (``max_i |wheel_cmd_i| >= (1 - 1e-6) wheel_torque_max``), or a wheel delivered less than it
+    was allocated (``|wheel_applied_i| < |wheel_cmd_i| - 1e-6 wheel_torque_max``: a degraded or
+    failed wheel; compared only when ``wheel_delay < dt``, where the applied torque is the same
+    step's command);
+  - ``wheel_speed`` (attitude): a wheel at its speed limit (``|env_wheel_speed_i| >= 0.99
+    wheel_speed_max``) while the torque asked of it drives it further (the plant then applies
+    none, 000 Fig. 6);
+  - ``thrusters`` (position; attitude too when the controller commands thruster torque): the
+    thruster allocation was scaled down (``max_j thr_duty_j >= 1 - 1e-6``: some thruster was asked
+    for more than full thrust, so the realised force and torque are smaller than commanded);
+  - ``ideal_force`` (position), ``ideal_torque`` (attitude): the ideal actuators applied less than
+    commanded on some axis (``|cmd - env_*_applied| > 1e-6 x limit``; the command torque is
+    ``cmd_tau_w + cmd_tau_thr``);
+* a constraint violated: ``env_beta_fov < 0`` (camera cone) or ``env_beta_ca < 0`` (envelope
+  spheres), 001's constraints, evaluated for every run;
+* a divergence (the run stopped early).
+
+**The main reason** of a goal not reached is the first that applies of:
+
+1. the run diverged (it stopped before the end: nothing after that time was measured);
+2. an actuator family acting on that goal saturated for at least ``SATURATION_MIN`` (5 %) of the
+   run: ``wheel_speed`` if it is one of them (a wheel at its speed limit gives no torque at all in
+   the asked direction, while a torque-limited wheel still gives its maximum: on 000's scenarios
+   the momentum limit is what ideal actuators of the same torque remove, docs/reproduction.md),
+   else the one saturated longest; the other families over 5 % follow as "also";
+3. a constraint violated at some time (the one violated longest);
+4. otherwise none that rpo measures: the verdict says so and gives the final error (the run may be
+   too short for this design, or its gains too weak).
+
+Saturation is checked before constraints because it is the physical limit that stops a law from
+doing what it asks; a constraint violation says where the path went, not why the goal was missed.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from .metrics import SPEED_LIMIT_TOL, TORQUE_LIMIT_TOL, _block, param, time_fraction, unit_columns
+
+#: a family saturated for less than this fraction of the run is not named as the main reason
+SATURATION_MIN = 0.05
+#: relative tolerance of "applied differs from commanded" (ideal actuators, wheel shortfall)
+APPLIED_TOL = 1e-6
+
+GOALS = {"att": "attitude", "pos": "position"}
+#: what each family's saturation means, for the verdict's text
+FAMILY_TEXT = {
+    "wheel_torque": "wheels torque-limited",
+    "wheel_speed": "wheels at their speed limit",
+    "thrusters": "thrusters saturated",
+    "ideal_force": "force actuator saturated",
+    "ideal_torque": "torque actuator saturated",
+}
+CONSTRAINTS = {"env_beta_fov": ("beta_fov", "camera field of view", "m"),
+               "env_beta_ca": ("beta_ca", "collision envelope", "m^2")}
+
+
+def _cols(columns: Mapping[str, Any], prefix: str) -> np.ndarray | None:
+    u = unit_columns(columns, prefix)
+    return np.column_stack([c for _, c in u]) if u else None
+
+
+def saturation(t: ArrayLike, columns: Mapping[str, Any], params: Mapping[str, Any] | None) -> dict[str, dict]:
+    """Per actuator family of this run: ``{"fraction": ..., "goals": [...], "what": ...}``
+    (``fraction`` None when a column or limit it needs is missing); see the module docstring."""
+    t = np.asarray(t, float)
+    out: dict[str, dict] = {}
+
+    def put(name: str, flag: np.ndarray | None, goals: list[str]) -> None:
+        frac = None if flag is None else time_fraction(t, flag)
+        out[name] = {"fraction": frac, "goals": goals, "what": FAMILY_TEXT[name]}
+
+    with np.errstate(invalid="ignore"):  # NaN samples compare False: not saturated
+        if param(params, "actuators_ideal") == 1.0:
+            for name, cmd_parts, applied, limit, goal in (
+                    ("ideal_force", ("cmd_F",), "env_F_applied", "force_max", "pos"),
+                    ("ideal_torque", ("cmd_tau_w", "cmd_tau_thr"), "env_tau_applied", "torque_max", "att")):
+                parts = [_block(columns, c, ("x", "y", "z")) for c in cmd_parts]
+                app = _block(columns, applied, ("x", "y", "z"))
+                lim = param(params, limit)
+                flag = None
+                if app is not None and lim is not None and all(p is not None for p in parts):
+                    cmd = np.sum([p for p in parts if p is not None], axis=0)
+                    flag = np.any(np.abs(cmd - app) > APPLIED_TOL * lim, axis=1)
+                put(name, flag, [goal])
+            return out
+        t_max, s_max = param(params, "wheel_torque_max"), param(params, "wheel_speed_max")
+        w_cmd, w_app = _cols(columns, "wheel_cmd"), _cols(columns, "wheel_applied")
+        speed = _cols(columns, "env_wheel_speed")
+        if w_cmd is not None or w_app is not None:
+            flag = None
+            if w_cmd is not None and t_max is not None:
+                flag = np.max(np.abs(w_cmd), axis=1) >= (1 - TORQUE_LIMIT_TOL) * t_max
+                delay, dt = param(params, "wheel_delay"), param(params, "dt")
+                if w_app is not None and w_app.shape == w_cmd.shape and delay is not None and dt is not None \
+                        and delay < dt:
+                    short = np.abs(w_app) < np.abs(w_cmd) - APPLIED_TOL * t_max
+                    flag = flag | np.any(short, axis=1)
+            put("wheel_torque", flag, ["att"])
+            flag = None
+            if speed is not None and w_app is not None and s_max is not None and speed.shape == w_app.shape:
+                at = (1 - SPEED_LIMIT_TOL) * s_max
+                # dh_i/dt = -T_i: a negative torque spins wheel i up in the positive sense
+                blocked = ((speed >= at) & (w_app < 0)) | ((speed <= -at) & (w_app > 0))
+                flag = np.any(blocked, axis=1)
+            put("wheel_speed", flag, ["att"])
+        duty = _cols(columns, "thr_duty")
+        if duty is not None:
+            tau_thr = _block(columns, "cmd_tau_thr", ("x", "y", "z"))
+            asks_torque = tau_thr is not None and bool(np.nanmax(np.abs(tau_thr), initial=0.0) > 0)
+            put("thrusters", np.max(duty, axis=1) >= 1 - TORQUE_LIMIT_TOL, ["pos", "att"] if asks_torque else ["pos"])
+    return out
+
+
+def constraints(t: ArrayLike, columns: Mapping[str, Any]) -> dict[str, dict]:
+    """Per logged constraint margin: the fraction of the run it was < 0, its minimum and when,
+    and the first time it was violated (None if never)."""
+    t = np.asarray(t, float)
+    out = {}
+    for col, (name, what, unit) in CONSTRAINTS.items():
+        if col not in columns:
+            continue
+        x = np.asarray(columns[col], float)
+        ok = np.isfinite(x)
+        if not ok.any():
+            continue
+        bad = ok & (x < 0)
+        i = int(np.nanargmin(np.where(ok, x, np.nan)))
+        out[name] = {"what": what, "unit": unit, "violated_fraction": time_fraction(t, bad),
+                     "violated": bool(bad.any()), "first_violated_t_s": float(t[np.argmax(bad)]) if bad.any() else None,
+                     "min": float(x[i]), "min_t_s": float(t[i])}
+    return out
+
+
+def _pct(v: float) -> str:
+    return f"{100 * v:.3g} %"
+
+
+def verdict(metrics: Mapping[str, Any], t: ArrayLike, columns: Mapping[str, Any],
+            params: Mapping[str, Any] | None = None, divergence: Any = None) -> dict[str, Any]:
+    """The verdict (JSON-ready): ``status`` (``reached``, ``partly reached``, ``not reached``,
+    ``not measured``, ``diverged``), per goal ``reached``/``time_s``/``final``/``reason``, the
+    ``saturation`` of each actuator family, the ``constraints``, the ``divergence`` message and
+    ``line``, the one-line summary ``rpo run`` prints.  ``divergence``: the run's
+    :class:`~rpo.runtime.simulate.Divergence` (its ``time``, ``label``, ``message()``) or None."""
+    t = np.asarray(t, float)
+    sat = saturation(t, columns, params)
+    con = constraints(t, columns)
+    th = metrics.get("thresholds", {})
+    deg = 180.0 / np.pi
+    limits = {"att": f"< {th.get('att_deg', 1.0):g} deg", "pos": f"< {th.get('pos_m', 0.5):g} m"}
+    goals: dict[str, dict] = {}
+    parts: list[str] = []
+    for q, name in GOALS.items():
+        unit_key = "att_err_final_rad" if q == "att" else "pos_err_final_m"
+        final = metrics.get(unit_key)
+        final_text = "-" if final is None else (f"{final * deg:.4g} deg" if q == "att" else f"{final:.4g} m")
+        settle = metrics.get(f"{q}_settling_time_s")
+        g: dict[str, Any] = {"goal": f"{name} error {limits[q]}", "reached": None, "time_s": None,
+                             "final": final, "reason": None, "reason_kind": None}
+        goals[q] = g
+        if final is None:
+            g["reason"] = "not measured: the controller logs no such error"
+            parts.append(f"{name} not measured")
+            continue
+        if settle is not None:
+            g.update(reached=True, time_s=settle)
+            parts.append(f"{name} reached at {settle:.4g} s ({limits[q]})")
+            continue
+        g["reached"] = False
+        kind, reason = _main_reason(q, sat, con, divergence, final_text)
+        g.update(reason=reason, reason_kind=kind)
+        parts.append(f"{name} NOT reached ({limits[q]}; final {final_text}): {reason}")
+    violated = [c for c in con.values() if c["violated"]]
+    if violated:
+        parts.append("constraints violated: " + ", ".join(
+            f"{n} < 0 for {_pct(c['violated_fraction'] or 0.0)} of the run (min {c['min']:.4g} {c['unit']} at "
+            f"{c['min_t_s']:.4g} s)" for n, c in con.items() if c["violated"]))
+    elif con:
+        parts.append("constraints held")
+    measured = [g["reached"] for g in goals.values() if g["reached"] is not None]
+    if divergence is not None:
+        status = "diverged"
+    elif not measured:
+        status = "not measured"
+    else:
+        status = "reached" if all(measured) else ("not reached" if not any(measured) else "partly reached")
+    return {"status": status, "goals": goals, "saturation": sat, "constraints": con,
+            "divergence": None if divergence is None else divergence.message(),
+            "saturation_min": SATURATION_MIN, "line": f"verdict: {status}: " + "; ".join(parts)}
+
+
+def _main_reason(q: str, sat: dict[str, dict], con: dict[str, dict], divergence: Any,
+                 final_text: str) -> tuple[str, str]:
+    """(kind, text) of the main reason a goal was not reached, by the rule of the module docstring."""
+    if divergence is not None:
+        return "divergence", f"the run diverged at t = {divergence.time:.6g} s ({divergence.label})"
+    cands = [(f["fraction"], name) for name, f in sat.items() if q in f["goals"] and f["fraction"] is not None]
+    over = sorted((c for c in cands if c[0] >= SATURATION_MIN), reverse=True)
+    if over:
+        # a wheel at its speed limit gives no torque at all in the asked direction, a torque-limited
+        # one still gives its maximum: the speed limit is named first (see the module docstring)
+        frac, name = next((c for c in over if c[1] == "wheel_speed"), over[0])
+        others = [f"{FAMILY_TEXT[n]} {_pct(f)}" for f, n in over if n != name]
+        return name, f"{FAMILY_TEXT[name]} {_pct(frac)} of the run" + (f" (also {'; '.join(others)})" if others else "")
+    bad = [(c["violated_fraction"] or 0.0, n) for n, c in con.items() if c["violated"]]
+    if bad:
+        frac, n = max(bad)
+        c = con[n]
+        return "constraint", (f"constraint {n} ({c['what']}) violated {_pct(frac)} of the run, from "
+                              f"{c['first_violated_t_s']:.4g} s")
+    most = max(cands)[0] if cands else None
+    sat_text = (f"no actuator family saturated {_pct(SATURATION_MIN)} of the run or more (most: "
+                f"{_pct(most)})" if most is not None else "no actuator saturation measured")
+    return "none", (f"none that rpo measures ({sat_text}, no constraint violated, no divergence): "
+                    f"the error is still {final_text} at the end (the run may be too short, or the gains too weak)")
