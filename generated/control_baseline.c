@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_baseline: controller half of a step of baseline: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_baseline' (hash 62a5df61b81d56f12db111d491945d4f703d854caa11712443dcb4a767b5116e),
+ * Produced by `python build.py` from family 'controller_baseline' (hash 25f9b64f70bc92d060212e33909f03529c35c325e579f7e45c67e5baed30f570),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

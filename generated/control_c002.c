@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_c002: controller half of a step of c002: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_c002' (hash 40136ed93f6217bf7b1789b9af1dd0e1cd7b1e9979f2cd738241465c104a9b49),
+ * Produced by `python build.py` from family 'controller_c002' (hash 0a5ba2284d4838edf81e2dd2d316f831f9164d12d82c816f11c8455107f57399),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c000: control law of c000
- * Produced by `python build.py` from family 'controller_c000' (hash 353af60461980e1486ae4ff2baa8a36e1e6ed769e23e0c7f96cdcbd027b6cbac),
+ * Produced by `python build.py` from family 'controller_c000' (hash cbeaefd3705f7d9e247bc899f76eb9ee30bb89e1cbe2ae6ff3046abd3fc92d4c),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c001: control law of c001
- * Produced by `python build.py` from family 'controller_c001' (hash 11fe317d8d90f42ad7d44caa9ca6f9414c4de25fe0f0eb77f0e3e4903ae49059),
+ * Produced by `python build.py` from family 'controller_c001' (hash b14b985ae2f08629f573a2158c428131c4730ce30bee6ff9f3b33c84e41c2647),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

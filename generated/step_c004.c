@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c004: one closed-loop step (plant + c004 + actuators), RK4 over dt: measure, control_c004, plant_advance
- * Produced by `python build.py` from family 'controller_c004' (hash 0297cf1282a3954f02f3099e6e294fe331817ad42bf07e416ddc88a7f37d6f61),
+ * Produced by `python build.py` from family 'controller_c004' (hash 3d9619c639b43453fd123710c4d83385fa86328091a7915ddfaef35d71d0be6f),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * thruster_alloc: thruster duty allocation
- * Produced by `python build.py` from family 'plant' (hash cd6a89d74649c28f1e71cdde67e34a8501aaa018b4d3a6a6746d2ab52b419783),
+ * Produced by `python build.py` from family 'plant' (hash fdc902fab871c3713edfd00c067c1c2d94f2ec01818a51b580c6151fa5a018ed),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
