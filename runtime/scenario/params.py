@@ -67,11 +67,9 @@ class Interval:
         """Why ``v`` is refused (it is not inside): ``must be in [0.01, 1e+07] kg``; a value of the
         wrong sign is told its sign first (``must be > 0 kg (allowed range [0.01, 1e+07] kg)``)."""
         full = self.text(unit)
-        if self.lo is not None and self.lo >= 0 and math.isfinite(v) and v <= 0 and (v < 0 or self.lo > 0):
-            sign = Interval(0.0, lo_open=self.lo > 0 or self.lo_open)
-            if sign == Interval(self.lo, self.hi, self.lo_open, self.hi_open):
-                return f"must be {full}"
-            return f"must be {sign.text(unit)} (allowed range {full.removeprefix('in ')})"
+        if self.lo is not None and self.lo > 0 and math.isfinite(v) and v <= 0:
+            # the range starts above 0 (a magnitude): the sign is the first thing wrong
+            return f"must be > 0{f' {unit}' if unit and unit != '-' else ''} (allowed range {full.removeprefix('in ')})"
         return f"must be {full}"
 
     def step_limit(self, dt: float) -> float | None:
