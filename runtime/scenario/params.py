@@ -236,3 +236,4 @@ def gain_bounds(entry: dict) -> Interval | None:
 
 def finite(values: Sequence[float]) -> bool:
     return all(math.isfinite(float(v)) for v in values)
+

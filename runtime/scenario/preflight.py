@@ -60,8 +60,8 @@ def preflight(sc: Scenario, model: Model) -> Preflight:
     if bad.size:
         i = int(bad[0])
         origin = "the controller's initial state (xc0)" if labels[i].startswith("xc_") else "the initial state"
-        raise ScenarioError(f"{sc.source}: {origin} has {labels[i]} = {z0[i]!r}: the parameters and gains are each "
-                            "within their ranges, but not this combination")
+        raise ScenarioError(f"{sc.source}: {origin} has {labels[i]} = {float(z0[i])}: the parameters and gains "
+                            "are each within their ranges, but not this combination")
     # the checks Simulation.run makes on its arguments, here so that validate makes them too
     sim._check_run_args(z0, inputs.duration, 0.0, inputs.record_every, 1)
     noise.check_seed(inputs.seed)
@@ -74,7 +74,7 @@ def preflight(sc: Scenario, model: Model) -> Preflight:
             i = int(bad[0])
             what = "state" if layout == sim.z_layout else "output"
             raise ScenarioError(
-                f"{sc.source}: the first step gives {what} {model.labels(layout)[i]} = {values[i]!r} "
+                f"{sc.source}: the first step gives {what} {model.labels(layout)[i]} = {float(values[i])} "
                 f"({bad.size} non-finite): the parameters and gains are each within their ranges, but this "
                 f"combination cannot be integrated at {rate}")
     notes = []
