@@ -29,6 +29,13 @@ the delay line, ideal actuators with their limits) are checked too (`runtime/sce
 and `rpo validate` and `rpo run` then build the initial state and the controller's initial states
 and try step 0 (`runtime/scenario/preflight.py`): a combination that gives a nan there is
 refused as well.
+
+The files themselves: a scenario and every file its `extends` chain names (at most 16) must be a
+regular file of at most 1 MiB in UTF-8 TOML. A folder, a FIFO, a device such as `/dev/zero`, a
+socket, a missing or unreadable file, a longer file, invalid UTF-8 or TOML and an `extends`
+cycle each get one line (`runtime/scenario/loader.py`); a FIFO is never opened. The
+malformed-input corpus of `tests/corpus/cases.toml` shows each refusal with its message
+(`python -m tests.corpus_summary`).
 """
 
 
