@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_baseline: one closed-loop step (plant + baseline + actuators), RK4 over dt: measure, control_baseline, plant_advance
- * Produced by `python build.py` from family 'controller_baseline' (hash 25f9b64f70bc92d060212e33909f03529c35c325e579f7e45c67e5baed30f570),
+ * Produced by `python build.py` from family 'controller_baseline' (hash 7eef94322519cddf0f9c8834c51370790c335e8774ed13613ccb0cf8c73da51e),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

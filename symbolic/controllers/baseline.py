@@ -25,8 +25,8 @@ class Baseline:
 
     def __post_init__(self):
         k = self.k
-        k.add("kp_att", 1, "N m", "attitude proportional gain", default=0.28,
-              bounds=Bounds(0.0, 1e3, why="a feedback gain: >= 0 (a negative one inverts the loop)"))
+        k.add("kp_att", 1, "N m", "attitude proportional gain",
+              bounds=Bounds(0.0, 1e3, why="a feedback gain: >= 0 (a negative one inverts the loop)"), default=0.28)
         k.add("kd_att", 1, "N m s", "attitude rate gain", default=2.0,
               bounds=Bounds(0.0, 1e3, why="a feedback gain: >= 0 (a negative one inverts the loop)"))
         k.add("kp_pos", 1, "N/m", "position proportional gain", default=0.25,
