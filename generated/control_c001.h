@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_c001: controller half of a step of c001: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_c001' (hash fdc19405b2582f28947b0a3c6c5785aebad25a0e1d99c4f9f4b4b6ba94674acf),
+ * Produced by `python build.py` from family 'controller_c001' (hash 5bd86f5bdf039db6ddd7596e4a3d5b412d8987b778c3c747c10c67e6b5a48fcb),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_c002: controller half of a step of c002: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_c002' (hash 0416766b89d83ffdf22016b7dcfaee20d2dc5399a8d7b2609129e207c084b5f9),
+ * Produced by `python build.py` from family 'controller_c002' (hash 971e5d3196d544e2cfb41ceb66f3fd9b62c49b42ab95cddd5860c0c4df037130),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_c004: controller half of a step of c004: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_c004' (hash 1806517adcad98ccc33cf135302c705138236c777a4de3cf551feabc0edaa9a2),
+ * Produced by `python build.py` from family 'controller_c004' (hash ed4b3d7ccc18c20b2db8d629286220c52e13db06819e858b7c73c37c986459de),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

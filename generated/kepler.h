@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * kepler: eccentric anomaly from Kepler's equation (000 eq. 32)
- * Produced by `python build.py` from family 'plant' (hash c41d3ef04a178d01ef1d679a58fff37f0fe93ec8561408335ca64b780bc548b0),
+ * Produced by `python build.py` from family 'plant' (hash d0f5e4fa5546e7a98cabec0bd53487ad1fdef19d2420d6f2c2e5c9a3937d4e33),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_baseline: one closed-loop step (plant + baseline + actuators), RK4 over dt: measure, control_baseline, plant_advance
- * Produced by `python build.py` from family 'controller_baseline' (hash 24614ed03e87207906eee535cb6e3adf700f6e9721dd3c92a5f9e087c2ff0a61),
+ * Produced by `python build.py` from family 'controller_baseline' (hash 7ab4b7d9b339130aa1b5985d73004719a206aeb2649b49e7b8f4a0cd55b372d2),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

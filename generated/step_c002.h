@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c002: one closed-loop step (plant + c002 + actuators), RK4 over dt: measure, control_c002, plant_advance
- * Produced by `python build.py` from family 'controller_c002' (hash 0416766b89d83ffdf22016b7dcfaee20d2dc5399a8d7b2609129e207c084b5f9),
+ * Produced by `python build.py` from family 'controller_c002' (hash 971e5d3196d544e2cfb41ceb66f3fd9b62c49b42ab95cddd5860c0c4df037130),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

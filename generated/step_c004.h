@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c004: one closed-loop step (plant + c004 + actuators), RK4 over dt: measure, control_c004, plant_advance
- * Produced by `python build.py` from family 'controller_c004' (hash 1806517adcad98ccc33cf135302c705138236c777a4de3cf551feabc0edaa9a2),
+ * Produced by `python build.py` from family 'controller_c004' (hash ed4b3d7ccc18c20b2db8d629286220c52e13db06819e858b7c73c37c986459de),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

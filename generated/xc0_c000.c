@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * xc0_c000: initial state of c000 from the first measurement
- * Produced by `python build.py` from family 'controller_c000' (hash 835e9176c74c8d30eea448846854300abd6efee38328cf5fe9979cf7aecacbd3),
+ * Produced by `python build.py` from family 'controller_c000' (hash deb0b996f88e3d53450c2e84635f7b2974b4264a9a0dea8911afc129623c1411),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -248,17 +248,19 @@ def report(run_list: str, out_base: str, md_path: str, json_path: str, notes_pat
 def validate(scenario: str, backend: str) -> int:
     """Check SCENARIO without running it and print what it sets.
 
-    Prints the run settings, the orbit, the initial state (attitudes relative to ECI and
-    to LVLH) and every parameter the scenario changes from the manifest defaults.
+    Makes every check `rpo run` makes before its first step (the same function: the schema and
+    ranges, the initial state, the controller's initial states, step 0 on trial), so a scenario
+    called valid is one `rpo run` accepts.  Prints the run settings, the orbit, the initial state
+    (attitudes relative to ECI and to LVLH) and every parameter the scenario changes from the
+    manifest defaults.
     """
     from .scenario import load_scenario
+    from .scenario.preflight import preflight
 
     sc = load_scenario(scenario)
     model = _load_model(backend, quiet=True)
-    inputs = sc.to_run(model)
-    from .simulate import Simulation
-    sim = Simulation(model, inputs.controller, params=inputs.params, gains=inputs.gains)
-    sim.initial_state(inputs.plant)  # the same checks as a run
+    pre = preflight(sc, model)  # every check `rpo run` makes before its first step, by the same function
+    inputs = pre.inputs
 
     p = {k: float(v[0]) if v.size == 1 else v for k, v in inputs.params.items()}
     n_steps = int(round(inputs.duration / inputs.dt))
@@ -266,6 +268,8 @@ def validate(scenario: str, backend: str) -> int:
     q_IL = inputs.frame_info["q_IL0"]
     echo = click.echo
     echo(f"{scenario}: valid")
+    for note in pre.notes:
+        _err(f"warning: {note}")
     echo(f"  name        {sc.name}" + (f": {sc.meta.description}" if sc.meta.description else ""))
     echo(f"  run         {inputs.duration:g} s, dt = {inputs.dt:g} s ({n_steps} steps), controller "
          f"{inputs.controller}, seed {inputs.seed}, record every {inputs.record_every}")

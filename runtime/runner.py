@@ -36,7 +36,8 @@ from .interrupts import Interrupted
 from .metrics import compute_metrics, result_columns
 from .output import OutputSpec, check_out_dir, warm_figures, write_run
 from .scenario import RunInputs, Scenario, load_scenario
-from .simulate import RunResult, Simulation
+from .scenario.preflight import preflight
+from .simulate import RunResult
 from .verdict import verdict
 
 
@@ -124,9 +125,8 @@ def _execute_run(scenario: str | Path | Scenario, out_dir: str | Path | None, mo
     # 3. inputs
     model = model if isinstance(model, Model) else model(sc.simulation.controller)
     lap("model")
-    inputs = sc.to_run(model)
-    sim = Simulation(model, inputs.controller, params=inputs.params, gains=inputs.gains)
-    z0 = sim.initial_state(inputs.plant)
+    pre = preflight(sc, model)  # every check before the first step, the same as `rpo validate`
+    inputs, sim, z0 = pre.inputs, pre.sim, pre.z0
     n_steps = int(round(inputs.duration / sim.dt))
     if log:
         log(f"{sc.name}: {n_steps} steps of {sim.dt:g} s ({inputs.duration:g} s), controller "

@@ -36,24 +36,47 @@ SCENARIO_KINDS = {
 
 @dataclass(frozen=True)
 class Bounds:
-    """Admissible values of every entry of a field, in the field's (SI) unit; None = unbounded."""
+    """Admissible values of every entry of a field, in the field's (SI) unit; None = unbounded.
+
+    For a field set by a scenario value of kind ``"inertia"`` the bounds apply to the tensor's
+    principal moments (its off-diagonal entries are bounded by them).  ``per_step``: a limit on
+    ``|value| * dt`` (dt the step, s), for a rate or frequency the fixed step must resolve; checked
+    by the runtime once the step is known.  ``why``: the reason for the range, one sentence (the
+    manifest's ``bounds_why``; ``docs/parameters.md`` shows it).
+    """
 
     lo: float | None = None
     hi: float | None = None
     lo_open: bool = False
     hi_open: bool = False
+    per_step: float | None = None
+    why: str = ""
 
     def __post_init__(self):
         if self.lo is not None and self.hi is not None and not self.lo < self.hi:
             raise ValueError(f"bounds: lo = {self.lo} must be < hi = {self.hi}")
+        if self.per_step is not None and not (math.isfinite(self.per_step) and self.per_step > 0):
+            raise ValueError(f"bounds: per_step = {self.per_step} must be finite and > 0")
 
     def contains(self, v: float) -> bool:
+        if not math.isfinite(v):
+            return False
         if self.lo is not None and (v <= self.lo if self.lo_open else v < self.lo):
             return False
         return not (self.hi is not None and (v >= self.hi if self.hi_open else v > self.hi))
 
     def describe(self) -> dict:
-        return {"lo": self.lo, "hi": self.hi, "lo_open": self.lo_open, "hi_open": self.hi_open}
+        d: dict[str, Any] = {"lo": self.lo, "hi": self.hi, "lo_open": self.lo_open, "hi_open": self.hi_open}
+        if self.per_step is not None:
+            d["per_step"] = self.per_step
+        return d
+
+
+def principal_moments(entries: tuple[float, ...]) -> tuple[float, ...]:
+    """Eigenvalues (ascending) of the symmetric tensor with entries (xx, yy, zz, xy, xz, yz) [kg m^2]."""
+    xx, yy, zz, xy, xz, yz = entries
+    lam = sp.Matrix([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]]).evalf().eigenvals(multiple=True)
+    return tuple(sorted(float(sp.re(v)) for v in lam))
 
 
 #: > 0 and >= 0, the two most common bounds.
@@ -150,6 +173,8 @@ class Layout:
                 value = default
             preset_values.append((preset, entries(value, f"preset {preset}")))
         for what, values in [("default", default or ()), *preset_values]:
+            if scenario is not None and scenario.kind == "inertia" and values:
+                values = principal_moments(values)  # the bounds of an inertia are on its principal moments
             if bounds is not None and not all(bounds.contains(v) for v in values):
                 raise ValueError(f"{self.name}.{name}: {what} {values} outside its bounds {bounds}")
         f = Field(name, size, unit, doc, components, default, bounds, scenario, tuple(preset_values))
@@ -202,6 +227,8 @@ class Layout:
                 d["default"] = list(f.default)
             if f.bounds is not None:
                 d["bounds"] = f.bounds.describe()
+                if f.bounds.why:
+                    d["bounds_why"] = f.bounds.why
             if f.scenario is not None:
                 d["scenario"] = f.scenario.describe(f.unit)
             if f.presets:

@@ -59,7 +59,7 @@ def _params() -> Layout:
     synthetic disturbance tables off (``"default"``: the manifest default).
     """
     p = Layout("p")
-    S, pos, nonneg = ScenarioKey, POSITIVE, NON_NEGATIVE
+    S, pos, nonneg = ScenarioKey, POSITIVE, NON_NEGATIVE  # noqa: F841 (the ranges below say more than > 0)
     full_default = {"full": "default"}
 
     def switch(key):
@@ -67,29 +67,46 @@ def _params() -> Layout:
 
     # constants (SPEC.md "Common constants")
     const = "environment.constants."
-    p.add("mu", 1, "m^3/s^2", "Earth gravitational parameter", default=3.986004418e14, bounds=pos,
+    p.add("mu", 1, "m^3/s^2", "Earth gravitational parameter", default=3.986004418e14,
+          bounds=Bounds(1e5, 1e21, why="any central body from a small moon (Phobos 7e5) to the Sun (1.3e20)"),
           scenario=S(const + "mu"))
-    p.add("j2", 1, "-", "Earth J2", default=1.08262668e-3, scenario=S(const + "j2"))
-    p.add("r_earth", 1, "m", "Earth equatorial radius", default=6378137.0, bounds=pos, scenario=S(const + "r_earth"))
+    p.add("j2", 1, "-", "Earth J2", default=1.08262668e-3,
+          bounds=Bounds(-0.1, 0.1, why="oblate or prolate bodies; Earth 1.1e-3, Jupiter 1.5e-2"),
+          scenario=S(const + "j2"))
+    p.add("r_earth", 1, "m", "Earth equatorial radius", default=6378137.0,
+          bounds=Bounds(1e3, 1e9, why="a 1 km asteroid to the Sun (7e8 m)"), scenario=S(const + "r_earth"))
     p.add("earth_flattening", 1, "-", "WGS-84 flattening, for the altitude of eq. 39", default=1 / 298.257223563,
-          bounds=Bounds(0.0, 1.0, hi_open=True), scenario=S(const + "earth_flattening"))
+          bounds=Bounds(0.0, 0.5, why="the altitude of eq. 39 needs a body far from a disc; Earth 3.4e-3, Saturn 0.1"),
+          scenario=S(const + "earth_flattening"))
     p.add("omega_earth", 1, "rad/s", "Earth rotation rate (atmosphere co-rotation)", default=7.292115e-5,
+          bounds=Bounds(-1e-2, 1e-2, why="either sense; Earth 7.3e-5, a fast asteroid (10 min day) 1e-2"),
           scenario=S(const + "omega_earth"))
-    p.add("mu_mag", 1, "T m^3", "Earth dipole strength (000 eq. 13)", default=8.1e15, bounds=nonneg,
+    p.add("mu_mag", 1, "T m^3", "Earth dipole strength (000 eq. 13)", default=8.1e15,
+          bounds=Bounds(0.0, 1e21, why="none to Jupiter's dipole (1.6e20)"),
           scenario=S(const + "mu_mag"))
-    p.add("g0", 1, "m/s^2", "standard gravity for Isp", default=9.80665, bounds=pos, scenario=S(const + "g0"))
+    p.add("g0", 1, "m/s^2", "standard gravity for Isp", default=9.80665,
+          bounds=Bounds(1.0, 100.0, why="a definition constant (9.80665); a typo by a factor 10 stays visible"),
+          scenario=S(const + "g0"))
     # target orbit (000 scenario III by default); a scenario may give the perigee altitude instead of a
-    p.add("orbit_a", 1, "m", "target semi-major axis", default=(6378137.0 + 400e3) / (1 - 0.138), bounds=pos,
+    p.add("orbit_a", 1, "m", "target semi-major axis", default=(6378137.0 + 400e3) / (1 - 0.138),
+          bounds=Bounds(1e3, 1e10, why="beyond the Moon (3.8e8) and Sun-Earth L2 (1.5e9); the perigee must "
+                        "also clear the body (checked by the runtime)"),
           scenario=S("orbit.semi_major_axis"))
-    p.add("orbit_e", 1, "-", "target eccentricity, 0 <= e < 1", default=0.138, bounds=Bounds(0.0, 1.0, hi_open=True),
+    p.add("orbit_e", 1, "-", "target eccentricity, 0 <= e < 1", default=0.138,
+          bounds=Bounds(0.0, 1.0, hi_open=True, why="a closed orbit; the perigee check with a <= 1e10 m keeps "
+                        "1 - e >= 6e-4"),
           scenario=S("orbit.eccentricity"))
-    p.add("orbit_inc", 1, "rad", "inclination", default=55 * DEG, bounds=Bounds(0.0, 180 * DEG),
+    p.add("orbit_inc", 1, "rad", "inclination", default=55 * DEG,
+          bounds=Bounds(0.0, 180 * DEG, why="the definition of an inclination"),
           scenario=S("orbit.inclination_deg", "deg", DEG))
     p.add("orbit_raan", 1, "rad", "right ascension of the ascending node", default=0.0,
-          scenario=S("orbit.raan_deg", "deg", DEG))
+          bounds=Bounds(-360 * DEG, 360 * DEG, why="one turn either way"), scenario=S("orbit.raan_deg", "deg", DEG))
     p.add("orbit_argp", 1, "rad", "argument of perigee", default=270 * DEG,
+          bounds=Bounds(-360 * DEG, 360 * DEG, why="one turn either way"),
           scenario=S("orbit.arg_perigee_deg", "deg", DEG))
-    p.add("orbit_nu0", 1, "rad", "true anomaly at t = 0", default=0.0, scenario=S("orbit.true_anomaly_deg", "deg", DEG))
+    p.add("orbit_nu0", 1, "rad", "true anomaly at t = 0", default=0.0,
+          bounds=Bounds(-360 * DEG, 360 * DEG, why="one turn either way"),
+          scenario=S("orbit.true_anomaly_deg", "deg", DEG))
     # model switches (0 or 1)
     p.add("gg_on", 1, "-", "gravity-gradient torques on (1) or off (0)", default=1,
           scenario=switch("environment.gravity_gradient"), presets={"full": 1})
@@ -106,9 +123,11 @@ def _params() -> Layout:
     p.add("actuators_ideal", 1, "-", "ideal force/torque actuators (1) or wheels and thrusters (0)", default=0,
           scenario=S("plant.actuators", kind="choice", choices=(("ideal", 1.0), ("wheels_thrusters", 0.0))),
           presets={"full": 0})
-    p.add("force_max", 1, "N", "ideal actuators: per-axis force limit, chaser body", default=1.0, bounds=pos,
+    p.add("force_max", 1, "N", "ideal actuators: per-axis force limit, chaser body", default=1.0,
+          bounds=Bounds(0.0, 1e4, lo_open=True, why="up to a main engine (RCS thrusters are 1-500 N)"),
           scenario=S("plant.max_force"), presets=full_default)
-    p.add("torque_max", 1, "N m", "ideal actuators: per-axis torque limit, chaser body", default=0.1, bounds=pos,
+    p.add("torque_max", 1, "N m", "ideal actuators: per-axis torque limit, chaser body", default=0.1,
+          bounds=Bounds(0.0, 1e4, lo_open=True, why="up to a station's CMGs (ISS about 260 N m)"),
           scenario=S("plant.max_torque"), presets=full_default)
     # Papers' own disturbance models (002, 004 eqs.; 001 sec. 7), in chaser body axes; per axis
     # d = c0 + a1 sin(w1 t) + b1 cos(w1 t) + a2 sin(w2 t) + b2 cos(w2 t) + s_nu sin(nu) + c_nu cos(nu)
@@ -123,31 +142,47 @@ def _params() -> Layout:
                                    ("s_nu", "sin_nu", unit, "sin(true anomaly) amplitude"),
                                    ("c_nu", "cos_nu", unit, "cos(true anomaly) amplitude")):
             p.add(f"dist_{q}_{name}", 3, u_, f"scenario disturbance {q} on the chaser, body: {doc}", XYZ,
-                  default=(0, 0, 0), scenario=S(f"disturbance.{q}.{key}"), presets=full_default)
-    p.add("meas_att_std", 1, "rad", "attitude measurement noise std (per axis, chaser)", default=0.0, bounds=nonneg,
+                  default=(0, 0, 0),
+                  bounds=(Bounds(0.0, 1e4, per_step=math.pi, why="a frequency the step samples (Nyquist: "
+                                 "|w| dt <= pi)") if u_ == "rad/s" else
+                          Bounds(-1e3, 1e3, why="either sign; far beyond any environmental disturbance (mN)")),
+                  scenario=S(f"disturbance.{q}.{key}"), presets=full_default)
+    p.add("meas_att_std", 1, "rad", "attitude measurement noise std (per axis, chaser)", default=0.0,
+          bounds=Bounds(0.0, math.pi, why="up to a half turn (a star tracker is arcseconds)"),
           scenario=S("sensors.attitude_noise_deg", "deg", DEG))
-    p.add("meas_rate_std", 1, "rad/s", "rate measurement noise std (per axis, chaser)", default=0.0, bounds=nonneg,
+    p.add("meas_rate_std", 1, "rad/s", "rate measurement noise std (per axis, chaser)", default=0.0,
+          bounds=Bounds(0.0, 1.0, why="up to 57 deg/s (a gyro is 1e-5 rad/s)"),
           scenario=S("sensors.rate_noise_deg_s", "deg/s", DEG))
-    p.add("meas_pos_std", 1, "m", "relative position noise std (per axis, LVLH)", default=0.0, bounds=nonneg,
+    p.add("meas_pos_std", 1, "m", "relative position noise std (per axis, LVLH)", default=0.0,
+          bounds=Bounds(0.0, 1e4, why="up to 10 km (GNSS or lidar are cm to m)"),
           scenario=S("sensors.position_noise"))
-    p.add("meas_vel_std", 1, "m/s", "relative velocity noise std (per axis, LVLH)", default=0.0, bounds=nonneg,
+    p.add("meas_vel_std", 1, "m/s", "relative velocity noise std (per axis, LVLH)", default=0.0,
+          bounds=Bounds(0.0, 100.0, why="up to 100 m/s"),
           scenario=S("sensors.velocity_noise"))
     p.add("meas_att_bias", 3, "rad", "attitude measurement bias (small rotation, chaser body)", XYZ, default=(0, 0, 0),
+          bounds=Bounds(-math.pi, math.pi, why="up to a half turn per axis"),
           scenario=S("sensors.attitude_bias_deg", "deg", DEG))
     p.add("meas_rate_bias", 3, "rad/s", "rate measurement bias, chaser body", XYZ, default=(0, 0, 0),
+          bounds=Bounds(-1.0, 1.0, why="up to 57 deg/s per axis"),
           scenario=S("sensors.rate_bias_deg_s", "deg/s", DEG))
     p.add("meas_pos_bias", 3, "m", "relative position bias, LVLH", XYZ, default=(0, 0, 0),
+          bounds=Bounds(-1e4, 1e4, why="up to 10 km per axis"),
           scenario=S("sensors.position_bias"))
     p.add("meas_vel_bias", 3, "m/s", "relative velocity bias, LVLH", XYZ, default=(0, 0, 0),
+          bounds=Bounds(-100.0, 100.0, why="up to 100 m/s per axis"),
           scenario=S("sensors.velocity_bias"))
     p.add("camera_half_angle", 1, "rad", "camera half field of view (001: 45 deg), camera on body +z",
-          default=45 * DEG, bounds=Bounds(0.0, 90 * DEG, lo_open=True, hi_open=True),
+          default=45 * DEG,
+          bounds=Bounds(0.0, 90 * DEG, lo_open=True, hi_open=True, why="a cone (001 eq. 41 needs tan < inf)"),
           scenario=S("constraints.camera_half_angle_deg", "deg", DEG))
     p.add("camera_zn", 1, "m", "camera lens vertex on body +z (001 z_N)", default=1.2,
+          bounds=Bounds(-100.0, 100.0, why="on the body, either side of its centre"),
           scenario=S("constraints.camera_zn"))
-    p.add("chaser_radius", 1, "m", "chaser envelope sphere radius (001 R_S)", default=2.1, bounds=nonneg,
+    p.add("chaser_radius", 1, "m", "chaser envelope sphere radius (001 R_S)", default=2.1,
+          bounds=Bounds(0.0, 1e3, why="up to a 1 km envelope"),
           scenario=S("constraints.chaser_radius"))
-    p.add("target_radius", 1, "m", "target envelope sphere radius (001 R_T)", default=1.5, bounds=nonneg,
+    p.add("target_radius", 1, "m", "target envelope sphere radius (001 R_T)", default=1.5,
+          bounds=Bounds(0.0, 1e3, why="up to a 1 km envelope"),
           scenario=S("constraints.target_radius"))
     # chaser and target
     for body, mass, inertia, dipole, cd, area in (
@@ -157,42 +192,64 @@ def _params() -> Layout:
                           "chaser residual dipole", "std of the chaser random torque (000 eq. 5)"),
                "target": ("target mass", "target inertia", "target residual dipole (000 eq. 12)",
                           "std of the target random torque (000 eq. 5)")}[body]
-        p.add(f"{body}_mass", 1, "kg", doc[0], default=mass, bounds=pos, scenario=S(f"{body}.mass"))
+        p.add(f"{body}_mass", 1, "kg", doc[0], default=mass,
+              bounds=Bounds(1e-2, 1e7, why="a 10 g chip satellite to beyond the ISS (4.2e5 kg)"),
+              scenario=S(f"{body}.mass"))
         p.add(f"{body}_inertia", 6, "kg m^2", doc[1], INERTIA_COMPONENTS, default=inertia,
+              bounds=Bounds(1e-6, 1e10, why="principal moments, a chip satellite to beyond the ISS (1e8)"),
               scenario=S(f"{body}.inertia", kind="inertia"))
-        p.add(f"{body}_dipole", 3, "A m^2", doc[2], XYZ, default=dipole, scenario=S(f"{body}.dipole"))
-        p.add(f"{body}_rand_std", 1, "N m", doc[3], default=0.3, bounds=nonneg,
+        p.add(f"{body}_dipole", 3, "A m^2", doc[2], XYZ, default=dipole,
+              bounds=Bounds(-1e4, 1e4, why="either sign; magnetorquers are 1-400 A m^2"),
+              scenario=S(f"{body}.dipole"))
+        p.add(f"{body}_rand_std", 1, "N m", doc[3], default=0.3,
+              bounds=Bounds(0.0, 100.0, why="000's 0.3 N m is already large; 100 N m keeps a typo visible"),
               scenario=S(f"environment.random_torque_std_{body}"), presets=full_default)
-        p.add(f"{body}_cd", 1, "-", f"{body} drag coefficient", default=cd, bounds=pos, scenario=S(f"{body}.drag_cd"))
-        p.add(f"{body}_area", 1, "m^2", f"{body} drag area", default=area, bounds=pos, scenario=S(f"{body}.drag_area"))
+        p.add(f"{body}_cd", 1, "-", f"{body} drag coefficient", default=cd,
+              bounds=Bounds(0.0, 10.0, lo_open=True, why="free-molecular C_D is 2-4"),
+              scenario=S(f"{body}.drag_cd"))
+        p.add(f"{body}_area", 1, "m^2", f"{body} drag area", default=area,
+              bounds=Bounds(0.0, 1e4, lo_open=True, why="up to the ISS's arrays (2500 m^2)"),
+              scenario=S(f"{body}.drag_area"))
     # reaction wheels (000 Table 3)
     p.add("wheel_beta", 1, "rad", "pyramid tilt (000 eq. 47)", default=30 * DEG,
-          bounds=Bounds(0.0, 90 * DEG, lo_open=True, hi_open=True), scenario=S("wheels.tilt_deg", "deg", DEG),
+          bounds=Bounds(0.0, 90 * DEG, lo_open=True, hi_open=True, why="a pyramid that spans 3 axes"),
+          scenario=S("wheels.tilt_deg", "deg", DEG),
           presets=full_default)
-    p.add("wheel_inertia", 1, "kg m^2", "wheel axial inertia", default=0.001364, bounds=pos,
+    p.add("wheel_inertia", 1, "kg m^2", "wheel axial inertia", default=0.001364,
+          bounds=Bounds(1e-6, 10.0, why="a CubeSat wheel (1e-6) to a CMG rotor; smaller makes h_w / J_w overflow"),
           scenario=S("wheels.inertia"), presets=full_default)
-    p.add("wheel_torque_max", 1, "N m", "per-wheel torque limit", default=0.1, bounds=pos,
+    p.add("wheel_torque_max", 1, "N m", "per-wheel torque limit", default=0.1,
+          bounds=Bounds(0.0, 100.0, lo_open=True, why="a CubeSat wheel (1e-4 N m) to a large CMG"),
           scenario=S("wheels.max_torque"), presets=full_default)
     p.add("wheel_speed_max", 1, "rad/s", "per-wheel speed limit (7000 rpm)", default=7000 * 2 * math.pi / 60,
-          bounds=pos,
+          bounds=Bounds(0.0, 50000 * RPM, lo_open=True, why="up to 50000 rpm (wheels run at 2000-10000 rpm)"),
           scenario=S("wheels.max_speed_rpm", "rpm", RPM), presets=full_default)
     # upper limit: the delay line (manifest delay_slots steps), checked with the step by the runtime
-    p.add("wheel_delay", 1, "s", "wheel transport delay", default=0.002, bounds=nonneg, scenario=S("wheels.delay"),
+    p.add("wheel_delay", 1, "s", "wheel transport delay", default=0.002,
+          bounds=Bounds(0.0, 10.0, why="below the delay line, checked with the step"), scenario=S("wheels.delay"),
           presets=full_default)
     # thrusters (000 Table 3)
-    p.add("thruster_force", 1, "N", "thrust of one thruster", default=1.0, bounds=pos,
+    p.add("thruster_force", 1, "N", "thrust of one thruster", default=1.0,
+          bounds=Bounds(0.0, 1e4, lo_open=True, why="a micro-thruster (mN) to a main engine"),
           scenario=S("thrusters.max_force"), presets=full_default)
-    p.add("thruster_isp", 1, "s", "specific impulse", default=227.0, bounds=pos, scenario=S("thrusters.isp"),
+    p.add("thruster_isp", 1, "s", "specific impulse", default=227.0,
+          bounds=Bounds(1.0, 1e5, why="cold gas (60 s) to ion engines (1e4 s); m_dot = F / (Isp g0)"),
+          scenario=S("thrusters.isp"),
           presets=full_default)
     # u_off < u_on is checked by the runtime (a relation between two fields)
+    pwpf_bounds = {"pwpf_km": Bounds(0.0, 1e4, lo_open=True, why="a prefilter gain; 000 uses 10"),
+                   "pwpf_tm": Bounds(1e-6, 1e4, why="a time constant (the filter step is exact)"),
+                   "pwpf_uon": Bounds(0.0, 1e4, lo_open=True, why="a trigger level in filter units"),
+                   "pwpf_uoff": Bounds(0.0, 1e4, lo_open=True, why="a trigger level in filter units")}
     for name, key, unit, doc, default in (("pwpf_km", "k_m", "-", "PWPF prefilter gain K_m", 10.0),
                                           ("pwpf_tm", "t_m", "s", "PWPF prefilter time constant T_m", 0.2),
                                           ("pwpf_uon", "u_on", "-", "Schmitt trigger on level U_on", 0.25),
                                           ("pwpf_uoff", "u_off", "-", "Schmitt trigger off level U_off", 0.15)):
-        p.add(name, 1, unit, doc, default=default, bounds=pos, scenario=S(f"thrusters.pwpf.{key}"),
+        p.add(name, 1, unit, doc, default=default, bounds=pwpf_bounds[name], scenario=S(f"thrusters.pwpf.{key}"),
               presets=full_default)
     # simulation
-    p.add("dt", 1, "s", "control and integration step", default=0.01, bounds=pos,
+    p.add("dt", 1, "s", "control and integration step", default=0.01,
+          bounds=Bounds(1e-5, 10.0, why="0.1 Hz to 100 kHz; the papers use 100-200 Hz"),
           scenario=S("simulation.rate", "Hz", kind="reciprocal"))
     _fault_params(p)
     return p
@@ -205,23 +262,26 @@ def _fault_params(p: Layout) -> None:
     """The fault windows and values of :mod:`rpo.symbolic.faults`, set by the scenario's
     ``[[faults]]`` array (``runtime/scenario/faults.py``), and the FDIR switch."""
     never = flt.NEVER
-    window = Bounds(0.0, never)
+    window = Bounds(0.0, never, why=f"a time from t = 0; the default {never:g} s means never")
     for unit, kinds, names in (("wheel", flt.WHEEL_KINDS, WHEELS), ("thr", flt.THRUSTER_KINDS, THRUSTERS),
                                ("sensor", flt.SENSOR_KINDS, SENSOR_NAMES)):
         for kind in kinds:
             for edge in ("start", "end"):
                 p.add(f"fault_{unit}_{kind}_{edge}", len(names), "s", f"{unit} {kind} fault: window {edge} time "
                       f"(never: {never:g})", names, default=(never,) * len(names), bounds=window)
-    fraction = Bounds(0.0, 1.0, lo_open=True)
+    fraction = Bounds(0.0, 1.0, lo_open=True, why="the fraction left of the nominal value; none left is the _off kind")
     p.add("fault_wheel_weak_value", 4, "-", "weak wheel: fraction of the torque limit left", WHEELS,
           default=(1.0,) * 4, bounds=fraction)
     p.add("fault_thr_weak_value", 16, "-", "weak thruster: fraction of the thrust left", THRUSTERS,
           default=(1.0,) * 16, bounds=fraction)
-    for s, unit in zip(flt.SENSORS, ("rad", "rad/s", "m", "m/s"), strict=True):
+    # the same ranges as the nominal sensor noise and bias
+    for s, unit, (std_hi, bias_hi, text) in zip(flt.SENSORS, ("rad", "rad/s", "m", "m/s"), (
+            (math.pi, math.pi, "a half turn"), (1.0, 1.0, "57 deg/s"), (1e4, 1e4, "10 km"), (100.0, 100.0, "100 m/s")),
+            strict=True):
         p.add(f"fault_bias_{s}", 3, unit, f"{s} sensor bias step (added to meas_{s}_bias)", XYZ,
-              default=(0.0,) * 3)
+              default=(0.0,) * 3, bounds=Bounds(-bias_hi, bias_hi, why=f"up to {text} per axis"))
         p.add(f"fault_noise_{s}_std", 1, unit, f"{s} sensor noise std during a noise fault", default=0.0,
-              bounds=NON_NEGATIVE)
+              bounds=Bounds(0.0, std_hi, why=f"up to {text}"))
     p.add("fdir_allocation", 1, "-", "fault-aware allocation over the healthy units (1, rpo's FDIR model) "
           "or the nominal allocation (0)", default=0,
           scenario=ScenarioKey("fdir.allocation", kind="choice", choices=(("nominal", 0.0), ("healthy", 1.0))))

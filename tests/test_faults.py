@@ -246,6 +246,8 @@ velocity = [0, 0, 0]
     ('kind = "sensor_noise"\nunit = "rate"\ntime = 1.0\nvalue = -0.1', ">= 0"),
     ('kind = "wheel_explodes"\nunit = 1\ntime = 1.0', "kind"),
     ('kind = "wheel_off"\nunit = 1\ntime = nan', "time"),
+    ('kind = "sensor_bias"\nunit = "attitude"\ntime = 1.0\nvalue = [400.0, 0.0, 0.0]', "must be in [-3.14159"),
+    ('kind = "sensor_noise"\nunit = "velocity"\ntime = 1.0\nvalue = 1000.0', "must be in [0, 100] m/s"),
 ])
 def test_bad_fault_entries_are_refused_naming_the_entry(entry, fragment):
     with pytest.raises(ScenarioError) as exc:

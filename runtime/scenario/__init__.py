@@ -21,14 +21,18 @@ key exist:
   (what a run writes: ``channels``, ``every`` or ``rate_hz``, ``formats``, ``figures``,
   ``figure_format``; :class:`~.schema.OutputSection`, docs/scenarios.md).
 
-``extends = "<base>.toml"`` makes a variant of a base file (:mod:`.loader`).  Every error is ONE
+``extends = "<base>.toml"`` makes a variant of a base file (:mod:`.loader`; every file read is a
+regular UTF-8 file of at most 1 MiB).  Every parameter and gain has a range (``docs/parameters.md``,
+:mod:`.ranges`); :mod:`.preflight` makes the checks of a run before its first step, for ``rpo run``
+and ``rpo validate`` alike.  Every error is ONE
 line naming the file, the dotted key, the offending value and the allowed range, e.g.
 ``scenario.toml: orbit.eccentricity = 1.2: must be in [0, 1)``, raised as
 :class:`~rpo.runtime.errors.ScenarioError` (:mod:`.messages`).
 
 Modules: :mod:`.loader` (TOML and ``extends``), :mod:`.params` (the manifest's parameter
 entries), :mod:`.schema` (sections and validation), :mod:`.initial_state` (to the inputs of a
-run), :mod:`.messages` (error text), :mod:`.reproduction` (the report's table).
+run), :mod:`.messages` (error text), :mod:`.reproduction` (the report's table), :mod:`.preflight`,
+:mod:`.ranges`.
 """
 
 from __future__ import annotations

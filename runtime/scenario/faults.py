@@ -148,6 +148,11 @@ def fault_params(faults: list[Fault], defaults: dict[str, Any]) -> dict[str, lis
     return out
 
 
+def fault_value_scale(f: Fault) -> float:
+    """SI value = scale x the value a scenario writes (deg and deg/s for the attitude and rate sensors)."""
+    return SENSORS[str(f.unit)][2] if f.family == "sensor" else 1.0
+
+
 class FaultConflict(ValueError):
     """Two faults the model cannot represent together: ``index`` of the second, ``message``."""
 

@@ -27,20 +27,27 @@ import numpy as np
 
 @dataclass(frozen=True)
 class Interval:
-    """``lo``/``hi`` (None: unbounded), open or closed, in one unit."""
+    """``lo``/``hi`` (None: unbounded), open or closed, in one unit; ``per_step``: a limit on
+    ``|value| * dt`` (a rate the fixed step must resolve), checked once the step is known."""
 
     lo: float | None = None
     hi: float | None = None
     lo_open: bool = False
     hi_open: bool = False
+    per_step: float | None = None
 
     @classmethod
     def from_manifest(cls, d: dict | None) -> Interval | None:
         if not d:
             return None
-        return cls(d.get("lo"), d.get("hi"), bool(d.get("lo_open")), bool(d.get("hi_open")))
+        per_step = d.get("per_step")
+        return cls(d.get("lo"), d.get("hi"), bool(d.get("lo_open")), bool(d.get("hi_open")),
+                   None if per_step is None else float(per_step))
 
     def contains(self, v: float) -> bool:
+        """Whether ``v`` is inside (never for nan or +-inf)."""
+        if not math.isfinite(v):
+            return False
         if self.lo is not None and (v <= self.lo if self.lo_open else v < self.lo):
             return False
         return not (self.hi is not None and (v >= self.hi if self.hi_open else v > self.hi))
@@ -55,6 +62,19 @@ class Interval:
         if self.hi is not None:
             return f"{'<' if self.hi_open else '<='} {self.hi:g}{u}"
         return "any number"
+
+    def refusal(self, v: float, unit: str = "") -> str:
+        """Why ``v`` is refused (it is not inside): ``must be in [0.01, 1e+07] kg``; a value of the
+        wrong sign is told its sign first (``must be > 0 kg (allowed range [0.01, 1e+07] kg)``)."""
+        full = self.text(unit)
+        if self.lo is not None and self.lo > 0 and math.isfinite(v) and v <= 0:
+            # the range starts above 0 (a magnitude): the sign is the first thing wrong
+            return f"must be > 0{f' {unit}' if unit and unit != '-' else ''} (allowed range {full.removeprefix('in ')})"
+        return f"must be {full}"
+
+    def step_limit(self, dt: float) -> float | None:
+        """The largest |value| the step ``dt`` [s] resolves (None: no such limit)."""
+        return None if self.per_step is None else self.per_step / dt
 
 
 @dataclass(frozen=True)
@@ -135,7 +155,42 @@ class ScenarioParam:
     def allowed(self) -> str:
         """``must be in [0, 180] deg``: the bound as an error message (empty if unbounded)."""
         iv = self.scenario_interval()
-        return "" if iv is None else f"must be {iv.text(self.unit)}"
+        if iv is None:
+            return ""
+        return f"must be {iv.text(self.unit)}" + (" (principal moments)" if self.kind == "inertia" else "")
+
+    def value_text(self) -> str:
+        """What a value of this parameter is: ``a number``, ``an array of 3 numbers``."""
+        if self.kind == "inertia":
+            return "a symmetric 3x3 array of numbers"
+        return "a number" if self.size == 1 else f"an array of {self.size} numbers"
+
+    def check(self, value: Any) -> str | None:
+        """None if ``value`` (as typed in a scenario) is admissible, else why not: ONE message with the
+        allowed values, for a wrong type, a wrong length, nan or inf, or a value out of bounds.
+        Kinds ``number`` and ``reciprocal`` (``inertia``: see :meth:`check_moments`)."""
+        iv = self.scenario_interval()
+        rng = "" if iv is None else f" {iv.text(self.unit)}"
+        unit = f" ({self.unit})" if iv is None and self.unit not in ("", "-") else ""
+        items = value if isinstance(value, list) else [value]
+        if (self.size == 1) == isinstance(value, list) or not all(_is_number(x) for x in items):
+            return f"must be {self.value_text()}{rng}{unit}"
+        if len(items) != self.size:
+            return f"must have {self.size} values, got {len(items)}"
+        if not finite(items):
+            return f"must be {'a finite number' if self.size == 1 else 'finite numbers'}{rng}{unit}"
+        if not self.in_bounds(value):
+            assert iv is not None
+            bad = next(float(x) for x in items if not self.in_bounds(float(x)))
+            return iv.refusal(bad, self.unit)
+        return None
+
+    def check_moments(self, moments: Sequence[float]) -> str | None:
+        """For kind ``inertia``: None if the principal moments [kg m^2] are within the bounds."""
+        if self.bounds is None or all(self.bounds.contains(float(m)) for m in moments):
+            return None
+        shown = ", ".join(f"{m:.6g}" for m in moments)
+        return f"principal moments {shown} {self.unit}: each must be {self.bounds.text(self.unit)}"
 
     def in_bounds(self, value: Any) -> bool:
         """Whether a scenario value of kind number/reciprocal is within the bounds.
@@ -170,6 +225,10 @@ def manifest_defaults(manifest: dict, layout: str) -> dict[str, np.ndarray]:
     return {f["name"]: np.array(f["default"], float) for f in manifest["layouts"][layout] if "default" in f}
 
 
+def _is_number(x: Any) -> bool:
+    return isinstance(x, (int, float)) and not isinstance(x, bool)
+
+
 def gain_bounds(entry: dict) -> Interval | None:
     """The bounds a controller module declared for one gain (SI, the gain's unit), if any."""
     return Interval.from_manifest(entry.get("bounds"))
@@ -177,3 +236,4 @@ def gain_bounds(entry: dict) -> Interval | None:
 
 def finite(values: Sequence[float]) -> bool:
     return all(math.isfinite(float(v)) for v in values)
+

@@ -25,18 +25,20 @@ from pydantic import (
     BaseModel,
     ConfigDict,
     Field,
+    PlainValidator,
     PrivateAttr,
     ValidationError,
     ValidationInfo,
+    WrapValidator,
     create_model,
     model_validator,
 )
 from pydantic_core import PydanticCustomError
 
 from ..errors import ModelError, ScenarioError
-from .faults import Fault, FaultConflict, fault_params
+from .faults import Fault, FaultConflict, fault_params, fault_value_scale
 from .messages import field_error, first_error, unknown_key
-from .params import ScenarioParam, finite, gain_bounds, manifest_defaults, param, scenario_params
+from .params import Interval, ScenarioParam, finite, gain_bounds, manifest_defaults, param, scenario_params
 from .reproduction import Reproduction
 
 if TYPE_CHECKING:
@@ -54,16 +56,23 @@ MAX_RECORD_BYTES = 2e9
 # --------------------------------------------------------------------------- value types
 
 
-def _range(lo: float, lo_open: bool = False, unit: str = "") -> AfterValidator:
-    """A lower bound on a key that is not a manifest parameter."""
-    text = f"must be {'>' if lo_open else '>='} {lo:g}" + (f" {unit}" if unit else "")
+def _range(lo: float, lo_open: bool = False, unit: str = "", what: str = "a number") -> WrapValidator:
+    """A lower bound on a key that is not a manifest parameter; a wrong type, nan or inf is told the
+    bound too (``must be a finite number > 0 s``)."""
+    bound = f"{'>' if lo_open else '>='} {lo:g}" + (f" {unit}" if unit else "")
 
-    def check(v):
+    def check(v, handler):
+        if isinstance(v, float) and not math.isfinite(v):
+            raise PydanticCustomError("range", f"must be a finite number {bound}")
+        try:
+            v = handler(v)
+        except ValidationError:
+            raise PydanticCustomError("range", f"must be {what} {bound}") from None
         if v <= lo if lo_open else v < lo:
-            raise PydanticCustomError("range", text)
+            raise PydanticCustomError("range", f"must be {bound}")
         return v
 
-    return AfterValidator(check)
+    return WrapValidator(check)
 
 
 Vec3 = Annotated[list[float], Field(min_length=3, max_length=3)]
@@ -104,25 +113,45 @@ def _physical_inertia(rows: list[list[float]]) -> list[list[float]]:
 Inertia = Annotated[list[Vec3], Field(min_length=3, max_length=3), AfterValidator(_physical_inertia)]
 
 
+def _inertia_check(prm: ScenarioParam):
+    """An inertia parameter: a physical tensor (:func:`_physical_inertia`) whose principal moments
+    are within the parameter's bounds."""
+    iv = prm.bounds
+    rng = f", principal moments {iv.text(prm.unit)}" if iv is not None else ""
+
+    def check(v):
+        rows = v if isinstance(v, list) and len(v) == 3 else None
+        if rows is None or not all(isinstance(r, list) and len(r) == 3 and all(
+                isinstance(x, (int, float)) and not isinstance(x, bool) for x in r) for r in rows):
+            raise PydanticCustomError("inertia", f"must be a symmetric 3x3 array of numbers ({prm.unit}){rng}")
+        if not all(math.isfinite(float(x)) for r in rows for x in r):
+            raise PydanticCustomError("inertia", f"must be finite numbers ({prm.unit}){rng}")
+        tensor = _physical_inertia([[float(x) for x in r] for r in rows])
+        msg = prm.check_moments(np.linalg.eigvalsh(np.array(tensor)).tolist())
+        if msg is not None:
+            raise PydanticCustomError("inertia", msg)
+        return tensor
+
+    return PlainValidator(check)
+
+
 def param_type(prm: ScenarioParam) -> Any:
-    """The pydantic type of the scenario value of a manifest parameter (checked against its bounds)."""
+    """The pydantic type of the scenario value of a manifest parameter: its kind, finite, within its
+    bounds (:meth:`ScenarioParam.check`: one message with the allowed values for every refusal)."""
     if prm.kind == "switch":
         return bool
     if prm.kind == "choice":
         return Literal[tuple(prm.choices)]  # type: ignore[valid-type]
     if prm.kind == "inertia":
-        return Inertia
-    base: Any = float if prm.size == 1 else Annotated[list[float], Field(min_length=prm.size, max_length=prm.size)]
-    if prm.bounds is None:
-        return base
-    text = prm.allowed()
+        return Annotated[Any, _inertia_check(prm)]
 
     def check(v):
-        if not prm.in_bounds(v):
-            raise PydanticCustomError("range", text)
+        msg = prm.check(v)
+        if msg is not None:
+            raise PydanticCustomError("range", msg)
         return v
 
-    return Annotated[base, AfterValidator(check)]
+    return Annotated[Any, PlainValidator(check)]
 
 
 # --------------------------------------------------------------------------- static sections
@@ -139,10 +168,10 @@ class Meta(_Section):
 
 
 class SimulationSection(_Section):
-    duration: Annotated[float, _range(0, lo_open=True)]  # s
-    seed: Annotated[int, _range(0)] = 0
+    duration: Annotated[float, _range(0, lo_open=True, unit="s")]
+    seed: Annotated[int, _range(0, what="an integer"), Field(le=2**64 - 1)] = 0
     controller: str = "baseline"
-    record_every: Annotated[int, _range(1)] = 1
+    record_every: Annotated[int, _range(1, what="an integer")] = 1
 
 
 #: File formats of the time histories (``[output] formats``; ``rpo run --format``).
@@ -162,7 +191,7 @@ class OutputSection(_Section):
     """
 
     channels: Annotated[list[str], Field(min_length=1)] | None = None
-    every: Annotated[int, _range(1)] | None = None
+    every: Annotated[int, _range(1, what="an integer")] | None = None
     rate_hz: Annotated[float, _range(0, lo_open=True, unit="Hz")] | None = None
     formats: Annotated[list[Literal[FORMATS]], Field(min_length=1)] = ["parquet"]  # type: ignore[valid-type]
     figures: bool = True
@@ -371,6 +400,7 @@ class Scenario(_Section):
                               f"{MAX_RECORD_BYTES / 1e9:g} GB): raise simulation.record_every or shorten the run")
 
         self._check_output(manifest, dt)
+        self._check_per_step(manifest, dt)
 
         # ideal actuators need their limits (the defaults are placeholders, not a paper's values)
         ideal, f_max, t_max = (param(manifest, n) for n in ("actuators_ideal", "force_max", "torque_max"))
@@ -391,10 +421,22 @@ class Scenario(_Section):
     def _check_faults(self, manifest: dict) -> None:
         """Faults the model can fly: one window per kind and unit; actuator faults need the
         wheels and thrusters (the ideal actuators of 001/002/004 have no units to fail)."""
+        defaults = manifest_defaults(manifest, "p")
         try:
-            fault_params(self.faults, manifest_defaults(manifest, "p"))
+            fault_params(self.faults, defaults)
         except FaultConflict as exc:
             raise field_error(f"faults[{exc.index}]", self.faults[exc.index].kind, exc.message) from None
+        fields = {f["name"]: f for f in manifest["layouts"]["p"]}
+        for n, f in enumerate(self.faults):  # the values against the ranges of the parameters they set
+            for name, values in fault_params([f], defaults).items():
+                b = Interval.from_manifest(fields[name].get("bounds"))
+                if b is not None and not all(b.contains(v) for v in values):
+                    where = "time" if name.endswith(("_start", "_end")) else "value"
+                    scale = fault_value_scale(f) if where == "value" else 1.0
+                    raise field_error(f"faults[{n}].{where}", getattr(f, where),
+                                      f"out of range: {fields[name]['doc']} must be "
+                                      f"{b.text(fields[name]['unit'])}"
+                                      + (f" (x {1 / scale:.6g} in the scenario's unit)" if scale != 1.0 else ""))
         ideal = self.param_overrides(manifest).get("actuators_ideal",
                                                    manifest_defaults(manifest, "p")["actuators_ideal"])
         if float(np.ravel(ideal)[0]) == 1.0:
@@ -427,11 +469,43 @@ class Scenario(_Section):
                     raise field_error(path, value, f"must be {want} ({unit})")
                 if len(items) != size:
                     raise field_error(path, value, f"must have {size} values, got {len(items)}")
-                if not finite(items):
-                    raise field_error(path, value, "must be finite")
                 bounds = gain_bounds(layout[k])
-                if bounds is not None and not all(bounds.contains(float(x)) for x in items):
-                    raise field_error(path, value, f"must be {bounds.text(unit)}")
+                rng = f" {bounds.text(unit)}" if bounds is not None else f" ({unit})"
+                if not finite(items):
+                    raise field_error(path, value, f"must be {'a finite number' if size == 1 else 'finite numbers'}"
+                                                   f"{rng}")
+                bad = [float(x) for x in items if bounds is not None and not bounds.contains(float(x))]
+                if bounds is not None and bad:
+                    raise field_error(path, value, bounds.refusal(bad[0], unit))
+
+    def _check_per_step(self, manifest: dict, dt: float) -> None:
+        """The rates a fixed step must resolve (``per_step`` bounds: |value| * dt <= limit), for the
+        parameters this scenario sets and the gains of the controller it flies."""
+        rate = f"simulation.rate = {1.0 / dt:g} Hz"
+        for prm in scenario_params(manifest):
+            v = self.get(prm.key)
+            limit = None if prm.bounds is None else prm.bounds.step_limit(dt)
+            if v is None or limit is None or prm.bounds is None:
+                continue
+            si = np.abs(np.ravel(prm.to_si(v)))
+            if si.max() > limit * (1 + 1e-12):
+                raise field_error(prm.key, v, f"|value| must be <= {prm.bounds.per_step:g} / dt = "
+                                              f"{limit / prm.scale:g} {prm.unit} at {rate} (the step must resolve it)")
+        ctrl = self.simulation.controller
+        fields = manifest["layouts"][manifest["controllers"][ctrl]["gains"]]
+        gains = self.gains(manifest)
+        for f in fields:
+            b = gain_bounds(f)
+            limit = None if b is None else b.step_limit(dt)
+            if b is None or limit is None or f["name"] not in gains:
+                continue
+            g = np.abs(np.ravel(gains[f["name"]]))
+            if g.max() > limit * (1 + 1e-12):
+                given = self.controller.get(ctrl, {}).get(f["name"])
+                key = f"controller.{ctrl}.{f['name']}"
+                raise field_error(key, given if given is not None else g.tolist(),
+                                  f"|value| must be <= {b.per_step:g} / dt = {limit:g} {f['unit']} at {rate} "
+                                  "(the step must resolve it)" + ("" if given is not None else "; this is the default"))
 
     def _check_output(self, manifest: dict, dt: float) -> None:
         from ..channels import ChannelError, select

@@ -11,7 +11,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from ..layout import XYZ, Layout
+from ..layout import XYZ, Bounds, Layout
 from ..rotations import quat_to_dcm, quat_vec
 from . import command_layout
 
@@ -25,11 +25,16 @@ class Baseline:
 
     def __post_init__(self):
         k = self.k
-        k.add("kp_att", 1, "N m", "attitude proportional gain", default=0.28)
-        k.add("kd_att", 1, "N m s", "attitude rate gain", default=2.0)
-        k.add("kp_pos", 1, "N/m", "position proportional gain", default=0.25)
-        k.add("kd_pos", 1, "N s/m", "velocity gain", default=7.0)
-        k.add("r_goal", 3, "m", "goal relative position, LVLH", XYZ, default=(0, 0, 0))
+        k.add("kp_att", 1, "N m", "attitude proportional gain",
+              bounds=Bounds(0.0, 1e3, why="a feedback gain: >= 0 (a negative one inverts the loop)"), default=0.28)
+        k.add("kd_att", 1, "N m s", "attitude rate gain", default=2.0,
+              bounds=Bounds(0.0, 1e3, why="a feedback gain: >= 0 (a negative one inverts the loop)"))
+        k.add("kp_pos", 1, "N/m", "position proportional gain", default=0.25,
+              bounds=Bounds(0.0, 1e3, why="a feedback gain: >= 0 (a negative one inverts the loop)"))
+        k.add("kd_pos", 1, "N s/m", "velocity gain", default=7.0,
+              bounds=Bounds(0.0, 1e3, why="a feedback gain: >= 0 (a negative one inverts the loop)"))
+        k.add("r_goal", 3, "m", "goal relative position, LVLH", XYZ, default=(0, 0, 0),
+              bounds=Bounds(-1e5, 1e5, why="a position, either sign, within 100 km"))
         self.diag.add("att_err", 1, "rad", "rotation angle to the interface frame")
 
     def law(self, meas, t, p):

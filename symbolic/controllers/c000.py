@@ -68,7 +68,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from ..layout import XYZ, Layout
+from ..layout import XYZ, Bounds, Layout
 from ..relative_attitude import attitude_error_rate
 from ..rotations import quat_to_dcm, quat_vec
 from . import command_layout
@@ -346,35 +346,56 @@ class C000:
     def __post_init__(self):
         k = self.k
         # --- attitude (Table 2 lost: chosen, see docs/controllers/c000.md)
-        k.add("lam_att", 1, "1/s", "lambda_0 of the attitude surfaces (eqs. 53, 79, 80)", default=0.2)
-        k.add("D_att", 3, "rad/s^2", "disturbance bound D_j (eq. 51)", XYZ, default=(0.0075,) * 3)
-        k.add("eps_att", 3, "rad/s^2", "reaching margin eps_j (eq. 55)", XYZ, default=(0.0075,) * 3)
-        k.add("d_att", 3, "rad/s", "boundary-layer width d_j (eq. 52)", XYZ, default=(0.002,) * 3)
+        k.add("lam_att", 1, "1/s", "lambda_0 of the attitude surfaces (eqs. 53, 79, 80)", default=0.2,
+              bounds=Bounds(0.0, 1e3, per_step=1.0, why="a rate >= 0 the step must resolve: value x dt <= 1"))
+        k.add("D_att", 3, "rad/s^2", "disturbance bound D_j (eq. 51)", XYZ, default=(0.0075,) * 3,
+              bounds=Bounds(0.0, 1e3, why="a disturbance bound, >= 0"))
+        k.add("eps_att", 3, "rad/s^2", "reaching margin eps_j (eq. 55)", XYZ, default=(0.0075,) * 3,
+              bounds=Bounds(0.0, 1e3, why="a reaching margin, >= 0"))
+        k.add("d_att", 3, "rad/s", "boundary-layer width d_j (eq. 52)", XYZ, default=(0.002,) * 3,
+              bounds=Bounds(0.0, 1e3, lo_open=True, why="a boundary-layer width, > 0 (it divides)"))
         k.add("wdot_d", 3, "rad/s^2", "user-set desired relative angular acceleration (eq. 56), chaser axes",
-              XYZ, default=(0, 0, 0))
-        k.add("gamma_a", 1, "-", "adaptation gain of a_hat (eq. 66; 1 = printed)", default=1.0)
-        k.add("gamma_b", 1, "-", "adaptation gain of b_hat (eq. 67; 1 = printed)", default=1.0)
+              XYZ, default=(0, 0, 0),
+              bounds=Bounds(-1e3, 1e3, why="either sign, within 1e3"))
+        k.add("gamma_a", 1, "-", "adaptation gain of a_hat (eq. 66; 1 = printed)", default=1.0,
+              bounds=Bounds(0.0, 1e6, why="an adaptation rate: >= 0 (a negative one unlearns)"))
+        k.add("gamma_b", 1, "-", "adaptation gain of b_hat (eq. 67; 1 = printed)", default=1.0,
+              bounds=Bounds(0.0, 1e6, why="an adaptation rate: >= 0 (a negative one unlearns)"))
         k.add("adapt_a1", 1, "-", "1: estimate a_x1/b_x = I_cx by eq. 66; 0: hold it (paper: 'known')",
-              default=1.0)
-        k.add("shortest", 1, "-", "1: e = sgn(q_e4) q_ev (shorter rotation); 0: e = q_ev (eq. 54)", default=1.0)
+              default=1.0,
+              bounds=Bounds(0.0, 1.0, why="a 0/1 switch (blends in between)"))
+        k.add("shortest", 1, "-", "1: e = sgn(q_e4) q_ev (shorter rotation); 0: e = q_ev (eq. 54)", default=1.0,
+              bounds=Bounds(0.0, 1.0, why="a 0/1 switch (blends in between)"))
         # --- translation
-        k.add("lam_pos", 1, "1/s", "lambda_0 of the translation surfaces (eqs. 85, 107, 120)", default=0.03)
-        k.add("D_pos", 3, "m/s^2", "disturbance bound D_jj (eqs. 104, 118)", XYZ, default=(0.02,) * 3)
-        k.add("eps_pos", 3, "m/s^2", "reaching margin eps_jj", XYZ, default=(0.02,) * 3)
-        k.add("d_pos", 3, "m/s", "boundary-layer width d_jj (eqs. 84, 106, 119)", XYZ, default=(0.01,) * 3)
+        k.add("lam_pos", 1, "1/s", "lambda_0 of the translation surfaces (eqs. 85, 107, 120)", default=0.03,
+              bounds=Bounds(0.0, 1e3, per_step=1.0, why="a rate >= 0 the step must resolve: value x dt <= 1"))
+        k.add("D_pos", 3, "m/s^2", "disturbance bound D_jj (eqs. 104, 118)", XYZ, default=(0.02,) * 3,
+              bounds=Bounds(0.0, 1e3, why="a disturbance bound, >= 0"))
+        k.add("eps_pos", 3, "m/s^2", "reaching margin eps_jj", XYZ, default=(0.02,) * 3,
+              bounds=Bounds(0.0, 1e3, why="a reaching margin, >= 0"))
+        k.add("d_pos", 3, "m/s", "boundary-layer width d_jj (eqs. 84, 106, 119)", XYZ, default=(0.01,) * 3,
+              bounds=Bounds(0.0, 1e3, lo_open=True, why="a boundary-layer width, > 0 (it divides)"))
         k.add("acc_d", 3, "m/s^2", "user-set desired relative acceleration x_ddot_d (eqs. 88, 122), LVLH", XYZ,
-              default=(0, 0, 0))
-        k.add("acc_d_on", 1, "-", "1: feed wdot_d and acc_d into u_1 (eqs. 56, 88); 0: off", default=1.0)
+              default=(0, 0, 0),
+              bounds=Bounds(-1e3, 1e3, why="either sign, within 1e3"))
+        k.add("acc_d_on", 1, "-", "1: feed wdot_d and acc_d into u_1 (eqs. 56, 88); 0: off", default=1.0,
+              bounds=Bounds(0.0, 1.0, why="a 0/1 switch (blends in between)"))
         k.add("gamma_theta", 1, "-", "adaptation gain of alpha_hat, a_hat (eqs. 96-100...; 1 = printed)",
-              default=1e-8)
-        k.add("gamma_h", 1, "-", "adaptation gain of h_hat (eqs. 101, 116, 128; 1 = printed)", default=1.0)
-        k.add("r_goal", 3, "m", "goal relative position, LVLH", XYZ, default=(0, 0, 0))
+              default=1e-8,
+              bounds=Bounds(0.0, 1e6, why="an adaptation rate: >= 0 (a negative one unlearns)"))
+        k.add("gamma_h", 1, "-", "adaptation gain of h_hat (eqs. 101, 116, 128; 1 = printed)", default=1.0,
+              bounds=Bounds(0.0, 1e6, why="an adaptation rate: >= 0 (a negative one unlearns)"))
+        k.add("r_goal", 3, "m", "goal relative position, LVLH", XYZ, default=(0, 0, 0),
+              bounds=Bounds(-1e5, 1e5, why="a position, either sign, within 100 km"))
         # --- nominal model (initial estimates, see xc0)
-        k.add("m_nom", 1, "kg", "nominal chaser mass (paper: 100 kg)", default=M_NOM)
+        k.add("m_nom", 1, "kg", "nominal chaser mass (paper: 100 kg)", default=M_NOM,
+              bounds=Bounds(1e-2, 1e7, why="a nominal mass, as the plant's masses"))
         k.add("I_c_nom", 3, "kg m^2", "nominal chaser principal inertia (paper: diag 11, 14, 13)", XYZ,
-              default=I_C_NOM)
+              default=I_C_NOM,
+              bounds=Bounds(1e-6, 1e10, why="nominal principal moments, as the plant's inertias"))
         k.add("I_t_nom", 3, "kg m^2", "nominal target principal inertia (paper: diag 3336, 3184, 2423)", XYZ,
-              default=I_T_NOM)
+              default=I_T_NOM,
+              bounds=Bounds(1e-6, 1e10, why="nominal principal moments, as the plant's inertias"))
 
         xc = self.xc
         init = _initial_attitude_estimates()

@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from .. import actuators as act
-from ..layout import XYZ, XYZW, Layout
+from ..layout import XYZ, XYZW, Bounds, Layout
 from ..rotations import cross, dot, dq, dq_conj, dq_dual, dq_mul, dq_real, quat, quat_conj, quat_mul, quat_to_dcm
 from ..special import Step
 from . import command_layout
@@ -474,35 +474,55 @@ class C001:
     def __post_init__(self):
         k = self.k
         # control law and APF (001 sec. 7)
-        k.add("k_p", 1, "-", "PD-like proportional gain k_p (001 eq. 57)", default=0.005)
-        k.add("k_d", 1, "-", "PD-like derivative gain k_d: N s/m and N m s (001 eq. 57)", default=2.0)
-        k.add("k_a", 1, "-", "attractive APF coefficient (001 eq. 51)", default=0.75)
+        k.add("k_p", 1, "-", "PD-like proportional gain k_p (001 eq. 57)", default=0.005,
+              bounds=Bounds(0.0, 1e3, why="a feedback gain: >= 0 (a negative one inverts the loop)"))
+        k.add("k_d", 1, "-", "PD-like derivative gain k_d: N s/m and N m s (001 eq. 57)", default=2.0,
+              bounds=Bounds(0.0, 1e3, why="a feedback gain: >= 0 (a negative one inverts the loop)"))
+        k.add("k_a", 1, "-", "attractive APF coefficient (001 eq. 51)", default=0.75,
+              bounds=Bounds(0.0, 1e3, why="an attractive coefficient, >= 0"))
         k.add("k_r", 1, "-", "repulsive APF coefficient (001 eq. 52; SI numbers: beta_FOV in m, beta_CA in m^2)",
-              default=2.5e-5)
+              default=2.5e-5,
+              bounds=Bounds(0.0, 1e3, why="a repulsive coefficient, >= 0"))
         # ESO (001 sec. 7; exponents negative: see docs/controllers/c001.md)
-        k.add("kappa1", 1, "-", "STA gain kappa_1 (001 eq. 24)", default=0.7)
-        k.add("kappa2", 1, "-", "STA gain kappa_2 (001 eq. 24)", default=0.8)
-        k.add("delta", 1, "s", "ESO scaling delta (001 eq. 23)", default=0.001)
+        k.add("kappa1", 1, "-", "STA gain kappa_1 (001 eq. 24)", default=0.7,
+              bounds=Bounds(0.0, 2.0, lo_open=True, why="an STA exponent, > 0 (the paper's are 0.7, 0.8)"))
+        k.add("kappa2", 1, "-", "STA gain kappa_2 (001 eq. 24)", default=0.8,
+              bounds=Bounds(0.0, 2.0, lo_open=True, why="an STA exponent, > 0 (the paper's are 0.7, 0.8)"))
+        k.add("delta", 1, "s", "ESO scaling delta (001 eq. 23)", default=0.001,
+              bounds=Bounds(0.0, 10.0, lo_open=True, why="an ESO scaling time, > 0 (it divides)"))
         k.add("K1", 6, "-", "ESO gains k12..k14 (angular), k16..k18 (linear) (001 eq. 23)", ANG_LIN,
-              default=(1.0e-4,) * 3 + (1.5e-3,) * 3)
+              default=(1.0e-4,) * 3 + (1.5e-3,) * 3,
+              bounds=Bounds(0.0, 1e3, why="ESO gains, >= 0"))
         k.add("K2", 6, "-", "ESO gains k22..k24 (angular), k26..k28 (linear) (001 eq. 23)", ANG_LIN,
-              default=(1.6e-9,) * 3 + (5.6e-7,) * 3)
+              default=(1.6e-9,) * 3 + (5.6e-7,) * 3,
+              bounds=Bounds(0.0, 1e3, why="ESO gains, >= 0"))
         # nominal chaser model and geometry (001 sec. 7)
-        k.add("m", 1, "kg", "nominal chaser mass", default=60.0)
-        k.add("M", 3, "kg m^2", "nominal chaser principal inertia", XYZ, default=(15.6, 10.8, 11.5))
-        k.add("R_S", 1, "m", "chaser envelope radius", default=2.1)
-        k.add("R_T", 1, "m", "target envelope radius", default=1.5)
-        k.add("theta", 1, "rad", "camera half field of view", default=45 * DEG)
-        k.add("z_N", 1, "m", "camera cone vertex on +z_S", default=1.2)
+        k.add("m", 1, "kg", "nominal chaser mass", default=60.0,
+              bounds=Bounds(1e-2, 1e7, why="a nominal mass, as the plant's masses"))
+        k.add("M", 3, "kg m^2", "nominal chaser principal inertia", XYZ, default=(15.6, 10.8, 11.5),
+              bounds=Bounds(1e-6, 1e10, why="nominal principal moments, as the plant's inertias"))
+        k.add("R_S", 1, "m", "chaser envelope radius", default=2.1,
+              bounds=Bounds(0.0, 1e3, why="an envelope radius"))
+        k.add("R_T", 1, "m", "target envelope radius", default=1.5,
+              bounds=Bounds(0.0, 1e3, why="an envelope radius"))
+        k.add("theta", 1, "rad", "camera half field of view", default=45 * DEG,
+              bounds=Bounds(0.0, math.pi / 2, lo_open=True, hi_open=True, why="a cone half angle"))
+        k.add("z_N", 1, "m", "camera cone vertex on +z_S", default=1.2,
+              bounds=Bounds(-100.0, 100.0, why="on the body, either side of its centre"))
         k.add("fov_eps", 1, "m", "regularisation of grad beta_FOV on the camera axis (rpo choice)",
-              default=1e-3)
+              default=1e-3,
+              bounds=Bounds(0.0, 10.0, lo_open=True, why="a regularisation length, > 0 (it divides)"))
         # desired pose (001 sec. 7; sign of q_D/T's y component reconstructed)
         k.add("q_D", 4, "-", "desired attitude q_D/T (scalar last)", XYZW,
-              default=(0.0, -math.sqrt(0.5), 0.0, math.sqrt(0.5)))
-        k.add("r_D", 3, "m", "desired position r_D/T^T, target axes", XYZ, default=(50.0, 0.0, 0.0))
+              default=(0.0, -math.sqrt(0.5), 0.0, math.sqrt(0.5)),
+              bounds=Bounds(-1.0, 1.0, why="quaternion components"))
+        k.add("r_D", 3, "m", "desired position r_D/T^T, target axes", XYZ, default=(50.0, 0.0, 0.0),
+              bounds=Bounds(-1e5, 1e5, why="a position, either sign, within 100 km"))
         # actuator limits in the law (001 sec. 7)
-        k.add("tau_max", 1, "N m", "per-axis torque limit", default=2e-3)
-        k.add("F_max", 1, "N", "per-axis force limit", default=0.75)
+        k.add("tau_max", 1, "N m", "per-axis torque limit", default=2e-3,
+              bounds=Bounds(0.0, 1e4, lo_open=True, why="an actuator limit, > 0, as the plant's"))
+        k.add("F_max", 1, "N", "per-axis force limit", default=0.75,
+              bounds=Bounds(0.0, 1e4, lo_open=True, why="an actuator limit, > 0, as the plant's"))
 
         x = self.xc
         x.add("w_hat", 3, "rad/s", "ESO estimate of omega_S/T^S, real part (chaser axes)", XYZ, default=(0, 0, 0))

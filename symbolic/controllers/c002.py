@@ -28,7 +28,7 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from .. import actuators as act
-from ..layout import XYZ, XYZW, Layout
+from ..layout import XYZ, XYZW, Bounds, Layout
 from ..rotations import dot, quat, quat_conj, quat_mul, quat_to_dcm, quat_vec, skew
 from . import command_layout
 
@@ -283,32 +283,50 @@ class C002:
     def __post_init__(self):
         k = self.k
         # gains: 002 Section IV ("The control parameters are selected as follows")
-        k.add("k1", 1, "1/s", "eq. 15 attitude surface gain on q~_v (k1 > 1/2)", default=2.0)
-        k.add("k2", 1, "rad/s", "eq. 15 weight of tanh(chi_1)", default=0.1)
-        k.add("kappa1", 1, "N m", "eq. 17 auxiliary damping", default=2.0)
-        k.add("k3", 1, "N m", "eq. 23 unit-vector gain", default=4.0)
-        k.add("k4", 1, "N m s", "eq. 23 linear gain", default=0.5)
-        k.add("k5", 1, "1/s", "eq. 16 position surface gain on r~", default=0.5)
-        k.add("k6", 1, "m/s", "eq. 16 weight of tanh(chi_2)", default=0.001)
-        k.add("kappa2", 1, "N", "eq. 18 auxiliary damping", default=2.0)
-        k.add("k7", 1, "N", "eq. 24 unit-vector gain", default=0.5)
-        k.add("k8", 1, "N s/m", "eq. 24 linear gain", default=20.0)
+        k.add("k1", 1, "1/s", "eq. 15 attitude surface gain on q~_v (k1 > 1/2)", default=2.0,
+              bounds=Bounds(0.0, 1e3, per_step=1.0, why="a rate >= 0 the step must resolve: value x dt <= 1"))
+        k.add("k2", 1, "rad/s", "eq. 15 weight of tanh(chi_1)", default=0.1,
+              bounds=Bounds(0.0, 1e3, why="a feedback gain: >= 0 (a negative one inverts the loop)"))
+        k.add("kappa1", 1, "N m", "eq. 17 auxiliary damping", default=2.0,
+              bounds=Bounds(0.0, 1e4, why="a feedback gain: >= 0 (a negative one inverts the loop)"))
+        k.add("k3", 1, "N m", "eq. 23 unit-vector gain", default=4.0,
+              bounds=Bounds(0.0, 1e4, why="a feedback gain: >= 0 (a negative one inverts the loop)"))
+        k.add("k4", 1, "N m s", "eq. 23 linear gain", default=0.5,
+              bounds=Bounds(0.0, 1e4, why="a feedback gain: >= 0 (a negative one inverts the loop)"))
+        k.add("k5", 1, "1/s", "eq. 16 position surface gain on r~", default=0.5,
+              bounds=Bounds(0.0, 1e3, per_step=1.0, why="a rate >= 0 the step must resolve: value x dt <= 1"))
+        k.add("k6", 1, "m/s", "eq. 16 weight of tanh(chi_2)", default=0.001,
+              bounds=Bounds(0.0, 1e3, why="a feedback gain: >= 0 (a negative one inverts the loop)"))
+        k.add("kappa2", 1, "N", "eq. 18 auxiliary damping", default=2.0,
+              bounds=Bounds(0.0, 1e4, why="a feedback gain: >= 0 (a negative one inverts the loop)"))
+        k.add("k7", 1, "N", "eq. 24 unit-vector gain", default=0.5,
+              bounds=Bounds(0.0, 1e4, why="a feedback gain: >= 0 (a negative one inverts the loop)"))
+        k.add("k8", 1, "N s/m", "eq. 24 linear gain", default=20.0,
+              bounds=Bounds(0.0, 1e4, why="a feedback gain: >= 0 (a negative one inverts the loop)"))
         k.add("eps", 1, "-", "eqs. 23-24 smoothing constant epsilon (mixed units, as in the paper)",
-              default=0.001)
+              default=0.001,
+              bounds=Bounds(0.0, 1e3, lo_open=True, why="a smoothing constant, > 0 (it divides)"))
         k.add("beta", 9, "-", "eq. 25 adaptation rates beta_1..9", tuple(str(i) for i in range(1, 10)),
-              default=(10, 5, 0.1, 0.01, 0.01, 0.01, 0.001, 0.001, 0.001))
+              default=(10, 5, 0.1, 0.01, 0.01, 0.01, 0.001, 0.001, 0.001),
+              bounds=Bounds(0.0, 1e6, why="an adaptation rate: >= 0 (a negative one unlearns)"))
         k.add("gamma", 9, "-", "eq. 25 leakage gamma_1..9", tuple(str(i) for i in range(1, 10)),
-              default=(1,) * 9)
+              default=(1,) * 9,
+              bounds=Bounds(0.0, 1e6, why="a leakage, >= 0"))
         # nominal model used by eqs. 17-18 (002 Table 1: J and m are the pursuer's)
         k.add("J_nom", 3, "kg m^2", "pursuer inertia diagonal used by eq. 17 (Table 1 J)", XYZ,
-              default=(21.0, 18.0, 16.0))
-        k.add("m_nom", 1, "kg", "pursuer mass used by eq. 18 (Table 1 m)", default=95.0)
+              default=(21.0, 18.0, 16.0),
+              bounds=Bounds(1e-6, 1e10, why="nominal principal moments, as the plant's inertias"))
+        k.add("m_nom", 1, "kg", "pursuer mass used by eq. 18 (Table 1 m)", default=95.0,
+              bounds=Bounds(1e-2, 1e7, why="a nominal mass, as the plant's masses"))
         k.add("sigma_t", 3, "m", "rendezvous point in target body axes (Section IV delta_r)", XYZ,
-              default=(0.0, 5.0, 0.0))
+              default=(0.0, 5.0, 0.0),
+              bounds=Bounds(-1e5, 1e5, why="a position, either sign, within 100 km"))
         # eq. 13 limits.  Printed: "position subsystem +-1 N m, attitude +-100 N m"; taken as
         # swapped (torque 1 N m, force 100 N): see docs/controllers/c002.md
-        k.add("tau_max", 1, "N m", "eq. 13 torque limit u_M per axis (attitude)", default=1.0)
-        k.add("f_max", 1, "N", "eq. 13 force limit u_M per axis (position)", default=100.0)
+        k.add("tau_max", 1, "N m", "eq. 13 torque limit u_M per axis (attitude)", default=1.0,
+              bounds=Bounds(0.0, 1e4, lo_open=True, why="an actuator limit, > 0, as the plant's"))
+        k.add("f_max", 1, "N", "eq. 13 force limit u_M per axis (position)", default=100.0,
+              bounds=Bounds(0.0, 1e4, lo_open=True, why="an actuator limit, > 0, as the plant's"))
 
         xc = self.xc
         xc.add("chi1", 3, "-", "eq. 17 attitude auxiliary state, chi_1(0) = 0", XYZ, default=(0, 0, 0))

@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from ..layout import XYZ, XYZW, Layout
+from ..layout import XYZ, XYZW, Bounds, Layout
 from ..rotations import dot, quat_conj, quat_from_mrp, quat_mul, quat_to_dcm, quat_vec, skew
 from . import command_layout
 
@@ -370,23 +370,38 @@ class C004:
 
     def __post_init__(self):
         k = self.k
-        k.add("k0", 1, "N/m", "relative-position gain k_0 (eq. 25)", default=0.1)
-        k.add("K1", 3, "N s/m", "diagonal of K_1 (eq. 25)", XYZ, default=(20, 20, 20))
-        k.add("K2", 3, "N m s", "diagonal of K_2 (eq. 34)", XYZ, default=(100, 100, 100))
-        k.add("Lambda1", 3, "1/s", "diagonal of Lambda_1 (eq. 21)", XYZ, default=(0.05, 0.05, 0.05))
-        k.add("Lambda2", 3, "1/s", "diagonal of Lambda_2 (eq. 29)", XYZ, default=(0.2, 0.2, 0.2))
-        k.add("gamma1", 1, "kg s^2/m^2", "adaptation gain of m_hat_delta (eq. 27)", default=0.02)
-        k.add("gamma2", 1, "N/m", "adaptation gain of rho_f_hat (eq. 27)", default=0.02)
-        k.add("gamma3", 1, "kg s^2/m^2", "adaptation gain of rho_m_hat (eq. 27)", default=0.02)
-        k.add("gamma4", 1, "kg m^2 s^2", "adaptation gain of theta_hat_delta (eq. 36)", default=0.02)
-        k.add("gamma5", 1, "N m", "adaptation gain of rho_tau_hat (eq. 36)", default=0.02)
-        k.add("gamma6", 1, "kg m^2 s^2", "adaptation gain of rho_J_hat (eq. 36)", default=0.02)
-        k.add("m0", 1, "kg", "nominal chaser mass m_0 (Hypothesis 1)", default=50.0)
+        k.add("k0", 1, "N/m", "relative-position gain k_0 (eq. 25)", default=0.1,
+              bounds=Bounds(0.0, 1e4, why="a feedback gain: >= 0 (a negative one inverts the loop)"))
+        k.add("K1", 3, "N s/m", "diagonal of K_1 (eq. 25)", XYZ, default=(20, 20, 20),
+              bounds=Bounds(0.0, 1e4, why="a feedback gain: >= 0 (a negative one inverts the loop)"))
+        k.add("K2", 3, "N m s", "diagonal of K_2 (eq. 34)", XYZ, default=(100, 100, 100),
+              bounds=Bounds(0.0, 1e4, why="a feedback gain: >= 0 (a negative one inverts the loop)"))
+        k.add("Lambda1", 3, "1/s", "diagonal of Lambda_1 (eq. 21)", XYZ, default=(0.05, 0.05, 0.05),
+              bounds=Bounds(0.0, 1e3, per_step=1.0, why="a rate >= 0 the step must resolve: value x dt <= 1"))
+        k.add("Lambda2", 3, "1/s", "diagonal of Lambda_2 (eq. 29)", XYZ, default=(0.2, 0.2, 0.2),
+              bounds=Bounds(0.0, 1e3, per_step=1.0, why="a rate >= 0 the step must resolve: value x dt <= 1"))
+        k.add("gamma1", 1, "kg s^2/m^2", "adaptation gain of m_hat_delta (eq. 27)", default=0.02,
+              bounds=Bounds(0.0, 1e6, why="an adaptation rate: >= 0 (a negative one unlearns)"))
+        k.add("gamma2", 1, "N/m", "adaptation gain of rho_f_hat (eq. 27)", default=0.02,
+              bounds=Bounds(0.0, 1e6, why="an adaptation rate: >= 0 (a negative one unlearns)"))
+        k.add("gamma3", 1, "kg s^2/m^2", "adaptation gain of rho_m_hat (eq. 27)", default=0.02,
+              bounds=Bounds(0.0, 1e6, why="an adaptation rate: >= 0 (a negative one unlearns)"))
+        k.add("gamma4", 1, "kg m^2 s^2", "adaptation gain of theta_hat_delta (eq. 36)", default=0.02,
+              bounds=Bounds(0.0, 1e6, why="an adaptation rate: >= 0 (a negative one unlearns)"))
+        k.add("gamma5", 1, "N m", "adaptation gain of rho_tau_hat (eq. 36)", default=0.02,
+              bounds=Bounds(0.0, 1e6, why="an adaptation rate: >= 0 (a negative one unlearns)"))
+        k.add("gamma6", 1, "kg m^2 s^2", "adaptation gain of rho_J_hat (eq. 36)", default=0.02,
+              bounds=Bounds(0.0, 1e6, why="an adaptation rate: >= 0 (a negative one unlearns)"))
+        k.add("m0", 1, "kg", "nominal chaser mass m_0 (Hypothesis 1)", default=50.0,
+              bounds=Bounds(1e-2, 1e7, why="a nominal mass, as the plant's masses"))
         k.add("theta0", 6, "kg m^2", "nominal inertia parameters [J11, J22, J33, J23, J13, J12]", THETA,
-              default=(580, 400, 300, 0, 0, 0))
-        k.add("p_t", 3, "m", "docking point P in the target body frame (eq. 11)", XYZ, default=(0, 5, 0))
+              default=(580, 400, 300, 0, 0, 0),
+              bounds=Bounds(-1e10, 1e10, why="inertia entries (products either sign), as the plant's inertias"))
+        k.add("p_t", 3, "m", "docking point P in the target body frame (eq. 11)", XYZ, default=(0, 5, 0),
+              bounds=Bounds(-1e5, 1e5, why="a position, either sign, within 100 km"))
         k.add("tau_wheel_max", 1, "N m", "not in 004: per-axis share of tau sent to the wheels, the rest to the "
-              "thrusters (the sum is applied unchanged by ideal actuators)", default=1e3)
+              "thrusters (the sum is applied unchanged by ideal actuators)", default=1e3,
+              bounds=Bounds(0.0, 1e4, why="a torque share, >= 0"))
 
         x = self.xc
         x.add("m_hat_delta", 1, "kg", "mass-uncertainty estimate (eq. 27)", default=0.0)
