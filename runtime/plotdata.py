@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .channels import select
+from .scenario.faults import active_faults
 
 if TYPE_CHECKING:
     from .simulate import RunResult
@@ -75,7 +76,7 @@ class PlotData:
                    controller=ctrl, record_every=int(result.meta.get("record_every", 1)),
                    divergence=None if div is None else (float(div.time), str(div.label)),
                    title=title or ctrl, limits=limits, goal=goal,
-                   faults=fault_markers(params or {}, model, float(np.asarray(result.t)[-1])))
+                   faults=active_faults(params or {}, float(np.asarray(result.t)[-1])))
 
     def subset(self, figure: str) -> PlotData:
         """A copy with only the columns of ``figure`` (what a worker process is sent)."""
@@ -96,24 +97,3 @@ class PlotData:
         if f is None:
             raise KeyError(name)
         return np.column_stack([self.columns[lbl] for lbl in f["labels"]])
-
-
-#: Window start of a fault that never happens (``symbolic/faults.py`` NEVER).
-FAULT_NEVER = 1e30
-
-
-def fault_markers(params: dict, model: Any, t_end: float) -> list[tuple[float, str]]:
-    """(start time, label) of every fault window that opens by ``t_end``, from the run's
-    parameters ``fault_<unit>_<kind>_start`` (one entry per unit; labels from the manifest)."""
-    layout = {f["name"]: f for f in getattr(model, "layouts", {}).get("p", [])}
-    out = []
-    for name, v in params.items():
-        if not (name.startswith("fault_") and name.endswith("_start")):
-            continue
-        what = name.removeprefix("fault_").removesuffix("_start").replace("thr_", "thruster_")
-        labels = layout.get(name, {}).get("labels") or [str(i) for i in range(np.size(v))]
-        comps = [lbl.removeprefix(name + "_") for lbl in labels]
-        for c, start in zip(comps, np.ravel(np.asarray(v, float)), strict=False):
-            if start < FAULT_NEVER and start <= t_end:
-                out.append((float(start), f"{what} {c}"))
-    return sorted(out)

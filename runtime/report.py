@@ -128,6 +128,7 @@ class RunList(_Strict):
 class Notes(_Strict):
     intro: str = ""
     comparison: str = ""
+    faults: str = ""
     paper: dict[str, str] = {}
 
 
@@ -226,10 +227,40 @@ class PlannedRun:
     metrics: dict | None = None
     controller_used: str | None = None
     extra: dict = field(default_factory=dict)
+    faults: list[dict] | None = None  # [[faults]] entries added to the scenario's (the fault study)
 
     def key(self) -> str:
         return json.dumps([str(self.scenario), self.controller, self.plant, self.duration, self.seed, self.gains,
-                           self.thresholds, sorted(self.error_times)], sort_keys=True)
+                           self.thresholds, sorted(self.error_times), self.faults], sort_keys=True)
+
+
+#: The fault study of the report (issue 11): every controller on these scenarios (file, plant) in
+#: each of these cases (label, [[faults]] entries), with the nominal and the fault-aware allocation.
+#: Wheels and thrusters need the full plant for 001 (its own model has ideal actuators).
+FAULT_SCENARIOS = (("001_scenario.toml", "full"), ("000_scenario_III.toml", "paper"))
+FAULT_CASES: tuple[tuple[str, list[dict]], ...] = (
+    ("nominal", []),
+    ("wheel 1 off at 30 s", [{"kind": "wheel_off", "unit": 1, "time": 30.0}]),
+    ("wheel 1 off at 30 s, FDIR", [{"kind": "wheel_off", "unit": 1, "time": 30.0}]),
+    ("thruster 00 stuck on at 30 s", [{"kind": "thruster_stuck_on", "unit": 0, "time": 30.0}]),
+    ("thruster 00 stuck on at 30 s, FDIR", [{"kind": "thruster_stuck_on", "unit": 0, "time": 30.0}]),
+)
+
+
+def fault_runs(base: Path, controllers: Iterable[str]) -> list[PlannedRun]:
+    """The runs of the fault study (:data:`FAULT_SCENARIOS` x :data:`FAULT_CASES` x controllers)."""
+    runs = []
+    for scen, plant in FAULT_SCENARIOS:
+        if not (base / scen).is_file():
+            continue
+        for case, faults in FAULT_CASES:
+            for ctrl in sorted(controllers):
+                label = f"fault-{Path(scen).stem}-{ctrl}-" + "-".join(case.replace(",", "").split())
+                runs.append(PlannedRun(label=label, scenario=base / scen, controller=ctrl, plant=plant, paper=None,
+                                       case=case, duration=None, seed=None, gains=None, thresholds=None,
+                                       error_times=[], faults=[dict(f, fdir=case.endswith("FDIR")) for f in faults]
+                                       if faults else [{"fdir": False}]))
+    return runs
 
 
 def plan(run_list: RunList, base: Path) -> list[PlannedRun]:
@@ -306,7 +337,13 @@ def execute(runs: list[PlannedRun], model: Any, out: Path, *, plots: bool = True
             if ctrl not in available:
                 r.status, r.reason = "not run", f"controller {ctrl} not generated yet"
                 continue
-            o = execute_run(load_scenario(src, model.manifest), out / r.label, model, duration=r.duration,
+            sc = load_scenario(src, model.manifest)
+            if r.faults is not None:
+                entries = [{k: v for k, v in f.items() if k != "fdir"} for f in r.faults if "kind" in f]
+                sc = sc.with_overrides(plant=r.plant, faults=entries or None)
+                if any(f.get("fdir") for f in r.faults):
+                    sc = _with_fdir(sc)
+            o = execute_run(sc, out / r.label, model, duration=r.duration,
                             seed=r.seed, controller=r.controller, plant=r.plant, gains=r.gains, plots=plots,
                             thresholds=r.thresholds, error_times=r.error_times,
                             extra_meta={"report_label": r.label})
@@ -322,6 +359,17 @@ def execute(runs: list[PlannedRun], model: Any, out: Path, *, plots: bool = True
         finally:
             if on_run:
                 on_run(r)
+
+
+def _with_fdir(sc: Any) -> Any:
+    """``sc`` with ``[fdir] allocation = "healthy"`` (the fault-aware allocation)."""
+    from .scenario.schema import validate_scenario
+
+    data = sc.data
+    data.setdefault("fdir", {})["allocation"] = "healthy"
+    out = validate_scenario(data, f"{sc.source} (fault study)", sc.manifest)
+    out._text = sc.text
+    return out
 
 
 # --------------------------------------------------------------------------- rendering
@@ -475,7 +523,37 @@ def build_tables(runs: list[PlannedRun], run_list: RunList) -> dict:
     for pid, paper in run_list.paper.items():
         papers[pid] = {"title": paper.title, "controller": paper.controller, "claims": paper_rows(runs, pid, paper),
                        "table2": table2_rows(runs, pid, paper) if paper.table2 else None}
-    return {"papers": papers, "comparison": comparison_rows(runs)}
+    return {"papers": papers, "comparison": comparison_rows(runs), "faults": fault_rows(runs)}
+
+
+def _fault_cell(r: PlannedRun | None) -> str:
+    """Attitude and position settling (or final errors), the propellant; or why there is none."""
+    if r is None:
+        return "-"
+    if r.status not in ("ok", "diverged"):
+        return r.status
+    m = r.metrics or {}
+
+    def goal(q: str, unit: str, scale: float) -> str:
+        st, fin = m.get(f"{q}_settling_time_s"), m.get(f"{q}_err_final_{'rad' if q == 'att' else 'm'}")
+        if fin is None:
+            return f"{q} n/a"
+        return f"{q} {st:.0f} s" if st is not None else f"{q} off {fin * scale:.3g} {unit}"
+
+    text = f"{goal('att', 'deg', RAD2DEG)}, {goal('pos', 'm', 1.0)}, {_num(m.get('propellant_kg'), '.3g')} kg"
+    return ("DIVERGED; " + text) if r.status == "diverged" else text
+
+
+def fault_rows(runs: list[PlannedRun]) -> list[dict]:
+    """The fault study: one row per (scenario, plant, controller), one cell per case."""
+    rows: dict[tuple, dict] = {}
+    for r in runs:
+        if r.faults is None:
+            continue
+        key = (r.scenario.name, r.plant, r.controller_used or r.controller)
+        row = rows.setdefault(key, {"scenario": key[0], "plant": key[1], "controller": key[2], "cells": {}})
+        row["cells"][r.case] = _fault_cell(r)
+    return list(rows.values())
 
 
 def render_markdown(tables: dict, runs: list[PlannedRun], notes: Notes, info: dict) -> str:
@@ -514,6 +592,19 @@ def render_markdown(tables: dict, runs: list[PlannedRun], notes: Notes, info: di
                                  + [row[m] for m, _u, _h in COMPARISON_COLUMNS] for row in tables["comparison"]]), ""]
         if notes.comparison.strip():
             out += [notes.comparison.strip(), ""]
+    if tables.get("faults"):
+        cases = [c for c, _f in FAULT_CASES]
+        out += ["## Faults", "",
+                "Every controller with one reaction wheel failed (no torque) and with one thruster stuck on, "
+                "both from 30 s (`runtime/report.py` FAULT_CASES; the fault model and the fault-aware "
+                "allocation (\"FDIR\", rpo's, not the papers') in `docs/faults.md`). Scenario 001 flies the "
+                "full plant here: its own model has ideal actuators, which have no units to fail. Each cell: "
+                "attitude and position settling time (or the final error), propellant used.", "",
+                _md_table(["scenario", "plant", "controller", *cases],
+                          [[row["scenario"], row["plant"], row["controller"],
+                            *[row["cells"].get(c, "-") for c in cases]] for row in tables["faults"]]), ""]
+        if notes.faults.strip():
+            out += [notes.faults.strip(), ""]
     out += ["## Runs", "",
             _md_table(["label", "scenario", "controller", "plant", "ran to [s]", "status", "folder"],
                       [[r.label, r.scenario.name, r.controller_used or r.controller or "-", r.plant,
@@ -552,6 +643,8 @@ def make_report(run_list_path: Path, model: Any, *, out_base: Path, md_path: Pat
     if notes_path is not None and Path(notes_path).exists():
         notes = _load_toml(Path(notes_path), Notes, "notes file")
     runs = plan(run_list, base)
+    if run_list_path.is_dir():
+        runs += fault_runs(base, model.manifest["controllers"])
     if only:
         unknown = set(only) - {r.label for r in runs}
         if unknown:

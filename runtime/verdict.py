@@ -56,6 +56,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .metrics import SPEED_LIMIT_TOL, TORQUE_LIMIT_TOL, _block, param, time_fraction, unit_columns
+from .scenario.faults import active_faults
 
 #: a family saturated for less than this fraction of the run is not named as the main reason
 SATURATION_MIN = 0.05
@@ -198,6 +199,9 @@ def verdict(metrics: Mapping[str, Any], t: ArrayLike, columns: Mapping[str, Any]
             f"{c['min_t_s']:.4g} s)" for n, c in con.items() if c["violated"]))
     elif con:
         parts.append("constraints held")
+    faults = active_faults(params or {}, float(t[-1]) if t.size else 0.0)
+    if faults:
+        parts.append("faults: " + ", ".join(f"{label} at {t_f:g} s" for t_f, label in faults))
     measured = [g["reached"] for g in goals.values() if g["reached"] is not None]
     if divergence is not None:
         status = "diverged"
@@ -206,6 +210,7 @@ def verdict(metrics: Mapping[str, Any], t: ArrayLike, columns: Mapping[str, Any]
     else:
         status = "reached" if all(measured) else ("not reached" if not any(measured) else "partly reached")
     return {"status": status, "goals": goals, "saturation": sat, "constraints": con,
+            "faults": [{"time_s": t_f, "fault": label} for t_f, label in faults],
             "divergence": None if divergence is None else divergence.message(),
             "saturation_min": SATURATION_MIN, "line": f"verdict: {status}: " + "; ".join(parts)}
 

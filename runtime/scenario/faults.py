@@ -17,6 +17,7 @@ only maps the table to those parameters and refuses what cannot be flown, naming
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, model_validator
@@ -166,3 +167,25 @@ def describe(faults: list[Fault]) -> list[dict[str, Any]]:
     """The faults as JSON-ready records (for run.json and the figures' markers)."""
     return [{"kind": f.kind, "unit": f.unit, "unit_name": f.unit_name(), "time": f.time,
              "end": f.end, "value": f.value} for f in faults]
+
+
+def active_faults(params: Mapping[str, Any], t_end: float) -> list[tuple[float, str]]:
+    """(start time, "kind unit") of every fault window in ``params`` (p fields, SI) that opens by
+    ``t_end``, sorted by time: what a run's figures mark and its verdict lists."""
+    names = {"wheel": WHEELS, "thr": THRUSTERS, "sensor": tuple(SENSORS)}
+    out = []
+    for kind, (family, k, _v) in KINDS.items():
+        start = params.get(f"fault_{family}_{k}_start")
+        if start is None:
+            continue
+        for i, s in enumerate(float(v) for v in list(_flat(start))):
+            if s < NEVER and s <= t_end:
+                out.append((s, f"{kind} {names[family][i]}"))
+    return sorted(out)
+
+
+def _flat(v: Any) -> list[float]:
+    try:
+        return [float(x) for x in v]
+    except TypeError:
+        return [float(v)]

@@ -551,15 +551,19 @@ class Scenario(_Section):
 
     def with_overrides(self, duration: float | None = None, seed: int | None = None,
                        controller: str | None = None, plant: str | None = None,
-                       gains: dict[str, Any] | None = None) -> Scenario:
+                       gains: dict[str, Any] | None = None, faults: list[dict[str, Any]] | None = None) -> Scenario:
         """A re-validated copy with ``simulation.duration`` / ``seed`` / ``controller`` replaced,
         ``gains`` (name -> value) merged into the selected controller's gains table and, with
         ``plant="full"``, the paper's plant replaced by the manifest's preset ``full``: every p
         field with a ``presets.full`` value is set to it (removed from the scenario where that
-        value is the manifest default)."""
-        if duration is None and seed is None and controller is None and plant in (None, "paper") and not gains:
+        value is the manifest default); ``faults`` (entries as in ``[[faults]]``) are added to the
+        scenario's own."""
+        if (duration is None and seed is None and controller is None and plant in (None, "paper") and not gains
+                and not faults):
             return self
         data = copy.deepcopy(self._data)
+        if faults:
+            data["faults"] = [*data.get("faults", []), *copy.deepcopy(faults)]
         sim = data.setdefault("simulation", {})
         if duration is not None:
             sim["duration"] = duration
