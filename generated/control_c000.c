@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_c000: controller half of a step of c000: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_c000' (hash deb0b996f88e3d53450c2e84635f7b2974b4264a9a0dea8911afc129623c1411),
+ * Produced by `python build.py` from family 'controller_c000' (hash 93fb89d35a2bd563bd2122085bd69871055228ecc8e14052ddfd0b961227c1de),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

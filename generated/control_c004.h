@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_c004: controller half of a step of c004: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_c004' (hash ed4b3d7ccc18c20b2db8d629286220c52e13db06819e858b7c73c37c986459de),
+ * Produced by `python build.py` from family 'controller_c004' (hash 0824ef2fd1e63daaa341b8f22db1150c5d6d7df728d769ae0d6b6e6a14238078),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_baseline: control law of baseline
- * Produced by `python build.py` from family 'controller_baseline' (hash 7ab4b7d9b339130aa1b5985d73004719a206aeb2649b49e7b8f4a0cd55b372d2),
+ * Produced by `python build.py` from family 'controller_baseline' (hash 335329bb97f44e87323a6658956bac329ae07f6a1fd28a4087e5dab8faebe4f3),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

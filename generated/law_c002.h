@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c002: control law of c002
- * Produced by `python build.py` from family 'controller_c002' (hash 971e5d3196d544e2cfb41ceb66f3fd9b62c49b42ab95cddd5860c0c4df037130),
+ * Produced by `python build.py` from family 'controller_c002' (hash 9d6b766eae7c852950e12ffa117371a11d455dd4c03c927bad40661a7b3aab1e),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

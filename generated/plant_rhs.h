@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * plant_rhs: plant right-hand side dx/dt (000 eqs. 6, 10, 24, 30, 45-47)
- * Produced by `python build.py` from family 'plant' (hash d0f5e4fa5546e7a98cabec0bd53487ad1fdef19d2420d6f2c2e5c9a3937d4e33),
+ * Produced by `python build.py` from family 'plant' (hash 95259efa4a733f085e1e4ffbd02c8deb6dfe6405e3b166ab43e1d0a49be78567),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c004: one closed-loop step (plant + c004 + actuators), RK4 over dt: measure, control_c004, plant_advance
- * Produced by `python build.py` from family 'controller_c004' (hash ed4b3d7ccc18c20b2db8d629286220c52e13db06819e858b7c73c37c986459de),
+ * Produced by `python build.py` from family 'controller_c004' (hash 0824ef2fd1e63daaa341b8f22db1150c5d6d7df728d769ae0d6b6e6a14238078),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -26,7 +26,7 @@
  *   symbolic/special.py
  *   symbolic/structural_cse.py
  *   symbolic/to_casadi.py
- * Operations: 25637 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 25863 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {

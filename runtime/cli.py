@@ -287,6 +287,11 @@ def validate(scenario: str, backend: str) -> int:
          f"v = {_vec(pl['v'], 'g')} m/s, chaser-to-target rotation {np.degrees(frames.rotation_angle(q_r)):.4g} deg")
     echo(f"  wheels      h_w = {_vec(pl['h_w'], '.6g')} N m s")
     echo("  gains       " + ", ".join(f"{k} = {_fmt(v)}" for k, v in inputs.gains.items()))
+    if sc.faults:
+        fdir = "fault-aware allocation" if float(np.ravel(p["fdir_allocation"])[0]) == 1.0 else "nominal allocation"
+        echo("  faults      " + "; ".join(
+            f"{f.kind} {f.unit_name()} from {f.time:g} s" + ("" if f.end is None else f" to {f.end:g} s")
+            + ("" if f.value is None else f" (value {f.value})") for f in sc.faults) + f"; {fdir}")
     defaults = model.defaults("p")
     changed = [k for k, v in inputs.params.items() if k in defaults and not np.array_equal(v, defaults[k])]
     units = {f["name"]: f["unit"] for f in model.layouts["p"]}

@@ -351,8 +351,8 @@ def execute(runs: list[PlannedRun], model: Any, out: Path, *, plots: bool = True
             r.status = "diverged" if o.diverged else "ok"
             if o.result.divergence is not None:
                 r.reason = o.result.divergence.message()
-        except RpoError as exc:
-            r.status, r.reason = "error", str(exc)
+        except RpoError as exc:  # a scenario the run refuses up front (e.g. step 0 not integrable) is "refused"
+            r.status, r.reason = ("refused" if isinstance(exc, ScenarioError) else "error"), str(exc)
         except Exception as exc:  # noqa: BLE001 - one broken run must not lose the others' results
             r.status, r.reason = "error", f"{type(exc).__name__}: {exc}"
             warnings.warn(f"run {r.label} failed: {r.reason}", RuntimeWarning, stacklevel=2)
@@ -387,8 +387,8 @@ def metric_cell(r: PlannedRun | None, metric: str, unit: str | None = None, with
 
     if r is None:
         return "not run (no run declared)"
-    if r.status in ("not run", "error"):
-        return f"{r.status} ({r.reason})" if r.status == "not run" else "error (see run list)"
+    if r.status in ("not run", "error", "refused"):
+        return f"{r.status} ({r.reason})" if r.status == "not run" else f"{r.status} (see run list)"
     m = r.metrics or {}
     if metric not in m:
         return f"unknown metric {metric}"
@@ -454,7 +454,7 @@ def table2_rows(runs: list[PlannedRun], pid: str, paper: Paper) -> list[dict]:
         r, at = ours[plant]
         if r is None:
             return "not run (no run declared)"
-        if r.status in ("not run", "error"):
+        if r.status in ("not run", "error", "refused"):
             return f"{r.status} ({r.reason})"
         e = at.get(round(t, 6))
         if e is None:
@@ -672,7 +672,7 @@ def make_report(run_list_path: Path, model: Any, *, out_base: Path, md_path: Pat
 def summary_line(r: PlannedRun) -> str:
     """One line per finished run for the console."""
     m = r.metrics or {}
-    if r.status in ("not run", "error"):
+    if r.status in ("not run", "error", "refused"):
         return f"{r.label}: {r.status}: {r.reason}"
     def st(key):
         return metric_cell(r, key, with_unit=True)

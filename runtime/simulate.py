@@ -157,6 +157,10 @@ class RunResult:
         return df
 
 
+#: Start of a fault window that never opens (``symbolic/faults.py`` NEVER, the manifest default).
+FAULT_NEVER = 1e30
+
+
 class Simulation:
     """A closed loop (model + controller + parameters) ready to run from initial states.
 
@@ -232,14 +236,20 @@ class Simulation:
             if abs(n - 1) > 1e-6:
                 raise ModelError(f"initial state: {q} must be a unit quaternion (|q| = {n:.9g})")
         # the sensor hold (layout "hold": sensor_<field>, the last value the sensor of <field> gave)
-        # starts at the true initial values, which a sensor frozen from t = 0 repeats
-        for name in self.model.offsets("hold"):
-            z[offs[name]] = z[offs[name.removeprefix("sensor_")]]
+        # starts at the noise-free first measurement (bias included), which a sensor frozen from
+        # t = 0 repeats: measured with the freeze windows closed
+        hold_offs = self.model.offsets("hold")
+        nx = self.model.layout_size("x")
+        p_open = self.p.copy()
+        p_open[self.model.offsets("p")["fault_sensor_freeze_start"]] = FAULT_NEVER
+        truth = np.concatenate([z[offs[name.removeprefix("sensor_")]] for name in hold_offs])
+        m0 = np.ravel(self.model.functions["measure"](z[:nx], truth, 0.0, p_open, np.zeros(self.nw))[1])
+        for name, sl in hold_offs.items():
+            z[offs[name]] = m0[sl]
         entry = self.model.manifest["controllers"][self.controller]
         if "xc0" in entry and not controller:
             # the design starts its states from the first (noise-free) measurement
-            nx = self.model.layout_size("x")
-            hold = np.concatenate([z[offs[name]] for name in self.model.offsets("hold")])
+            hold = np.concatenate([z[offs[name]] for name in hold_offs])
             meas = self.model.functions["measure"](z[:nx], hold, 0.0, self.p, np.zeros(self.nw))[0]
             xc0 = np.ravel(self.model.functions[entry["xc0"]](meas, self.p, self.k)[0])
             first = self.nz - xc0.size  # controller states close the packed state (closed_loop.state_layout)

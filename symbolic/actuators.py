@@ -183,6 +183,11 @@ def pwpf_filter_step(f, demand, on, k_m, t_m, dt):
 # units would be singular whenever they stop spanning the axes.
 
 
+#: Smallest fraction of a unit's limit the fault-aware allocations divide by (the schema's range of
+#: the weak faults' values is (0, 1]; this keeps a smaller value given directly finite).
+FRACTION_MIN = sp.Rational(1, 10**9)
+
+
 def null_space_redistribution(x, null_vectors, failed):
     """x moved along ``null_vectors`` so that the ``failed`` entries (0/1 flags) are zero.
 
@@ -216,7 +221,9 @@ def allocate_wheel_torques_healthy(beta, T_cmd, T_max, avail, limit):
     """
     T_w = null_space_redistribution(pyramid_pseudo_inverse(beta) * T_cmd, [pyramid_null_vector()],
                                     [1 - a for a in avail])
-    scale = fmax(1, *[sp.Abs(T_w[i], evaluate=False) / (limit[i] * T_max) for i in range(4)])
+    # Fmax: a limit fraction below 1e-9 (outside the schema's range) must not divide by zero; the
+    # blend with the nominal allocation multiplies this result by 0, and 0 * inf would be NaN
+    scale = fmax(1, *[sp.Abs(T_w[i], evaluate=False) / (Fmax(limit[i], FRACTION_MIN) * T_max) for i in range(4)])
     return T_w / scale
 
 
@@ -250,6 +257,6 @@ def allocate_thrusters_healthy(F_cmd, tau_cmd, F_max, avail, thrust, stuck_on):
     x = null_space_redistribution(x, thruster_pair_null_vectors(), pair_failed)
     d = []
     for j in range(8):
-        d += [Fmax(x[j], 0) / thrust[2 * j], Fmax(-x[j], 0) / thrust[2 * j + 1]]
+        d += [Fmax(x[j], 0) / Fmax(thrust[2 * j], FRACTION_MIN), Fmax(-x[j], 0) / Fmax(thrust[2 * j + 1], FRACTION_MIN)]
     scale = fmax(1, *d)
     return sp.Matrix(d) / scale

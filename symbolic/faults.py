@@ -66,7 +66,9 @@ def wheel_flags(t, p) -> dict[str, sp.Matrix]:
     1 when healthy) at t."""
     a = {k: windows(t, p[f"fault_wheel_{k}_start"], p[f"fault_wheel_{k}_end"]) for k in WHEEL_KINDS}
     limit = sp.Matrix([_blend(a["weak"][i], p["fault_wheel_weak_value"][i], 1) for i in range(4)])
-    return {"off": a["off"], "stuck": a["stuck"], "weak": a["weak"], "limit": limit}
+    # off beats stuck: a wheel both failed and stuck coasts
+    stuck = sp.Matrix([a["stuck"][i] * (1 - a["off"][i]) for i in range(4)])
+    return {"off": a["off"], "stuck": stuck, "weak": a["weak"], "limit": limit}
 
 
 def faulty_wheel_torques(T_w, t, p, T_max) -> sp.Matrix:
@@ -86,7 +88,9 @@ def thruster_flags(t, p) -> dict[str, sp.Matrix]:
     delivers; 1 when healthy) at t."""
     a = {k: windows(t, p[f"fault_thr_{k}_start"], p[f"fault_thr_{k}_end"]) for k in THRUSTER_KINDS}
     thrust = sp.Matrix([_blend(a["weak"][j], p["fault_thr_weak_value"][j], 1) for j in range(16)])
-    return {"off": a["off"], "stuck_on": a["stuck_on"], "thrust": thrust}
+    # off beats stuck on: a thruster both failed and stuck does not fire
+    stuck_on = sp.Matrix([a["stuck_on"][j] * (1 - a["off"][j]) for j in range(16)])
+    return {"off": a["off"], "stuck_on": stuck_on, "thrust": thrust}
 
 
 def faulty_thruster_levels(on, t, p) -> sp.Matrix:

@@ -13,6 +13,8 @@ disturbance of eq. 45 (a_c - a_t, J2 terms of ~1.5e-2 m/s^2).  Thruster wrenches
 002's auxiliary states chi_1, chi_2 start at 0 and move by dt (sat(eps) - eps) / (k m) (eqs. 17-18),
 a difference of commands of order 1 that is exactly 0 in one evaluation and 1e-15 in the other
 when the command is just unsaturated; their scale is 1 (chi is dimensionless, |chi| < 20 in use).
+Thruster duties are pair levels of order 1 minus the fault-aware allocation's shifts (the stuck
+thrusters' wrench, the null-space move), so a duty near 0 is a cancellation of order-1 terms: scale 1.
 """
 
 from __future__ import annotations
@@ -38,6 +40,7 @@ CANCELLATION_SCALE.update({("xc_c002", "chi1"): 1.0, ("xc_c002", "chi2"): 1.0})
 for _c in CONTROLLERS:
     for _f in ("a_d", "F_thr", "tau_thr", "F_applied", "tau_applied"):
         CANCELLATION_SCALE[(f"y_{_c}", f"env_{_f}")] = CANCELLATION_SCALE[("env", _f)]
+    CANCELLATION_SCALE[(f"y_{_c}", "thr_duty")] = 1.0
 
 
 class Inputs:

@@ -217,10 +217,10 @@ def test_report_reads_scenarios_through_the_one_loader():
 
 def test_discovered_runs_are_the_committed_report_s_runs(model):
     """The [reproduction] tables of scenarios/ declare exactly the runs of docs/reproduction.json."""
-    from rpo.runtime.report import discover, plan
+    from rpo.runtime.report import discover, fault_runs, plan
 
     run_list = discover(SCEN, model.manifest["controllers"])
-    runs = plan(run_list, SCEN)
+    runs = plan(run_list, SCEN) + fault_runs(SCEN, model.manifest["controllers"])
     twin = json.loads((ROOT / "docs" / "reproduction.json").read_text())
     assert sorted(r.label for r in runs) == sorted(r["label"] for r in twin["runs"])
     by_label = {r["label"]: r for r in twin["runs"]}

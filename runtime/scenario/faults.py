@@ -20,7 +20,7 @@ import math
 from collections.abc import Mapping
 from typing import Any, Literal
 
-from pydantic import BaseModel, ConfigDict, model_validator
+from pydantic import BaseModel, ConfigDict, ValidationInfo, field_validator, model_validator
 from pydantic_core import PydanticCustomError
 
 #: Window edge meaning "never" (``symbolic/faults.py`` NEVER, the manifest default of every window).
@@ -64,13 +64,26 @@ class Fault(BaseModel):
     end: float | None = None
     value: float | list[float] | None = None
 
+    @field_validator("unit", mode="before")
+    @classmethod
+    def _unit_type(cls, u: Any, info: ValidationInfo) -> Any:
+        # before the union is tried, so that a float or a boolean gets the family's message
+        if isinstance(u, bool) or not isinstance(u, int | str):
+            kind = info.data.get("kind")
+            family = KINDS[kind][0] if kind in KINDS else None
+            allowed = FAMILY_UNITS[family] if family else "a wheel 1-4, a thruster 0-15 or a sensor name"
+            raise _err("unit", f"unit = {u!r}: must be {allowed}")
+        return u
+
     @model_validator(mode="after")
     def _check(self) -> Fault:
         family, _k, value_doc = KINDS[self.kind]
         self.unit_index()  # raises for a unit of the wrong family
         if not 0.0 <= self.time < NEVER:
             raise _err("range", f"time = {self.time:g} s: must be >= 0 s (and < {NEVER:g} s)")
-        if self.end is not None and not self.time < self.end < NEVER:
+        if self.end is not None and not self.end < NEVER:
+            raise _err("range", f"end = {self.end:g} s: must be < {NEVER:g} s (omit end for a fault that lasts)")
+        if self.end is not None and not self.time < self.end:
             raise _err("range", f"end = {self.end:g} s: must be > time = {self.time:g} s")
         if value_doc is None:
             if self.value is not None:
@@ -149,9 +162,13 @@ def fault_params(faults: list[Fault], defaults: dict[str, Any]) -> dict[str, lis
     return out
 
 
-def fault_value_scale(f: Fault) -> float:
-    """SI value = scale x the value a scenario writes (deg and deg/s for the attitude and rate sensors)."""
-    return SENSORS[str(f.unit)][2] if f.family == "sensor" else 1.0
+def fault_value_unit(f: Fault, si_unit: str) -> tuple[float, str]:
+    """(scale, unit) of the value a scenario writes: SI value = scale x value (deg and deg/s for
+    the attitude and rate sensors)."""
+    if f.family == "sensor":
+        _short, unit, scale = SENSORS[str(f.unit)]
+        return scale, unit
+    return 1.0, si_unit
 
 
 class FaultConflict(ValueError):
@@ -170,9 +187,12 @@ def describe(faults: list[Fault]) -> list[dict[str, Any]]:
 
 
 def active_faults(params: Mapping[str, Any], t_end: float) -> list[tuple[float, str]]:
-    """(start time, "kind unit") of every fault window in ``params`` (p fields, SI) that opens by
-    ``t_end``, sorted by time: what a run's figures mark and its verdict lists."""
+    """(start time, "kind unit") of every fault window in ``params`` (p fields, SI) that opens at
+    a step starting before ``t_end`` (the last step starts at t_end - dt), sorted by time: what a
+    run's figures mark and its verdict lists."""
     names = {"wheel": WHEELS, "thr": THRUSTERS, "sensor": tuple(SENSORS)}
+    dt = _flat(params["dt"])[0] if "dt" in params else 0.0
+    t_end = t_end - dt * (1 - 1e-9)
     out = []
     for kind, (family, k, _v) in KINDS.items():
         start = params.get(f"fault_{family}_{k}_start")

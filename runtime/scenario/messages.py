@@ -57,6 +57,8 @@ def section_class(loc: Sequence[int | str], root: type[BaseModel]) -> type[BaseM
     """The model class of the table at ``loc`` below ``root`` (for listing the allowed keys)."""
     cls: Any = root
     for part in loc:
+        if isinstance(part, int):  # an entry of an array of tables ([[faults]]): the entry's class
+            continue
         if not (isinstance(cls, type) and issubclass(cls, BaseModel)) or part not in cls.model_fields:
             return None
         ann = cls.model_fields[str(part)].annotation

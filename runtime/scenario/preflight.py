@@ -85,4 +85,9 @@ def preflight(sc: Scenario, model: Model) -> Preflight:
             notes.append(f"{when} has {labels[i]} = {z[i]:.6g}, beyond the divergence bound {sim.bound[i]:g}: "
                          "the run will stop at step 0 (exit 3)")
             break
+    last_start = inputs.duration - inputs.dt
+    for n, f in enumerate(getattr(sc, "faults", [])):
+        if f.time > last_start * (1 + 1e-12):
+            notes.append(f"faults[{n}] ({f.kind} of {f.unit_name()}) starts at {f.time:g} s, after the last step "
+                         f"starts ({last_start:g} s): it changes nothing in this run")
     return Preflight(inputs=inputs, sim=sim, z0=z0, notes=notes)

@@ -36,7 +36,7 @@ from pydantic import (
 from pydantic_core import PydanticCustomError
 
 from ..errors import ModelError, ScenarioError
-from .faults import Fault, FaultConflict, fault_params, fault_value_scale
+from .faults import Fault, FaultConflict, fault_params, fault_value_unit
 from .messages import field_error, first_error, unknown_key
 from .params import Interval, ScenarioParam, finite, gain_bounds, manifest_defaults, param, scenario_params
 from .reproduction import Reproduction
@@ -432,11 +432,11 @@ class Scenario(_Section):
                 b = Interval.from_manifest(fields[name].get("bounds"))
                 if b is not None and not all(b.contains(v) for v in values):
                     where = "time" if name.endswith(("_start", "_end")) else "value"
-                    scale = fault_value_scale(f) if where == "value" else 1.0
+                    scale, unit = fault_value_unit(f, fields[name]["unit"]) if where == "value" else (1.0, "s")
+                    shown = Interval(None if b.lo is None else b.lo / scale, None if b.hi is None else b.hi / scale,
+                                     b.lo_open, b.hi_open)
                     raise field_error(f"faults[{n}].{where}", getattr(f, where),
-                                      f"out of range: {fields[name]['doc']} must be "
-                                      f"{b.text(fields[name]['unit'])}"
-                                      + (f" (x {1 / scale:.6g} in the scenario's unit)" if scale != 1.0 else ""))
+                                      f"out of range for {f.kind} of {f.unit_name()}: must be {shown.text(unit)}")
         ideal = self.param_overrides(manifest).get("actuators_ideal",
                                                    manifest_defaults(manifest, "p")["actuators_ideal"])
         if float(np.ravel(ideal)[0]) == 1.0:
