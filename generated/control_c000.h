@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_c000: controller half of a step of c000: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_c000' (hash 93fb89d35a2bd563bd2122085bd69871055228ecc8e14052ddfd0b961227c1de),
+ * Produced by `python build.py` from family 'controller_c000' (hash a4b1849433b21ae7cfa681906151cc05efc78c99ad24538fae732bfdfb4c1414),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_c001: controller half of a step of c001: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_c001' (hash 61d9276078e513e85a78be0beaec64265abfcc5032faf0cfdb6524f4eeae2e32),
+ * Produced by `python build.py` from family 'controller_c001' (hash 00c8124e13ec55218047fae32bcae67c3391db35f16396f806ed255f2ba2206d),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c002: control law of c002
- * Produced by `python build.py` from family 'controller_c002' (hash 9d6b766eae7c852950e12ffa117371a11d455dd4c03c927bad40661a7b3aab1e),
+ * Produced by `python build.py` from family 'controller_c002' (hash 10755a886d06537600f178fed5964909cb520c8ab1ffb4456aee4bf56af79183),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c004: control law of c004
- * Produced by `python build.py` from family 'controller_c004' (hash 0824ef2fd1e63daaa341b8f22db1150c5d6d7df728d769ae0d6b6e6a14238078),
+ * Produced by `python build.py` from family 'controller_c004' (hash 3f3db0ebc9123149ce8e181b612073942fbdba440dee4d2ba434d78f6e7850b1),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

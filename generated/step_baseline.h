@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_baseline: one closed-loop step (plant + baseline + actuators), RK4 over dt: measure, control_baseline, plant_advance
- * Produced by `python build.py` from family 'controller_baseline' (hash 335329bb97f44e87323a6658956bac329ae07f6a1fd28a4087e5dab8faebe4f3),
+ * Produced by `python build.py` from family 'controller_baseline' (hash d948cb616d5364b3737b1e5a7a5b33f63d0d038b34a44c37915d8d2455db7364),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -26,7 +26,7 @@
  *   symbolic/special.py
  *   symbolic/structural_cse.py
  *   symbolic/to_casadi.py
- * Operations: 24114 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 20498 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c000: one closed-loop step (plant + c000 + actuators), RK4 over dt: measure, control_c000, plant_advance
- * Produced by `python build.py` from family 'controller_c000' (hash 93fb89d35a2bd563bd2122085bd69871055228ecc8e14052ddfd0b961227c1de),
+ * Produced by `python build.py` from family 'controller_c000' (hash a4b1849433b21ae7cfa681906151cc05efc78c99ad24538fae732bfdfb4c1414),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -26,7 +26,7 @@
  *   symbolic/special.py
  *   symbolic/structural_cse.py
  *   symbolic/to_casadi.py
- * Operations: 25135 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 21519 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {
@@ -177,7 +177,7 @@ CASADI_SYMBOL_EXPORT int step_c000_work(casadi_int *sz_arg, casadi_int* sz_res, 
   if (sz_arg) *sz_arg = 5;
   if (sz_res) *sz_res = 2;
   if (sz_iw) *sz_iw = 0;
-  if (sz_w) *sz_w = 1530;
+  if (sz_w) *sz_w = 1354;
   return 0;
 }
 
@@ -186,7 +186,7 @@ CASADI_SYMBOL_EXPORT int step_c000_work_bytes(casadi_int *sz_arg, casadi_int* sz
   if (sz_arg) *sz_arg = 5*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 2*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
-  if (sz_w) *sz_w = 1530*sizeof(casadi_real);
+  if (sz_w) *sz_w = 1354*sizeof(casadi_real);
   return 0;
 }
 

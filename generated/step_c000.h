@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c000: one closed-loop step (plant + c000 + actuators), RK4 over dt: measure, control_c000, plant_advance
- * Produced by `python build.py` from family 'controller_c000' (hash 93fb89d35a2bd563bd2122085bd69871055228ecc8e14052ddfd0b961227c1de),
+ * Produced by `python build.py` from family 'controller_c000' (hash a4b1849433b21ae7cfa681906151cc05efc78c99ad24538fae732bfdfb4c1414),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -26,7 +26,7 @@
  *   symbolic/special.py
  *   symbolic/structural_cse.py
  *   symbolic/to_casadi.py
- * Operations: 25135 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 21519 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c001: one closed-loop step (plant + c001 + actuators), RK4 over dt: measure, control_c001, plant_advance
- * Produced by `python build.py` from family 'controller_c001' (hash 61d9276078e513e85a78be0beaec64265abfcc5032faf0cfdb6524f4eeae2e32),
+ * Produced by `python build.py` from family 'controller_c001' (hash 00c8124e13ec55218047fae32bcae67c3391db35f16396f806ed255f2ba2206d),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -26,7 +26,7 @@
  *   symbolic/special.py
  *   symbolic/structural_cse.py
  *   symbolic/to_casadi.py
- * Operations: 29053 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 25437 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {
@@ -177,7 +177,7 @@ CASADI_SYMBOL_EXPORT int step_c001_work(casadi_int *sz_arg, casadi_int* sz_res, 
   if (sz_arg) *sz_arg = 5;
   if (sz_res) *sz_res = 2;
   if (sz_iw) *sz_iw = 0;
-  if (sz_w) *sz_w = 1483;
+  if (sz_w) *sz_w = 1307;
   return 0;
 }
 
@@ -186,7 +186,7 @@ CASADI_SYMBOL_EXPORT int step_c001_work_bytes(casadi_int *sz_arg, casadi_int* sz
   if (sz_arg) *sz_arg = 5*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 2*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
-  if (sz_w) *sz_w = 1483*sizeof(casadi_real);
+  if (sz_w) *sz_w = 1307*sizeof(casadi_real);
   return 0;
 }
 

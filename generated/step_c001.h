@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c001: one closed-loop step (plant + c001 + actuators), RK4 over dt: measure, control_c001, plant_advance
- * Produced by `python build.py` from family 'controller_c001' (hash 61d9276078e513e85a78be0beaec64265abfcc5032faf0cfdb6524f4eeae2e32),
+ * Produced by `python build.py` from family 'controller_c001' (hash 00c8124e13ec55218047fae32bcae67c3391db35f16396f806ed255f2ba2206d),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -26,7 +26,7 @@
  *   symbolic/special.py
  *   symbolic/structural_cse.py
  *   symbolic/to_casadi.py
- * Operations: 29053 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 25437 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {

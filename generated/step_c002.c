@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c002: one closed-loop step (plant + c002 + actuators), RK4 over dt: measure, control_c002, plant_advance
- * Produced by `python build.py` from family 'controller_c002' (hash 9d6b766eae7c852950e12ffa117371a11d455dd4c03c927bad40661a7b3aab1e),
+ * Produced by `python build.py` from family 'controller_c002' (hash 10755a886d06537600f178fed5964909cb520c8ab1ffb4456aee4bf56af79183),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -26,7 +26,7 @@
  *   symbolic/special.py
  *   symbolic/structural_cse.py
  *   symbolic/to_casadi.py
- * Operations: 26896 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 23280 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {
@@ -177,7 +177,7 @@ CASADI_SYMBOL_EXPORT int step_c002_work(casadi_int *sz_arg, casadi_int* sz_res, 
   if (sz_arg) *sz_arg = 5;
   if (sz_res) *sz_res = 2;
   if (sz_iw) *sz_iw = 0;
-  if (sz_w) *sz_w = 1488;
+  if (sz_w) *sz_w = 1312;
   return 0;
 }
 
@@ -186,7 +186,7 @@ CASADI_SYMBOL_EXPORT int step_c002_work_bytes(casadi_int *sz_arg, casadi_int* sz
   if (sz_arg) *sz_arg = 5*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 2*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
-  if (sz_w) *sz_w = 1488*sizeof(casadi_real);
+  if (sz_w) *sz_w = 1312*sizeof(casadi_real);
   return 0;
 }
 

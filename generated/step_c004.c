@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c004: one closed-loop step (plant + c004 + actuators), RK4 over dt: measure, control_c004, plant_advance
- * Produced by `python build.py` from family 'controller_c004' (hash 0824ef2fd1e63daaa341b8f22db1150c5d6d7df728d769ae0d6b6e6a14238078),
+ * Produced by `python build.py` from family 'controller_c004' (hash 3f3db0ebc9123149ce8e181b612073942fbdba440dee4d2ba434d78f6e7850b1),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -26,7 +26,7 @@
  *   symbolic/special.py
  *   symbolic/structural_cse.py
  *   symbolic/to_casadi.py
- * Operations: 25863 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 22247 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {
@@ -177,7 +177,7 @@ CASADI_SYMBOL_EXPORT int step_c004_work(casadi_int *sz_arg, casadi_int* sz_res, 
   if (sz_arg) *sz_arg = 5;
   if (sz_res) *sz_res = 2;
   if (sz_iw) *sz_iw = 0;
-  if (sz_w) *sz_w = 1480;
+  if (sz_w) *sz_w = 1304;
   return 0;
 }
 
@@ -186,7 +186,7 @@ CASADI_SYMBOL_EXPORT int step_c004_work_bytes(casadi_int *sz_arg, casadi_int* sz
   if (sz_arg) *sz_arg = 5*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 2*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
-  if (sz_w) *sz_w = 1480*sizeof(casadi_real);
+  if (sz_w) *sz_w = 1304*sizeof(casadi_real);
   return 0;
 }
 

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * thruster_faults: thrust levels the thrusters deliver (faults)
- * Produced by `python build.py` from family 'plant' (hash 95259efa4a733f085e1e4ffbd02c8deb6dfe6405e3b166ab43e1d0a49be78567),
+ * Produced by `python build.py` from family 'plant' (hash 065cb4634732117fd7234b9e6a66383f8b534ea249edfcc0c5a0fbc5d5501eab),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -248,11 +248,13 @@ def allocate_thrusters_healthy(F_cmd, tau_cmd, F_max, avail, thrust, stuck_on):
     failed thruster is not used (its partner alone could push one way only), so this is not the
     best allocation an optimiser (an LP) would find, but it is closed-form.
     """
-    B = thruster_wrench_matrix()
     B8 = thruster_pair_matrix()
-    stuck_wrench = B * sp.Matrix([stuck_on[j] * thrust[j] for j in range(16)]) * F_max
-    w = sp.Matrix.vstack(F_cmd, tau_cmd) - stuck_wrench
-    x = B8.T * (B8 * B8.T).inv() * w / F_max
+    pinv = B8.T * (B8 * B8.T).inv()
+    x_nominal = pinv * sp.Matrix.vstack(F_cmd, tau_cmd) / F_max  # as allocate_thrusters (shared)
+    # the stuck thrusters' wrench is B s F_max = B8 (s_2j - s_2j+1)_j F_max (opposed pairs), so its
+    # pair levels are the projection B8^+ B8 of those differences, a constant 8 x 8 rational matrix
+    s = [stuck_on[j] * thrust[j] for j in range(16)]
+    x = x_nominal - (pinv * B8) * sp.Matrix([s[2 * j] - s[2 * j + 1] for j in range(8)])
     pair_failed = [1 - avail[2 * j] * avail[2 * j + 1] for j in range(8)]
     x = null_space_redistribution(x, thruster_pair_null_vectors(), pair_failed)
     d = []

@@ -372,7 +372,8 @@ def _env_outputs() -> Layout:
     y.add("F_thr", 3, "N", "thruster force, chaser body", XYZ)
     y.add("tau_thr", 3, "N m", "thruster torque, chaser body", XYZ)
     y.add("F_applied", 3, "N", "control force on the chaser (thrusters or ideal), body", XYZ)
-    y.add("tau_applied", 3, "N m", "control torque on the chaser (wheels, thrusters or ideal), body", XYZ)
+    y.add("tau_applied", 3, "N m", "control torque on the chaser (wheel motors, thrusters or ideal; not a locked "
+          "wheel's reaction), body", XYZ)
     y.add("F_dist", 3, "N", "scenario disturbance force, chaser body", XYZ)
     y.add("tau_dist", 3, "N m", "scenario disturbance torque, chaser body", XYZ)
     y.add("beta_fov", 1, "m", "001 eq. 41 field-of-view margin (camera on body +z; > 0 in view)")
@@ -502,7 +503,7 @@ class Plant:
             "T_c": T_c, "F_thr": F_thr, "tau_thr": tau_thr, "M_c": M_c, "M_t": M_t,
             "M_gg_c": M_gg_c, "M_gg_t": M_gg_t, "M_mag_t": M_mag_t, "a_d": a_d, "a_ctrl": a_ctrl,
             "h_rw": h_rw, "n_L": n_L, "n_dot_L": n_dot_L, "C_IL": C_IL, "C_Ic": C_Ic,
-            "F_ctrl": F_ctrl, "tau_ctrl": T_c + tau_thr + u["tau_ideal"], "F_dist": F_dist, "tau_dist": tau_dist,
+            "F_ctrl": F_ctrl, "tau_ctrl": A * T_free + tau_thr + u["tau_ideal"], "F_dist": F_dist, "tau_dist": tau_dist,
         }
 
     def rhs(self) -> sp.Matrix:

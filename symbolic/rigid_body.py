@@ -17,7 +17,11 @@ from .rotations import cross, dot, quat_to_dcm
 
 def solve3(M, b):
     """M^{-1} b for a 3x3 matrix via its adjugate (closed form, no pivoting branches)."""
-    return M.adjugate() * b / M.det()
+    adj = M.adjugate()
+    # det by the first row's cofactors (already in adj): M.det() (Bareiss) re-derives them and,
+    # with a locked wheel's terms in M, builds a much larger expression
+    det = M[0, 0] * adj[0, 0] + M[0, 1] * adj[1, 0] + M[0, 2] * adj[2, 0]
+    return adj * b / det
 
 
 def chaser_angular_acceleration(I_c, omega, h_rw, T_c, M_ext, I_locked=None):
