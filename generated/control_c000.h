@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_c000: controller half of a step of c000: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_c000' (hash a4b1849433b21ae7cfa681906151cc05efc78c99ad24538fae732bfdfb4c1414),
+ * Produced by `python build.py` from family 'controller_c000' (hash 5c6c0174004eb706736e83d7496d81d9407ffc6d557e549834920546935b7c21),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

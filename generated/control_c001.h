@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_c001: controller half of a step of c001: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_c001' (hash 00c8124e13ec55218047fae32bcae67c3391db35f16396f806ed255f2ba2206d),
+ * Produced by `python build.py` from family 'controller_c001' (hash f8d5af369fb9c3ff0227837c297f1b75717cfcbd0a5d86470ac734df070137fe),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c002: control law of c002
- * Produced by `python build.py` from family 'controller_c002' (hash 10755a886d06537600f178fed5964909cb520c8ab1ffb4456aee4bf56af79183),
+ * Produced by `python build.py` from family 'controller_c002' (hash dca871bc1c7f2324acd1274b27ac49a96d31973a1ec5c9efd8ac1d86a055b91e),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * plant_advance: plant half of a step: actuators, delay line, PWPF, RK4 of plant_rhs over dt
- * Produced by `python build.py` from family 'plant' (hash 065cb4634732117fd7234b9e6a66383f8b534ea249edfcc0c5a0fbc5d5501eab),
+ * Produced by `python build.py` from family 'plant' (hash 288b23ff3472d79f70ab3341195311e4940b2dffd072ad3869e4d707539caccc),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

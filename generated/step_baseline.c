@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_baseline: one closed-loop step (plant + baseline + actuators), RK4 over dt: measure, control_baseline, plant_advance
- * Produced by `python build.py` from family 'controller_baseline' (hash d948cb616d5364b3737b1e5a7a5b33f63d0d038b34a44c37915d8d2455db7364),
+ * Produced by `python build.py` from family 'controller_baseline' (hash 9b308ea73a98138d7d8d33c5adfa300a026aede8c5233ec7cbaea5d73166cd56),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c000: one closed-loop step (plant + c000 + actuators), RK4 over dt: measure, control_c000, plant_advance
- * Produced by `python build.py` from family 'controller_c000' (hash a4b1849433b21ae7cfa681906151cc05efc78c99ad24538fae732bfdfb4c1414),
+ * Produced by `python build.py` from family 'controller_c000' (hash 5c6c0174004eb706736e83d7496d81d9407ffc6d557e549834920546935b7c21),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c004: one closed-loop step (plant + c004 + actuators), RK4 over dt: measure, control_c004, plant_advance
- * Produced by `python build.py` from family 'controller_c004' (hash 3f3db0ebc9123149ce8e181b612073942fbdba440dee4d2ba434d78f6e7850b1),
+ * Produced by `python build.py` from family 'controller_c004' (hash d2779778424629077549cbbd5fada77050f604b8a8e31ae904c6d58e449ac7d1),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -157,10 +157,6 @@ class RunResult:
         return df
 
 
-#: Start of a fault window that never opens (``symbolic/faults.py`` NEVER, the manifest default).
-FAULT_NEVER = 1e30
-
-
 class Simulation:
     """A closed loop (model + controller + parameters) ready to run from initial states.
 
@@ -241,7 +237,8 @@ class Simulation:
         hold_offs = self.model.offsets("hold")
         nx = self.model.layout_size("x")
         p_open = self.p.copy()
-        p_open[self.model.offsets("p")["fault_sensor_freeze_start"]] = FAULT_NEVER
+        freeze = self.model.offsets("p")["fault_sensor_freeze_start"]
+        p_open[freeze] = self.model.vector("p")[freeze]  # the manifest default: a window that never opens
         truth = np.concatenate([z[offs[name.removeprefix("sensor_")]] for name in hold_offs])
         m0 = np.ravel(self.model.functions["measure"](z[:nx], truth, 0.0, p_open, np.zeros(self.nw))[1])
         for name, sl in hold_offs.items():

@@ -274,14 +274,14 @@ def _fault_params(p: Layout) -> None:
           default=(1.0,) * 4, bounds=fraction)
     p.add("fault_thr_weak_value", 16, "-", "weak thruster: fraction of the thrust left", THRUSTERS,
           default=(1.0,) * 16, bounds=fraction)
-    # the same ranges as the nominal sensor noise and bias
-    for s, unit, (std_hi, bias_hi, text) in zip(flt.SENSORS, ("rad", "rad/s", "m", "m/s"), (
-            (math.pi, math.pi, "a half turn"), (1.0, 1.0, "57 deg/s"), (1e4, 1e4, "10 km"), (100.0, 100.0, "100 m/s")),
-            strict=True):
-        p.add(f"fault_bias_{s}", 3, unit, f"{s} sensor bias step (added to meas_{s}_bias)", XYZ,
-              default=(0.0,) * 3, bounds=Bounds(-bias_hi, bias_hi, why=f"up to {text} per axis"))
-        p.add(f"fault_noise_{s}_std", 1, unit, f"{s} sensor noise std during a noise fault", default=0.0,
-              bounds=Bounds(0.0, std_hi, why=f"up to {text}"))
+    # the units and ranges of the nominal sensor noise and bias (declared once, above)
+    nominal = {f.name: f for f in p.fields}
+    for s in flt.SENSORS:
+        bias, std = nominal[f"meas_{s}_bias"], nominal[f"meas_{s}_std"]
+        p.add(f"fault_bias_{s}", 3, bias.unit, f"{s} sensor bias step (added to meas_{s}_bias)", XYZ,
+              default=(0.0,) * 3, bounds=bias.bounds)
+        p.add(f"fault_noise_{s}_std", 1, std.unit, f"{s} sensor noise std during a noise fault", default=0.0,
+              bounds=std.bounds)
     p.add("fdir_allocation", 1, "-", "fault-aware allocation over the healthy units (1, rpo's FDIR model) "
           "or the nominal allocation (0)", default=0,
           scenario=ScenarioKey("fdir.allocation", kind="choice", choices=(("nominal", 0.0), ("healthy", 1.0))))

@@ -361,3 +361,12 @@ def test_a_sensor_frozen_from_the_start_repeats_the_noise_free_first_measurement
     for i, ax in enumerate("xyz"):
         m = res.y[:-1, yl.index(f"meas_r_{ax}")]
         assert np.all(m == res.z[0, zl.index(f"r_{ax}")] + [0.5, -0.25, 1.0][i])
+
+
+def test_the_runtime_s_never_is_the_manifest_s(model):
+    """runtime/scenario/faults.py cannot import symbolic/: its NEVER must equal the windows' default."""
+    from rpo.runtime.scenario import faults as rf
+
+    for f in model.layouts["p"]:
+        if f["name"].startswith("fault_") and f["name"].endswith(("_start", "_end")):
+            assert set(f["default"]) == {rf.NEVER}, f["name"]

@@ -20,6 +20,7 @@ import math
 from collections.abc import Mapping
 from typing import Any, Literal
 
+import numpy as np
 from pydantic import BaseModel, ConfigDict, ValidationInfo, field_validator, model_validator
 from pydantic_core import PydanticCustomError
 
@@ -191,21 +192,15 @@ def active_faults(params: Mapping[str, Any], t_end: float) -> list[tuple[float, 
     a step starting before ``t_end`` (the last step starts at t_end - dt), sorted by time: what a
     run's figures mark and its verdict lists."""
     names = {"wheel": WHEELS, "thr": THRUSTERS, "sensor": tuple(SENSORS)}
-    dt = _flat(params["dt"])[0] if "dt" in params else 0.0
+    dt = float(np.ravel(params["dt"])[0]) if "dt" in params else 0.0
     t_end = t_end - dt * (1 - 1e-9)
     out = []
     for kind, (family, k, _v) in KINDS.items():
         start = params.get(f"fault_{family}_{k}_start")
         if start is None:
             continue
-        for i, s in enumerate(float(v) for v in list(_flat(start))):
+        for i, s in enumerate(np.ravel(np.asarray(start, float))):
             if s < NEVER and s <= t_end:
-                out.append((s, f"{kind} {names[family][i]}"))
+                out.append((float(s), f"{kind} {names[family][i]}"))
     return sorted(out)
 
-
-def _flat(v: Any) -> list[float]:
-    try:
-        return [float(x) for x in v]
-    except TypeError:
-        return [float(v)]
