@@ -88,9 +88,13 @@ def cli() -> None:
 
 
 @cli.command()
-@click.argument("scenario", type=click.Path(dir_okay=False, path_type=str))
+@click.argument("scenario", type=click.Path(dir_okay=False, path_type=str), required=False)
 @click.option("--out", "out", type=click.Path(file_okay=False, path_type=str), default=None,
-              help="Output folder (must not exist or be empty). Default: runs/<scenario>-<UTC time>.")
+              help="Output folder (must not exist or be empty). Default: runs/<scenario>-<UTC time>; with "
+                   "--campaign: <campaign>/cases/case_<n>.")
+@click.option("--campaign", "campaign", type=click.Path(file_okay=False, path_type=Path), default=None,
+              help="Fly one case of this campaign folder (with --case) instead of SCENARIO, every step recorded.")
+@click.option("--case", "case", type=click.IntRange(min=0), default=None, help="The case of --campaign.")
 @click.option("--duration", type=click.FloatRange(min=0, min_open=True), default=None,
               help="Override simulation.duration [s].")
 @click.option("--seed", type=click.IntRange(min=0), default=None, help="Override simulation.seed.")
@@ -108,9 +112,9 @@ def cli() -> None:
 @click.option("--no-plots", is_flag=True, help="Do not write the figures.")
 @click.option("--quiet", "-q", is_flag=True,
               help="Print only errors and the divergence message (the verdict is still in metrics.json, run.json).")
-def run(scenario: str, out: str | None, duration: float | None, seed: int | None, controller: str | None,
-        plant: str | None, backend: str, formats: tuple[str, ...] | None, figure_format: str | None,
-        no_plots: bool, quiet: bool) -> int:
+def run(scenario: str | None, out: str | None, campaign: Path | None, case: int | None, duration: float | None,
+        seed: int | None, controller: str | None, plant: str | None, backend: str, formats: tuple[str, ...] | None,
+        figure_format: str | None, no_plots: bool, quiet: bool) -> int:
     """Simulate SCENARIO (a TOML file) and write the results into a new folder.
 
     The folder gets timeseries.parquet (and the other --format files), metrics.json, run.json, a
@@ -119,7 +123,20 @@ def run(scenario: str, out: str | None, duration: float | None, seed: int | None
     with the verdict: which goals were reached and when, and the main reason for each one that
     was not (docs/verdict.md).  Exit code 3 if the simulation diverged (the results up to that
     point are still written).
+
+    With ``--campaign DIR --case N`` (no SCENARIO), case N of a Monte Carlo campaign is flown again
+    alone, every step recorded, and checked against the campaign's record of it bit for bit.
     """
+    if campaign is not None or case is not None:
+        if scenario is not None or campaign is None or case is None:
+            raise click.UsageError("give either SCENARIO, or --campaign DIR with --case N")
+        given = [n for n, v in (("--duration", duration), ("--seed", seed), ("--controller", controller),
+                                ("--plant", plant)) if v is not None]
+        if given:
+            raise click.UsageError(f"{', '.join(given)}: not with --campaign (the case would not be the campaign's "
+                                   "run; edit the campaign file instead)")
+    elif scenario is None:
+        raise click.UsageError("missing SCENARIO (a scenario file), or --campaign DIR --case N")
     if not no_plots:  # matplotlib is imported by the figure workers while this process works
         from .figure_workers import start
         start()
@@ -132,14 +149,32 @@ def run(scenario: str, out: str | None, duration: float | None, seed: int | None
         loaded.append(_load_model(backend, quiet, controllers=[controller]))
         return loaded[0]
 
+    source: Any = scenario
+    camp = None
+    if campaign is not None:
+        from .campaign.replay import case_scenario
+        from .campaign.storage import read_resolved
+        m = model(read_resolved(campaign)["controller"])
+        source, camp = case_scenario(campaign, int(case or 0), m)
+        out = out if out is not None else str(campaign / "cases" / f"case_{case:06d}")
     bar = _ProgressBar(enabled=not quiet, step_cost=lambda: STEP_COST.get(loaded[0].backend, 2e-3))
     try:
-        outcome = execute_run(scenario, out, model, duration=duration, seed=seed, controller=controller,
-                              plant=plant, plots=not no_plots, log=None if quiet else _err, progress=bar.update,
+        outcome = execute_run(source, out, loaded[0] if loaded else model, duration=duration, seed=seed,
+                              controller=controller, plant=plant, plots=not no_plots, log=None if quiet else _err,
+                              progress=bar.update,
                               formats=formats, figure_format=figure_format)
     finally:
         bar.close()
     result = outcome.result
+    if camp is not None:
+        from .campaign.replay import compare
+        assert campaign is not None and case is not None
+        diffs = compare(campaign, camp, outcome.model, case, result, outcome.inputs)
+        if diffs:
+            _err(f"error: case {case} flown alone differs from the campaign's record: {'; '.join(diffs[:5])}")
+            return 1
+        if not quiet:
+            click.echo(f"case {case} of {campaign}: the campaign's run, bit for bit (status, metrics, history)")
     if result.divergence is not None:
         _err(f"diverged: {result.divergence.message()}")
         _err(f"results up to t = {result.t[-1]:.6g} s written to {outcome.out_dir}")
@@ -478,6 +513,14 @@ def main(argv: list[str] | None = None) -> int:
         _err(f"error: {exc}" if isinstance(exc, interrupts.Interrupted) else "error: interrupted")
         return getattr(exc, "exit_code", 130)
     return rv if isinstance(rv, int) else 0
+
+
+def _register() -> None:
+    from .cli_campaign import mc
+    cli.add_command(mc)
+
+
+_register()
 
 
 if __name__ == "__main__":  # python -m rpo.runtime.cli

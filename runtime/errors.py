@@ -15,3 +15,7 @@ class ScenarioError(RpoError):
 
 class OutputError(RpoError):
     """The output folder cannot be written (exists already, not writable)."""
+
+
+class CampaignError(RpoError):
+    """A campaign file, folder or option is invalid; the message names the key and the allowed range."""

@@ -338,8 +338,9 @@ class Simulation:
         """Run N cases in lockstep, K at a time (K = :attr:`lanes`, the machine's vector width).
 
         ``Z0`` (N, nz) initial states; ``seeds`` N random-torque seeds; ``params`` / ``gains``:
-        None (this simulation's), one dict of field overrides for every case, or a sequence of N
-        such dicts (per-case parameters and gains, over this simulation's).  Every case must have
+        None (this simulation's), one dict of field overrides for every case, a sequence of N
+        such dicts (per-case parameters and gains, over this simulation's), or an (N, size) array
+        of the packed vectors (layout ``p`` / the controller's gains).  Every case must have
         this simulation's ``dt``.  Returns one :class:`RunResult` per case, each bit-identical to
         ``run(Z0[i], duration, seeds[i], ...)`` with that case's parameters and gains; a case that
         diverges stops (its result says where) and the others go on.  ``progress(done, total)``
@@ -391,6 +392,13 @@ class Simulation:
         return [r for r in results if r is not None]
 
     def _per_case(self, what: str, values, n: int, layout: str, base: dict) -> np.ndarray:
+        if isinstance(values, np.ndarray):  # the packed vectors themselves, one row per case
+            size = self.model.layout_size(layout)
+            if values.shape != (n, size):
+                raise ModelError(f"run_batch: {what} as an array must have shape ({n}, {size}), got {values.shape}")
+            if not np.all(np.isfinite(values)):
+                raise ModelError(f"run_batch: {what} has non-finite entries")
+            return np.array(values, float)
         if values is None or isinstance(values, dict):
             v = self.model.vector(layout, {**base, **(values or {})})
             return np.tile(v, (n, 1))

@@ -207,9 +207,29 @@ class ScenarioParam:
         return all(self.bounds.contains(float(v)) for v in si)
 
 
+#: (id of a layout's field list) -> (that list, its parsed entries): a validation reads them many
+#: times, and a campaign validates thousands of scenarios; the list itself is kept and compared by
+#: identity, so an id reused after the list is freed cannot hit.
+_PARSED: dict[tuple[int, str], tuple[list, Any]] = {}
+
+
+def _cached(fields: list, what: str, make):
+    key = (id(fields), what)
+    hit = _PARSED.get(key)
+    if hit is not None and hit[0] is fields:
+        return hit[1]
+    value = make()
+    if len(_PARSED) > 64:  # a process rarely sees more than a few manifests
+        _PARSED.clear()
+    _PARSED[key] = (fields, value)
+    return value
+
+
 def scenario_params(manifest: dict, layout: str = "p") -> list[ScenarioParam]:
-    """Every field of ``layout`` that a scenario sets, in layout order."""
-    return [ScenarioParam.from_manifest(f) for f in manifest["layouts"][layout] if "scenario" in f]
+    """Every field of ``layout`` that a scenario sets, in layout order (a new list; the entries
+    are frozen)."""
+    fields = manifest["layouts"][layout]
+    return list(_cached(fields, "params", lambda: [ScenarioParam.from_manifest(f) for f in fields if "scenario" in f]))
 
 
 def param(manifest: dict, name: str) -> ScenarioParam:
@@ -221,8 +241,12 @@ def param(manifest: dict, name: str) -> ScenarioParam:
 
 
 def manifest_defaults(manifest: dict, layout: str) -> dict[str, np.ndarray]:
-    """Default values of a manifest layout by field name (as :meth:`Model.defaults`)."""
-    return {f["name"]: np.array(f["default"], float) for f in manifest["layouts"][layout] if "default" in f}
+    """Default values of a manifest layout by field name (as :meth:`Model.defaults`; new arrays,
+    the caller may change them)."""
+    fields = manifest["layouts"][layout]
+    d = _cached(fields, "defaults", lambda: {f["name"]: np.array(f["default"], float) for f in fields
+                                              if "default" in f})
+    return {k: v.copy() for k, v in d.items()}
 
 
 def _is_number(x: Any) -> bool:

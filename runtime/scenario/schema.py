@@ -613,13 +613,20 @@ def apply_preset(data: dict, manifest: dict, preset: str) -> None:
 # --------------------------------------------------------------------------- derived model
 
 _MODELS: dict[str, type[Scenario]] = {}
+#: id of a manifest's p layout -> (that list, its class); the list is compared by identity
+_BY_IDENTITY: dict[int, tuple[list, type[Scenario]]] = {}
 
 
 def scenario_model(manifest: dict) -> type[Scenario]:
     """:class:`Scenario` with the manifest's parameter keys added (cached per parameter schema)."""
+    fields = manifest["layouts"]["p"]
+    hit = _BY_IDENTITY.get(id(fields))
+    if hit is not None and hit[0] is fields:  # the same manifest object: no need to serialise it again
+        return hit[1]
     params = scenario_params(manifest)
-    cache_key = json.dumps([f for f in manifest["layouts"]["p"] if "scenario" in f], sort_keys=True)
+    cache_key = json.dumps([f for f in fields if "scenario" in f], sort_keys=True)
     if cache_key in _MODELS:
+        _BY_IDENTITY[id(fields)] = (fields, _MODELS[cache_key])
         return _MODELS[cache_key]
     tree: dict[str, Any] = {}
     for prm in params:
@@ -636,6 +643,7 @@ def scenario_model(manifest: dict) -> type[Scenario]:
         node[leaf] = prm
     cls = cast(type[Scenario], _build("Scenario", tree, Scenario))
     _MODELS[cache_key] = cls
+    _BY_IDENTITY[id(fields)] = (fields, cls)
     return cls
 
 

@@ -1,0 +1,432 @@
+"""Flying a campaign: batches of runs on every local core, or on a Dask cluster.
+
+The cases still to fly are cut into batches (``campaign.batch`` runs, default four blocks of the
+machine's lanes).  A batch is one task: :func:`fly_batch` draws its cases, validates each run's
+scenario and makes its pre-flight (an invalid draw is recorded, not flown), flies the valid ones
+together with the lockstep runner (:meth:`Simulation.run_batch`: K runs per SIMD step, each
+bit-identical to the same run alone), computes each run's metrics and verdict from its in-memory
+record, writes its history and returns the rows.  The parent appends the rows to
+``manifest.jsonl`` (fsynced) as batches come back, in whatever order, and at the end writes
+``summary.parquet`` sorted by case: the same bytes with 1 worker, N workers or Dask.
+
+Executors: ``workers == 1`` flies in this process; otherwise the standard library's
+:class:`~concurrent.futures.ProcessPoolExecutor` with ``workers`` processes (default: every core
+this process may use); ``dask="local"`` a ``dask.distributed.LocalCluster`` of ``workers``
+single-threaded processes; ``dask="tcp://host:8786"`` (any scheduler address) a running cluster,
+whose workers need rpo installed and must see the campaign folder (a shared filesystem: they write
+the histories there).  A task that fails (an exception, a worker lost) records its runs as status
+``error``; ``rpo mc resume`` flies them again.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import time
+import traceback
+from collections.abc import Callable, Iterable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .. import interrupts
+from ..errors import CampaignError, RpoError
+from ..metrics import UNITS, compute_metrics, error_signals
+from ..verdict import verdict
+from . import storage
+from .spec import DERIVED, Campaign, campaign_from_resolved
+
+#: Lane blocks per batch by default: enough runs per task to amortise its start, small enough that
+#: the last tasks finish together on every core.
+BLOCKS_PER_BATCH = 4
+
+
+@dataclass
+class CampaignOutcome:
+    """What :func:`run_campaign` did: the folder, the counts by status and the wall time [s]."""
+
+    folder: Path
+    runs: int
+    flown_now: int
+    counts: dict[str, int]
+    wall_s: float
+    #: the signal that stopped it (SIGINT, SIGTERM), None when every batch came back
+    interrupted: int | None = None
+    missing: list[int] = field(default_factory=list)
+
+
+# --------------------------------------------------------------------------- the worker side
+
+_MODELS: dict[tuple, Any] = {}
+_CAMPAIGNS: dict[str, Campaign] = {}
+
+
+def worker_model(controller: str) -> Any:
+    """The model of this process (loaded once per process and controller)."""
+    from ..compiled import load_model
+    key = (controller, os.environ.get("RPO_CACHE_DIR"))
+    if key not in _MODELS:
+        _MODELS[key] = load_model("auto", controllers=[controller])
+    return _MODELS[key]
+
+
+def _campaign(resolved: dict, manifest: dict, key: str) -> Campaign:
+    if key not in _CAMPAIGNS:
+        _CAMPAIGNS[key] = campaign_from_resolved(resolved, manifest)
+    return _CAMPAIGNS[key]
+
+
+def fly_batch(resolved: dict, key: str, cases: Sequence[int], folder: str,
+              model: Any = None) -> list[dict[str, Any]]:
+    """Fly ``cases`` of the campaign ``resolved`` (its hash ``key``) and write their histories into
+    ``folder``; return one row per case (JSON-ready).  Never raises for a run: a refused draw is
+    ``invalid``, anything else that fails is ``error`` with its message."""
+    try:
+        model = model if model is not None else worker_model(resolved["controller"])
+        camp = _campaign(resolved, model.manifest, key)
+        return _fly(camp, model, list(cases), Path(folder))
+    except Exception as exc:  # the whole task failed: its runs are recorded as errors, resume re-flies them
+        msg = f"{type(exc).__name__}: {exc}".splitlines()[0]
+        return [{"case": int(c), "seed": run_seed_of(resolved, c), "status": "error", "message": msg,
+                 "draws": {}, "outcome": {}, "metrics": {}, "traceback": traceback.format_exc(limit=5)}
+                for c in cases]
+
+
+def run_seed_of(resolved: dict, case: int) -> int:
+    from .sampling import run_seed
+    return run_seed(int(resolved["seed"]), int(case))
+
+
+def prepare_case(camp: Campaign, model: Any, case: int) -> tuple[dict, dict[str, Any], Any]:
+    """(the row so far, the draw columns, the pre-flight or the refusal text) of one case: its
+    draws, its scenario validated as `rpo run` would, and the pre-flight checks."""
+    from ..scenario import validate_scenario
+    from ..scenario.preflight import preflight
+
+    draws = camp.draws(case)
+    cols: dict[str, Any] = {}
+    for d in camp.dispersions:
+        cols.update(d.columns(draws[d.key]))
+    row = {"case": case, "seed": camp.seed_of(case), "draws": cols}
+    try:
+        sc = validate_scenario(camp.case_data(case, draws), camp.case_source(case), model.manifest)
+        pre = preflight(sc, model)
+    except RpoError as exc:
+        return row, draws, str(exc)
+    return row, draws, pre
+
+
+def _fly(camp: Campaign, model: Any, cases: list[int], folder: Path) -> list[dict[str, Any]]:
+    rows: dict[int, dict] = {}
+    ready: list[tuple[int, Any]] = []
+    for case in cases:
+        row, _draws, pre = prepare_case(camp, model, case)
+        rows[case] = row
+        if isinstance(pre, str):
+            row.update(status="invalid", message=pre.removeprefix(f"{camp.case_source(case)}: "),
+                       outcome={}, metrics={})
+        else:
+            ready.append((case, pre))
+    # one lockstep batch per step size (dt is a parameter a campaign may disperse)
+    by_dt: dict[float, list[tuple[int, Any]]] = {}
+    for case, pre in ready:
+        by_dt.setdefault(pre.sim.dt, []).append((case, pre))
+    for group in by_dt.values():
+        first = group[0][1]
+        results = first.sim.run_batch(np.array([pre.z0 for _, pre in group]), first.inputs.duration,
+                                      seeds=[pre.inputs.seed for _, pre in group],
+                                      params=np.array([pre.sim.p for _, pre in group]),
+                                      gains=np.array([pre.sim.k for _, pre in group]),
+                                      record_every=first.inputs.record_every)
+        for (case, pre), res in zip(group, results, strict=True):
+            rows[case].update(_finish(camp, model, case, pre, res, folder))
+    return [rows[c] for c in cases]
+
+
+def _finish(camp: Campaign, model: Any, case: int, pre: Any, res: Any, folder: Path) -> dict[str, Any]:
+    """Metrics, verdict, outcome flags and the history of one flown run (the history written)."""
+    row, hist, units = run_row(camp, model, pre.inputs, res)
+    storage.write_history(folder, case, res.t, hist, units,
+                          {"case": case, "seed": pre.inputs.seed, "status": row["status"]})
+    return row
+
+
+def run_row(camp: Campaign, model: Any, inputs: Any, res: Any) -> tuple[dict[str, Any], dict[str, np.ndarray],
+                                                                        dict[str, str]]:
+    """(row fields, history columns, their units) of one flown run, from its in-memory record:
+    the metrics and verdict of ``rpo run`` (rpo.runtime.metrics, rpo.runtime.verdict), the outcome
+    flags, the chosen channels and the error signals the envelopes use."""
+    cols = {lbl: res.z[:, i] for i, lbl in enumerate(res.z_labels)}
+    cols.update({lbl: res.y[:, i] for i, lbl in enumerate(res.y_labels)})
+    goal = np.ravel(inputs.gains["r_goal"]) if "r_goal" in inputs.gains else None
+    met = compute_metrics(res.t, cols, goal=goal, params=inputs.params)
+    ver = verdict(met, res.t, cols, inputs.params, res.divergence)
+    goals = ver["goals"]
+    att, pos = goals["att"]["reached"], goals["pos"]["reached"]
+    # constraints count where the scenario states them ([constraints]: 001's camera cone and
+    # envelope spheres); the verdict evaluates them for every run, and a 000 run has no camera
+    declared = "constraints" in camp.scenario_data
+    violated = declared and any(c["violated"] for c in ver["constraints"].values())
+    diverged = res.divergence is not None
+    outcome = {"att_reached": att, "pos_reached": pos, "diverged": diverged, "constraint_violated": violated,
+               "failed": bool(diverged or violated or att is False or pos is False)}
+    metrics = {k: _finite_or_none(met.get(k)) for k in UNITS}
+    sel = _selection(camp, model, inputs.controller)
+    units = dict(zip(res.z_labels, res.z_units, strict=True)) | dict(zip(res.y_labels, res.y_units, strict=True))
+    hist = {lbl: cols[lbl] for lbl in sel.labels}
+    sig, _, _ = error_signals(cols, goal)
+    n = res.t.size
+    hist["err_att_rad"] = sig.get("att", np.full(n, np.nan))
+    hist["err_pos_m"] = sig.get("pos", np.full(n, np.nan))
+    hw = [cols[f"h_w_{i}"] for i in range(1, 5) if f"h_w_{i}" in cols]
+    hist["h_w_norm"] = np.linalg.norm(np.column_stack(hw), axis=1) if hw else np.full(n, np.nan)
+    units.update({"err_att_rad": "rad", "err_pos_m": "m", "h_w_norm": "N m s"})
+    assert all(d in hist for d in DERIVED)
+    row = {"status": "diverged" if diverged else "ok", "message": res.divergence.message() if diverged else "",
+           "outcome": outcome, "metrics": metrics, "verdict": ver["line"]}
+    return row, hist, {k: units[k] for k in hist}
+
+
+_SELECTIONS: dict[tuple, Any] = {}
+
+
+def _selection(camp: Campaign, model: Any, controller: str) -> Any:
+    """The history's columns (once per campaign, controller and model)."""
+    from ..channels import select
+    key = (camp.channels, controller, model.manifest["manifest_hash"])
+    if key not in _SELECTIONS:
+        _SELECTIONS[key] = select(list(camp.channels), model.layouts[f"z_{controller}"],
+                                  model.layouts[f"y_{controller}"], strict=False)
+    return _SELECTIONS[key]
+
+
+def _finite_or_none(v: Any) -> float | None:
+    if v is None or isinstance(v, (dict, list, str)):
+        return None
+    f = float(v)
+    return f if math.isfinite(f) else None
+
+
+# --------------------------------------------------------------------------- the parent side
+
+
+def default_workers() -> int:
+    """Every core this process may run on."""
+    try:
+        return len(os.sched_getaffinity(0))
+    except AttributeError:  # not Linux
+        return os.cpu_count() or 1
+
+
+def batches(cases: Sequence[int], size: int) -> list[list[int]]:
+    return [list(cases[i: i + size]) for i in range(0, len(cases), size)]
+
+
+def fly_cases(camp: Campaign, model: Any, folder: Path, cases: Sequence[int], *, workers: int = 1,
+              dask: str | None = None, batch: int | None = None,
+              on_rows: Callable[[list[dict]], None] | None = None) -> int | None:
+    """Fly ``cases`` into ``folder``, appending each batch's rows to the manifest as it comes back
+    (``on_rows`` sees them too).  None if every batch came back; the signal's number if SIGINT or
+    SIGTERM stopped it (the rows recorded so far are kept, the batches in flight are dropped)."""
+    resolved, key = camp.resolved(), camp.hash
+    lanes = model.lanes() if model.backend == "compiled" else None
+    size = batch or camp.settings.batch or BLOCKS_PER_BATCH * (lanes.width if lanes is not None else 8)
+    tasks = batches(list(cases), size)
+
+    def record(rows: list[dict]) -> None:
+        storage.append_rows(folder, rows)
+        if on_rows:
+            on_rows(rows)
+
+    if not tasks:
+        return None
+    with interrupts.stop_request() as stop:
+        if dask is None and workers <= 1:
+            for t in tasks:
+                record(fly_batch(resolved, key, t, str(folder), model=model))
+                if stop.requested():
+                    break
+        elif dask is None:
+            _pool(resolved, key, tasks, folder, workers, record, stop)
+        else:
+            _dask(resolved, key, tasks, folder, workers, dask, record, stop)
+    return stop.signum
+
+
+def _pool(resolved, key, tasks, folder, workers, record, stop) -> bool:
+    import multiprocessing
+    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+
+    methods = multiprocessing.get_all_start_methods()
+    ctx = multiprocessing.get_context("fork" if "fork" in methods else "spawn")
+    pool = ProcessPoolExecutor(max_workers=min(workers, len(tasks)), mp_context=ctx,
+                               initializer=_init_worker, initargs=(os.environ.get("RPO_CACHE_DIR"),))
+    pending = {pool.submit(fly_batch, resolved, key, t, str(folder)): t for t in tasks}
+    try:
+        while pending:
+            done, _ = wait(pending, timeout=0.25, return_when=FIRST_COMPLETED)
+            for fut in done:
+                t = pending.pop(fut)
+                record(_result(fut, resolved, t))
+            if stop.requested():
+                return False
+        return True
+    finally:
+        _shutdown(pool, bool(pending))
+
+
+def _init_worker(cache: str | None) -> None:
+    import signal
+    # the parent decides what a signal means (stop dispatching, keep what came back); a worker
+    # killed with the pool is its runs left to resume
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    if cache is not None:
+        os.environ["RPO_CACHE_DIR"] = cache
+
+
+def _result(fut: Any, resolved: dict, cases: list[int]) -> list[dict]:
+    try:
+        return list(fut.result())
+    except Exception as exc:  # the worker process died (killed, out of memory): its runs are errors
+        msg = f"worker lost: {type(exc).__name__}: {exc}".splitlines()[0]
+        return [{"case": int(c), "seed": run_seed_of(resolved, c), "status": "error", "message": msg,
+                 "draws": {}, "outcome": {}, "metrics": {}} for c in cases]
+
+
+def _shutdown(pool: Any, cancel: bool) -> None:
+    if not cancel:
+        pool.shutdown(wait=True)
+        return
+    procs = list(getattr(pool, "_processes", {}).values())
+    pool.shutdown(wait=False, cancel_futures=True)
+    for p in procs:  # batches in flight are abandoned: their runs are not in the manifest, resume flies them
+        p.terminate()
+    for p in procs:
+        p.join(timeout=5)
+
+
+def _dask(resolved, key, tasks, folder, workers, address, record, stop) -> bool:
+    try:
+        from dask.distributed import Client, LocalCluster, as_completed
+    except ImportError:
+        raise CampaignError("--dask needs Dask distributed: pip install 'dask[distributed]' "
+                            "(or pip install 'rpo[dask]')") from None
+    cluster = None
+    if address == "local":
+        cluster = LocalCluster(n_workers=workers, threads_per_worker=1, processes=True, dashboard_address=None,
+                               env={"RPO_CACHE_DIR": os.environ["RPO_CACHE_DIR"]} if "RPO_CACHE_DIR" in os.environ
+                               else None)
+        client = Client(cluster)
+    else:
+        try:
+            client = Client(address, timeout=10)
+        except (OSError, TimeoutError) as exc:
+            raise CampaignError(f"--dask {address}: cannot connect to the scheduler ({exc})") from None
+    try:
+        futs = {client.submit(fly_batch, resolved, key, t, str(folder), pure=False): t for t in tasks}
+        ac = as_completed(list(futs))
+        for fut in ac:
+            record(_result(fut, resolved, futs[fut]))
+            if stop.requested():
+                for f in futs:
+                    f.cancel()
+                return False
+        return True
+    finally:
+        client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+# --------------------------------------------------------------------------- run and resume
+
+
+def counts(rows: dict[int, dict]) -> dict[str, int]:
+    out = dict.fromkeys(storage.STATUSES, 0)
+    for r in rows.values():
+        out[r["status"]] = out.get(r["status"], 0) + 1
+    return out
+
+
+def start_folder(camp: Campaign, model: Any, out: str | Path, command: str = "") -> Path:
+    """Create the campaign folder (absent or empty: refused otherwise) with the campaign's text and
+    resolved.json."""
+    from ..output import check_out_dir
+    folder = check_out_dir(out)
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / storage.HISTORIES).mkdir(exist_ok=True)
+    storage._atomic_write(folder / storage.CAMPAIGN_COPY, camp.text.encode())
+    resolved = camp.resolved()
+    storage.write_json(folder / storage.RESOLVED, {**resolved, "hash": camp.hash,
+                                                   "model_hash": model.manifest["manifest_hash"],
+                                                   "command": command})
+    return folder
+
+
+def run_campaign(camp: Campaign, model: Any, folder: Path, *, cases: Iterable[int] | None = None,
+                 workers: int | None = None, dask: str | None = None, batch: int | None = None,
+                 on_rows: Callable[[list[dict]], None] | None = None) -> CampaignOutcome:
+    """Fly the campaign's ``cases`` (default: every case not yet done, or done with status
+    ``error``) into ``folder`` (made by :func:`start_folder`), then write ``summary.parquet``."""
+    t0 = time.perf_counter()
+    storage.remove_temporaries(folder)
+    done = storage.read_rows(folder, repair=True)
+    _check_histories(folder, done)
+    todo = sorted(c for c in (range(camp.runs) if cases is None else cases)
+                  if c not in done or done[c]["status"] == "error")
+    stopped = fly_cases(camp, model, folder, todo, workers=workers or default_workers(), dask=dask,
+                         batch=batch, on_rows=on_rows)
+    rows = storage.read_rows(folder)
+    _check_histories(folder, rows)
+    storage.write_summary(folder, storage.read_resolved(folder), rows)
+    missing = [c for c in range(camp.runs) if c not in rows]
+    return CampaignOutcome(folder=folder, runs=camp.runs, flown_now=len(todo), counts=counts(rows),
+                           wall_s=time.perf_counter() - t0, interrupted=stopped, missing=missing)
+
+
+def _check_histories(folder: Path, rows: dict[int, dict]) -> None:
+    """A flown run whose history is not in the folder (a remote worker that does not share it) is
+    an error, flown again by resume."""
+    lost = [c for c, r in rows.items() if r["status"] in ("ok", "diverged") and not storage.history_ok(folder, c)]
+    if lost:
+        fixed = [{**rows[c], "status": "error", "message": "its history is missing or cut short in the campaign "
+                  "folder (Dask workers must share the folder's filesystem)"} for c in lost]
+        storage.append_rows(folder, fixed)
+        rows.update({r["case"]: r for r in fixed})
+
+
+def check_resume(folder: Path, model: Any, camp: Campaign | None) -> Campaign:
+    """The campaign of ``folder`` if it can be resumed with this model (and, when given, the
+    campaign as read again from its file): refused naming what changed."""
+    resolved = storage.read_resolved(folder)
+    recorded = resolved.get("model_hash")
+    if recorded != model.manifest["manifest_hash"]:
+        raise CampaignError(f"{folder}: the model changed since the campaign started (generated/manifest.json "
+                            f"hash {str(recorded)[:12]} then, {model.manifest['manifest_hash'][:12]} now): its "
+                            "runs would not be comparable; start a new campaign folder")
+    stored = campaign_from_resolved(resolved, model.manifest)
+    if stored.hash != resolved.get("hash"):
+        raise CampaignError(f"{folder}/{storage.RESOLVED}: its content does not match its recorded hash "
+                            "(edited?): refusing to resume")
+    if camp is not None and camp.hash != stored.hash:
+        what = diff(stored.resolved(), camp.resolved())
+        raise CampaignError(f"{folder}: the campaign changed since it started: {what}; start a new campaign "
+                            "folder (or undo the change)")
+    return stored
+
+
+def diff(a: Any, b: Any, path: str = "") -> str:
+    """The first difference between two resolved campaigns, as ``key: then -> now``."""
+    if isinstance(a, dict) and isinstance(b, dict):
+        for k in sorted(set(a) | set(b), key=str):
+            if a.get(k) != b.get(k):
+                return diff(a.get(k), b.get(k), f"{path}.{k}" if path else str(k))
+        return "(no difference)"
+    if isinstance(a, list) and isinstance(b, list) and len(a) == len(b):
+        for i, (x, y) in enumerate(zip(a, b, strict=True)):
+            if x != y:
+                return diff(x, y, f"{path}[{i}]")
+    from ..scenario.messages import show
+    return f"{path}: {show(a)} then, {show(b)} now"

@@ -1,0 +1,135 @@
+"""One case of a campaign flown alone: ``rpo run --campaign DIR --case 17``.
+
+The case's scenario is made again from the folder's ``resolved.json`` (the same draws and noise
+seed: :mod:`.sampling` needs nothing of the other runs), flown by the scalar runner with every
+step recorded ("full logging"), and written as any ``rpo run``.  Lockstep lanes and the scalar
+loop give the same bits, and the campaign's record is every ``record_every``-th step of this one,
+so :func:`compare` takes those rows, computes the campaign's row from them and checks it against
+the folder's (manifest line and history) bit for bit.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import CampaignError, ScenarioError
+from . import storage
+from .spec import Campaign, campaign_from_resolved
+
+
+def toml_text(data: dict[str, Any], header: str = "") -> str:
+    """A scenario table as TOML text (what ``tomllib.loads`` reads back as ``data``): the case's
+    scenario.toml, so that the folder of a case flown alone holds the file that flies it."""
+    import json
+    import re
+
+    bare = re.compile(r"^[A-Za-z0-9_-]+$")
+
+    def key(k: str) -> str:
+        return k if bare.match(k) else json.dumps(k)
+
+    def value(v: Any) -> str:
+        if isinstance(v, bool):
+            return "true" if v else "false"
+        if isinstance(v, (int, float)):
+            return repr(v)
+        if isinstance(v, str):
+            return json.dumps(v)
+        if isinstance(v, list):
+            return "[" + ", ".join(value(x) for x in v) + "]"
+        if isinstance(v, dict):
+            return "{ " + ", ".join(f"{key(k)} = {value(x)}" for k, x in v.items()) + " }"
+        raise TypeError(f"cannot write {type(v).__name__} as TOML")
+
+    lines = [header] if header else []
+
+    def table(d: dict[str, Any], path: list[str]) -> None:
+        plain = {k: v for k, v in d.items() if not isinstance(v, dict) and not _tables(v)}
+        if path and (plain or not d):
+            lines.append(f"\n[{'.'.join(key(p) for p in path)}]")
+        lines.extend(f"{key(k)} = {value(v)}" for k, v in plain.items())
+        for k, v in d.items():
+            if isinstance(v, dict):
+                table(v, [*path, k])
+            elif _tables(v):
+                for entry in v:
+                    lines.append(f"\n[[{'.'.join(key(p) for p in [*path, k])}]]")
+                    lines.extend(f"{key(a)} = {value(b)}" for a, b in entry.items())
+
+    table(data, [])
+    return "\n".join(lines) + "\n"
+
+
+def _tables(v: Any) -> bool:
+    return isinstance(v, list) and bool(v) and all(isinstance(x, dict) for x in v)
+
+
+def case_scenario(folder: Path, case: int, model: Any, full_logging: bool = True) -> tuple[Any, Campaign]:
+    """(the validated scenario of ``case``, the campaign); refused when the model changed."""
+    from ..scenario import validate_scenario
+
+    resolved = storage.read_resolved(folder)
+    if resolved.get("model_hash") != model.manifest["manifest_hash"]:
+        raise CampaignError(f"{folder}: the model changed since the campaign ran (generated/manifest.json hash "
+                            f"{str(resolved.get('model_hash'))[:12]} then, {model.manifest['manifest_hash'][:12]} "
+                            f"now): case {case} would not be the campaign's run")
+    camp = campaign_from_resolved(resolved, model.manifest)
+    if not 0 <= case < camp.runs:
+        raise CampaignError(f"--case {case}: must be in [0, {camp.runs - 1}] (the campaign has {camp.runs} runs)")
+    data = camp.case_data(case)
+    if full_logging:
+        data["simulation"]["record_every"] = 1
+    try:
+        sc = validate_scenario(data, camp.case_source(case), model.manifest)
+    except ScenarioError as exc:
+        raise ScenarioError(f"{exc} (the campaign recorded this draw as invalid)") from None
+    sc._text = toml_text(data, f"# case {case} of the campaign {camp.name} ({folder}), every step recorded:\n"
+                               f"# its draws and noise seed applied to the campaign's scenario")
+    return sc, camp
+
+
+def _subsample(res: Any, every: int) -> Any:
+    """The record the campaign keeps of a run recorded at every step: every ``every``-th step and
+    the last (Simulation.run's grid)."""
+    from ..simulate import RunResult
+
+    steps = np.rint((res.t - res.t[0]) / res.dt).astype(np.int64)
+    last = int(steps[-1])
+    grid = np.arange(0, last + 1, every)
+    if grid[-1] != last:
+        grid = np.append(grid, last)
+    idx = np.searchsorted(steps, grid)
+    return RunResult(t=res.t[idx], z=res.z[idx], y=res.y[idx], z_labels=res.z_labels, z_units=res.z_units,
+                     y_labels=res.y_labels, y_units=res.y_units, steps_done=res.steps_done,
+                     steps_requested=res.steps_requested, dt=res.dt, wall_time=res.wall_time,
+                     divergence=res.divergence, meta=res.meta, field_labels=res.field_labels)
+
+
+def compare(folder: Path, camp: Campaign, model: Any, case: int, result: Any, inputs: Any) -> list[str]:
+    """What differs between the case flown alone and the campaign's record of it (empty: the same
+    bits: status, every metric, every history value)."""
+    from .execute import run_row
+
+    rows = storage.read_rows(folder)
+    if case not in rows:
+        return [f"case {case} is not in {folder / storage.MANIFEST} yet (not flown by the campaign)"]
+    stored = rows[case]
+    row, hist, _ = run_row(camp, model, inputs, _subsample(result, camp.scenario_data["simulation"]["record_every"]))
+    out = []
+    if stored["status"] != row["status"]:
+        out.append(f"status: {stored['status']} in the campaign, {row['status']} alone")
+    for k, v in row["metrics"].items():
+        w = stored.get("metrics", {}).get(k)
+        if not (v == w or (v is None and w is None)):
+            out.append(f"metric {k}: {w!r} in the campaign, {v!r} alone")
+    if storage.history_ok(folder, case):
+        cols, _, _ = storage.read_history(folder, case)
+        for k, v in hist.items():
+            a = np.asarray(v, np.float32)
+            b = cols.get(k)
+            if b is None or b.shape != a.shape or not np.array_equal(a, b, equal_nan=True):
+                out.append(f"history column {k} differs")
+    return out

@@ -1,0 +1,97 @@
+"""Seeds and designs of a campaign: which uniforms each run's dispersions get.
+
+Everything descends from the campaign's ``seed`` through :class:`numpy.random.SeedSequence`, with
+a *stream id* per dispersed key (the first 8 bytes of sha256 of the key: the same in every
+process and Python version, unlike ``hash``):
+
+* ``sampling = "random"``: the uniforms of key ``k`` in run ``i`` come from
+  ``SeedSequence(seed, spawn_key=(id(k), i))``.  Run ``i``'s draws need nothing of the other runs,
+  adding a dispersion or more runs leaves every other draw unchanged, and a case can be drawn
+  alone (``rpo run --campaign DIR --case i``).
+* ``sampling = "lhs"``: a Latin hypercube per key (``scipy.stats.qmc.LatinHypercube`` seeded from
+  ``SeedSequence(seed, spawn_key=(id(k),))``): each key's marginal is stratified into ``runs``
+  equal-probability strata, and keys are paired at random.  Adding a dispersion leaves the others
+  unchanged; changing ``runs`` changes the design (a hypercube is made for its size).
+* ``sampling = "sobol"``: one scrambled Sobol sequence over all the keys' dimensions, in the order
+  the keys appear in the campaign file (a low-discrepancy design is joint by nature, so a key
+  added at the end leaves the earlier keys' draws unchanged; one inserted before them does not).
+  ``runs`` should be a power of 2 for the sequence's balance (scipy warns otherwise; rpo accepts it).
+
+The run's own noise seed (random torques, sensor noise: :mod:`rpo.runtime.noise`) is the 64-bit
+state of ``SeedSequence(seed, spawn_key=(NOISE_STREAM, i))``.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import warnings
+from collections.abc import Sequence
+
+import numpy as np
+from scipy.stats import qmc
+
+from .dispersions import Dispersion
+
+SAMPLINGS = ("random", "lhs", "sobol")
+#: Stream id of the runs' noise seeds: a fixed constant ("noise"); a key's sha256-derived id equals
+#: it with probability 2**-64.
+NOISE_STREAM = 0x6E6F697365  # "noise"
+#: Uniforms are kept inside (0, 1): the inverse CDFs of unbounded distributions are infinite at 0 and 1.
+U_MIN = 2.0**-53
+
+
+def stream_id(key: str) -> int:
+    """The stream id of a dispersed key (64 bits of sha256, stable everywhere)."""
+    return int.from_bytes(hashlib.sha256(key.encode()).digest()[:8], "little")
+
+
+def run_seed(seed: int, case: int) -> int:
+    """Run ``case``'s noise seed, an integer in [0, 2**64)."""
+    state = np.random.SeedSequence(seed, spawn_key=(NOISE_STREAM, case)).generate_state(1, np.uint64)
+    return int(state[0])
+
+
+def _clip(u: np.ndarray) -> np.ndarray:
+    return np.clip(u, U_MIN, 1.0 - U_MIN)
+
+
+class Design:
+    """The uniforms of every run of a campaign: :meth:`uniforms` ``(case) -> {key: u}``."""
+
+    def __init__(self, sampling: str, seed: int, runs: int, dispersions: Sequence[Dispersion]):
+        if sampling not in SAMPLINGS:
+            raise ValueError(f"sampling must be one of {', '.join(SAMPLINGS)}")
+        self.sampling, self.seed, self.runs = sampling, int(seed), int(runs)
+        self.dispersions = list(dispersions)
+        self._table: dict[str, np.ndarray] | None = None
+
+    def _build(self) -> dict[str, np.ndarray]:
+        """The whole design (lhs, sobol): key -> (runs, dims) uniforms."""
+        out: dict[str, np.ndarray] = {}
+        if self.sampling == "lhs":
+            for d in self.dispersions:
+                rng = np.random.default_rng(np.random.SeedSequence(self.seed, spawn_key=(stream_id(d.key),)))
+                out[d.key] = _clip(qmc.LatinHypercube(d=d.dims, seed=rng).random(self.runs))
+        else:
+            total = sum(d.dims for d in self.dispersions)
+            if total:
+                rng = np.random.default_rng(np.random.SeedSequence(self.seed, spawn_key=(stream_id("sobol"),)))
+                with warnings.catch_warnings():
+                    warnings.simplefilter("ignore", UserWarning)  # runs not a power of 2: accepted, see above
+                    u = qmc.Sobol(d=total, scramble=True, seed=rng).random(self.runs)
+                col = 0
+                for d in self.dispersions:
+                    out[d.key] = _clip(u[:, col: col + d.dims])
+                    col += d.dims
+        return out
+
+    def uniforms(self, case: int) -> dict[str, np.ndarray]:
+        """key -> the uniforms (dims,) of run ``case``."""
+        if not 0 <= case < self.runs:
+            raise IndexError(f"case {case} is not in this campaign (0 .. {self.runs - 1})")
+        if self.sampling == "random":
+            return {d.key: _clip(np.random.default_rng(np.random.SeedSequence(
+                self.seed, spawn_key=(stream_id(d.key), case))).random(d.dims)) for d in self.dispersions}
+        if self._table is None:
+            self._table = self._build()
+        return {d.key: self._table[d.key][case] for d in self.dispersions}

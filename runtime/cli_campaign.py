@@ -1,0 +1,209 @@
+"""``rpo mc``: Monte Carlo campaigns from the command line (docs/campaigns.md).
+
+``rpo mc run CAMPAIGN.toml --out DIR`` flies a campaign into a new folder, ``rpo mc resume DIR``
+flies what is missing, ``rpo mc report DIR`` writes its statistics.  Exit codes: 0 every run is
+recorded (a diverged or failed run is a result, not an error); 1 some runs ended in an error
+(``resume`` flies them again); 2 a user error (one ``error:`` line, nothing written); 130/143
+interrupted (the runs recorded so far are kept: ``resume`` goes on).
+
+Heavy imports (SciPy, the model) happen inside the commands, so ``rpo --help`` stays fast.
+"""
+
+from __future__ import annotations
+
+import shlex
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+import click
+
+from .errors import CampaignError
+
+EXIT_RUN_ERRORS = 1
+
+
+def _err(msg: str) -> None:
+    click.echo(msg, err=True)
+
+
+class _Progress:
+    """Runs done, failed (diverged, constraint violated or a goal not reached), invalid and in
+    error, with an ETA: a click progress bar on a terminal, one line per 10 % otherwise."""
+
+    def __init__(self, total: int, quiet: bool):
+        self.total, self.quiet = total, quiet
+        self.n = self.failed = self.invalid = self.errors = 0
+        self.t0 = time.perf_counter()
+        self.bar: Any = None
+        self.next_line = 0.1
+        if not quiet and total and sys.stderr.isatty():
+            self.bar = click.progressbar(length=total, label="runs", file=sys.stderr, show_eta=True,
+                                         item_show_func=lambda _: self._text()).__enter__()
+
+    def _text(self) -> str:
+        return f"{self.n} done, {self.failed} failed, {self.invalid} invalid, {self.errors} errors"
+
+    def rows(self, rows: list[dict]) -> None:
+        for r in rows:
+            self.failed += bool(r.get("outcome", {}).get("failed"))
+            self.invalid += r["status"] == "invalid"
+            self.errors += r["status"] == "error"
+        self.n += len(rows)
+        if self.bar is not None:
+            self.bar.update(len(rows), current_item=True)
+        elif not self.quiet and self.total and self.n / self.total >= self.next_line:
+            el = time.perf_counter() - self.t0
+            eta = el / self.n * (self.total - self.n)
+            _err(f"runs: {self.n}/{self.total} ({self._text()}), {el:.0f} s, ETA {eta:.0f} s")
+            while self.next_line <= self.n / self.total:
+                self.next_line += 0.1
+
+    def close(self) -> None:
+        if self.bar is not None:
+            self.bar.__exit__(None, None, None)
+
+
+def _model(controller: str, quiet: bool) -> Any:
+    from .compiled import load_model
+    return load_model("auto", log=None if quiet else _err, controllers=[controller])
+
+
+def _dask_option(value: str | None) -> str | None:
+    if value is None:
+        return None
+    v = value.strip()
+    if v != "local" and "://" not in v and ":" not in v:
+        raise CampaignError(f"--dask {value!r}: must be \"local\" (a LocalCluster on this machine) or a scheduler "
+                            "address such as tcp://10.0.0.5:8786")
+    return v
+
+
+def _fly(camp: Any, model: Any, folder: Path, workers: int | None, dask: str | None, batch: int | None,
+         quiet: bool, what: str) -> int:
+    from .campaign import execute, storage
+
+    done = storage.read_rows(folder)
+    todo = sum(1 for c in range(camp.runs) if c not in done or done[c]["status"] == "error")
+    n_workers = workers or execute.default_workers()
+    if not quiet:
+        how = f"Dask {dask}" if dask else ("this process" if n_workers == 1 else f"{n_workers} worker processes")
+        _err(f"{camp.name}: {what} {todo} of {camp.runs} runs ({camp.settings.sampling} sampling, seed "
+             f"{camp.settings.seed}) on {how}, into {folder}")
+    bar = _Progress(todo, quiet)
+    try:
+        out = execute.run_campaign(camp, model, folder, workers=n_workers, dask=dask, batch=batch, on_rows=bar.rows)
+    finally:
+        bar.close()
+    c = out.counts
+    flown = c["ok"] + c["diverged"]
+    rows = storage.read_rows(folder)
+    failed = sum(1 for r in rows.values() if r.get("outcome", {}).get("failed"))
+    if out.interrupted is not None:
+        from .interrupts import Interrupted
+        raise Interrupted(out.interrupted, f"interrupted: {len(rows)} of {camp.runs} runs are recorded in {folder}; "
+                             f"`rpo mc resume {folder}` flies the rest")
+    if not quiet:
+        click.echo(f"done: {len(rows)} of {camp.runs} runs in {out.wall_s:.1f} s: {c['ok']} ok, {c['diverged']} "
+                   f"diverged, {c['invalid']} invalid draws, {c['error']} errors; {failed} of {flown} flown runs "
+                   "failed (diverged, a goal not reached or a constraint violated)")
+        click.echo(f"summary: {folder / storage.SUMMARY}; statistics: rpo mc report {shlex.quote(str(folder))}")
+    if c["error"]:
+        first = next(r for r in rows.values() if r["status"] == "error")
+        _err(f"error: {c['error']} runs ended in an error (first: case {first['case']}: {first['message']}); "
+             f"`rpo mc resume {folder}` flies them again")
+        return EXIT_RUN_ERRORS
+    return 0
+
+
+@click.group()
+def mc() -> None:
+    """Monte Carlo campaigns: disperse a scenario, fly it many times, read the statistics.
+
+    \b
+      rpo mc run scenarios/campaigns/000_III_mc.toml --out runs/mc
+      rpo mc resume runs/mc          (after an interruption: flies the missing runs)
+      rpo mc report runs/mc          (report.md and figures)
+      rpo run --campaign runs/mc --case 17   (one run again, every step recorded)
+    """
+
+
+@mc.command("run")
+@click.argument("campaign_file", type=click.Path(dir_okay=False, path_type=str))
+@click.option("--out", "out", required=True, type=click.Path(file_okay=False, path_type=str),
+              help="Campaign folder (must not exist or be empty).")
+@click.option("--workers", type=click.IntRange(min=1), default=None,
+              help="Worker processes (default: every core; 1 flies in this process).")
+@click.option("--dask", default=None, metavar="local|ADDRESS",
+              help="Fly on Dask: 'local' starts a LocalCluster of --workers processes, an address "
+                   "(tcp://host:8786) connects to a running scheduler (pip install 'dask[distributed]').")
+@click.option("--runs", type=click.IntRange(min=1), default=None, help="Override campaign.runs (a quick look).")
+@click.option("--duration", type=click.FloatRange(min=0, min_open=True), default=None,
+              help="Override simulation.duration [s] (a quick look).")
+@click.option("--batch", type=click.IntRange(min=1), default=None,
+              help="Runs per task (default campaign.batch, else 4 lane blocks).")
+@click.option("--quiet", "-q", is_flag=True, help="Print only errors.")
+def run_cmd(campaign_file: str, out: str, workers: int | None, dask: str | None, runs: int | None,
+            duration: float | None, batch: int | None, quiet: bool) -> int:
+    """Fly CAMPAIGN_FILE (a scenario with [campaign] and [dispersions]) into a new folder."""
+    from .campaign import execute
+    from .campaign.spec import load_campaign
+    from .compiled import read_manifest
+    from .output import check_out_dir
+
+    dask = _dask_option(dask)
+    camp = load_campaign(campaign_file, read_manifest(), runs=runs, duration=duration)
+    check_out_dir(out)  # before the model loads (which may compile): a bad folder is told at once
+    ctrl = camp.scenario_data.get("simulation", {}).get("controller", "baseline")
+    model = _model(ctrl, quiet)
+    if model.manifest["manifest_hash"] != camp.manifest.get("manifest_hash"):
+        camp = load_campaign(campaign_file, model.manifest, runs=runs, duration=duration)
+    command = " ".join(shlex.quote(a) for a in ["rpo", "mc", "run", *sys.argv[3:]]) if len(sys.argv) > 3 else ""
+    folder = execute.start_folder(camp, model, out, command=command)
+    return _fly(camp, model, folder, workers, dask, batch, quiet, "flying")
+
+
+@mc.command("resume")
+@click.argument("folder", type=click.Path(file_okay=False, path_type=Path))
+@click.option("--workers", type=click.IntRange(min=1), default=None, help="Worker processes (default: every core).")
+@click.option("--dask", default=None, metavar="local|ADDRESS", help="Fly on Dask (as for `rpo mc run`).")
+@click.option("--batch", type=click.IntRange(min=1), default=None, help="Runs per task.")
+@click.option("--quiet", "-q", is_flag=True, help="Print only errors.")
+def resume_cmd(folder: Path, workers: int | None, dask: str | None, batch: int | None, quiet: bool) -> int:
+    """Fly the runs of FOLDER that are missing or ended in an error; refused, naming what changed,
+    if the model or the campaign (its file, or the scenario it extends) changed since it started."""
+    from .campaign import execute, storage
+    from .campaign.spec import load_campaign
+
+    dask = _dask_option(dask)
+    resolved = storage.read_resolved(folder)
+    model = _model(resolved["controller"], quiet)
+    source = Path(resolved["campaign_file"])
+    again = None
+    if source.is_file():
+        ov = resolved.get("overrides", {})
+        again = load_campaign(source, model.manifest, runs=ov.get("runs"), duration=ov.get("duration"))
+    elif not quiet:
+        _err(f"note: {source} is not there any more: resuming the campaign recorded in {folder}/{storage.RESOLVED}")
+    camp = execute.check_resume(folder, model, again)
+    return _fly(camp, model, folder, workers, dask, batch, quiet, "resuming:")
+
+
+@mc.command("report")
+@click.argument("folder", type=click.Path(file_okay=False, path_type=Path))
+@click.option("--coverage", type=click.FloatRange(0, 1, min_open=True, max_open=True), default=0.95,
+              show_default=True, help="Coverage of the Wilks tolerance bounds.")
+@click.option("--confidence", type=click.FloatRange(0, 1, min_open=True, max_open=True), default=0.95,
+              show_default=True, help="Confidence of the intervals and of the Wilks bounds.")
+@click.option("--no-figures", is_flag=True, help="Write report.md only.")
+def report_cmd(folder: Path, coverage: float, confidence: float, no_figures: bool) -> int:
+    """Write FOLDER/report.md and FOLDER/figures/: statistics of every metric, failure rates with
+    confidence intervals, envelopes, CDFs, sensitivities and the worst cases."""
+    from .campaign.report import write_report
+    from .campaign.storage import read_resolved
+
+    read_resolved(folder)  # a clear error for a folder that is not a campaign
+    path = write_report(folder, coverage=coverage, confidence=confidence, figures=not no_figures)
+    click.echo(f"wrote {path}")
+    return 0
