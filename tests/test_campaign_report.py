@@ -5,6 +5,8 @@ from __future__ import annotations
 import json
 import math
 import re
+import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -60,7 +62,7 @@ def build_campaign(path: Path, requested: int, statuses: dict[int, str], seed: i
     pos_reached = np.where(flown, True, None).astype(object)
     pos_reached[div] = False
     constraint = np.where(flown, False, None).astype(object)
-    constraint[np.flatnonzero(ok)[5]] = True
+    constraint[np.flatnonzero(ok)[5:6]] = True
     failed = np.where(flown, False, None).astype(object)
     for i in range(n):
         if flown[i]:
@@ -325,3 +327,29 @@ def test_small_complete_campaign_not_enough_runs(tmp_path):
 def test_missing_summary_is_a_clear_error(tmp_path):
     with pytest.raises(FileNotFoundError, match="summary.parquet does not exist"):
         R.write_report(tmp_path)
+
+
+def test_degenerate_folders(tmp_path):
+    # nothing flown: every draw refused
+    build_campaign(tmp_path / "inv", 5, {k: "invalid" for k in range(5)})
+    text = R.write_report(tmp_path / "inv").read_text()
+    assert row(section(text, "Failure rates"), "invalid draw (of done cases)")[1:4] == ["5", "5", "100.00 %"]
+    assert "No main metric has a value." in text and "No flown case to list." in text
+    assert "No figure (no data to draw)." in text
+    # an empty summary (the runner wrote the file before any case finished)
+    (tmp_path / "empty").mkdir()
+    pq.write_table(pa.table({"case": pa.array([], pa.int64()), "seed": pa.array([], pa.uint64()),
+                             "status": pa.array([], pa.string()), "message": pa.array([], pa.string())}),
+                   tmp_path / "empty" / "summary.parquet")
+    text = R.write_report(tmp_path / "empty").read_text()
+    assert "done: 0" in text and "No case done." in text
+    with pytest.raises(ValueError, match="figure format"):
+        R.write_report(tmp_path / "empty", fmt="jpg")
+
+
+def test_imports_stay_light():
+    # the runtime never imports sympy; pandas is not a dependency; matplotlib only when drawing
+    code = ("import sys; import rpo.runtime.campaign.report, rpo.runtime.campaign.stats, rpo.runtime.campaign.figures; "
+            "print(sorted(m for m in ('sympy', 'pandas', 'matplotlib') if m in sys.modules))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
+    assert out.strip() == "[]"

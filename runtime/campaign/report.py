@@ -66,6 +66,7 @@ ENVELOPE_CHANNELS = (("err_att_rad", "attitude error [deg]", 180.0 / math.pi),
                      ("err_pos_m", "position error [m]", 1.0),
                      ("h_w_norm", "wheel momentum norm [N m s]", 1.0))
 PERCENTILES = (5.0, 50.0, 95.0)
+FIGURE_FORMATS = ("png", "svg", "pdf")
 
 
 # --------------------------------------------------------------------------- reading
@@ -386,6 +387,8 @@ def write_report(campaign_dir: str | Path, out: str | Path | None = None, covera
     gives the same bytes); ``top`` the rows of the sensitivity table, ``worst`` the rows per
     worst-case list.  The report's conventions are in the module docstring.
     """
+    if fmt not in FIGURE_FORMATS:
+        raise ValueError(f"figure format {fmt!r}: allowed {', '.join(FIGURE_FORMATS)}")
     c = load_campaign(campaign_dir)
     out_dir = Path(out) if out is not None else c.path
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -467,7 +470,10 @@ def write_report(campaign_dir: str | Path, out: str | Path | None = None, covera
         p, lo, hi = S.clopper_pearson(k, n, confidence)
         _, _, up = S.clopper_pearson(k, n, confidence, sided="upper")
         rows.append([label, str(k), str(n), _pct(p), f"[{_pct(lo)}, {_pct(hi)}]", _pct(up)])
-    L += _table(["event", "runs", "of", "rate", f"{conf_pct} interval", f"upper {conf_pct} bound"], rows)
+    if rows:
+        L += _table(["event", "runs", "of", "rate", f"{conf_pct} interval", f"upper {conf_pct} bound"], rows)
+    else:
+        L.append("No case done.")
     L.append("")
 
     # ---------------------------------------------------------------- Wilks
@@ -550,6 +556,7 @@ def write_report(campaign_dir: str | Path, out: str | Path | None = None, covera
     L += ["## Worst cases", "", "Each case can be flown again, with its full history and figures, by the "
           "command given.", ""]
     cases = c.cases
+    n_lists = len(L)
     div = np.flatnonzero(st == "diverged")
     if div.size:
         L += [f"### Diverged ({div.size})", ""]
@@ -576,6 +583,8 @@ def write_report(campaign_dir: str | Path, out: str | Path | None = None, covera
                  f"`{refly_command(cdir, int(cases[i]))}`"] for i in pick]
         L += _table(["case", f"value [{c.unit(metric)}]" if c.unit(metric) else "value", "re-fly"], rows)
         L.append("")
+    if len(L) == n_lists:
+        L += ["No flown case to list.", ""]
 
     # ---------------------------------------------------------------- figures
     if figures:
