@@ -258,6 +258,8 @@ def test_worst_cases_and_commands(campaign):
     w = section(text, "Worst cases")
     cdir = path.resolve()
     assert "### Diverged (2)" in w
+    errors = w.split("### Worker errors (1)")[1]
+    assert row(errors, "64")[1:] == ["worker died", f"`rpo run --campaign {cdir} --case 64`"]
     assert f"`rpo run --campaign {cdir} --case 10`" in w and f"`rpo run --campaign {cdir} --case 77`" in w
     # largest final position error among ok runs: first row of its table
     ok = np.flatnonzero(data["ok"])
@@ -336,6 +338,11 @@ def test_degenerate_folders(tmp_path):
     assert row(section(text, "Failure rates"), "invalid draw (of done cases)")[1:4] == ["5", "5", "100.00 %"]
     assert "No main metric has a value." in text and "No flown case to list." in text
     assert "No figure (no data to draw)." in text
+    # figures of an earlier write that no longer apply are removed; other files are left alone
+    (tmp_path / "inv" / "figures" / "cdf.png").write_bytes(b"stale")
+    (tmp_path / "inv" / "figures" / "mine.png").write_bytes(b"user")
+    R.write_report(tmp_path / "inv")
+    assert sorted(f.name for f in (tmp_path / "inv" / "figures").iterdir()) == ["mine.png"]
     # an empty summary (the runner wrote the file before any case finished)
     (tmp_path / "empty").mkdir()
     pq.write_table(pa.table({"case": pa.array([], pa.int64()), "seed": pa.array([], pa.uint64()),

@@ -373,6 +373,12 @@ def _write_figures(c: Campaign, fig_dir: Path, ok: np.ndarray, flown: np.ndarray
         if F.scatter_figure(_label(c, metric), c.columns[metric][flown], panels_s, flown_st, fig_dir / name,
                             f"{c.name}: {metric} against the dispersed values (Spearman rho over ok runs)"):
             written.append((name, f"{metric} against each dispersed value"))
+    # a figure of an earlier write that this one did not draw (its data are gone) would contradict
+    # the report: remove it; only our own file names are touched
+    ours = {n for n, _ in written}
+    for f in sorted(fig_dir.glob(f"*.{fmt}")):
+        if f.name not in ours and (f.name in (f"envelopes.{fmt}", f"cdf.{fmt}") or f.name.startswith("scatter_")):
+            f.unlink()
     return written
 
 
@@ -567,6 +573,15 @@ def write_report(campaign_dir: str | Path, out: str | Path | None = None, covera
         L += _table(["case", "t_end [s]", "message", "re-fly"], rows)
         if div.size > max(worst, 20):
             L.append(f"\n({div.size - max(worst, 20)} more diverged cases)")
+        L.append("")
+    err = np.flatnonzero(st == "error")
+    if err.size:
+        L += [f"### Worker errors ({err.size})", ""]
+        L += _table(["case", "message", "re-fly"],
+                    [[str(int(cases[i])), _md(str(msg[i])) if msg is not None else "",
+                      f"`{refly_command(cdir, int(cases[i]))}`"] for i in err[:max(worst, 20)]])
+        if err.size > max(worst, 20):
+            L.append(f"\n({err.size - max(worst, 20)} more worker errors)")
         L.append("")
     for metric, _side, title in MAIN_METRICS:
         if not title or metric not in c.columns:
