@@ -133,6 +133,9 @@ def _fly(camp: Campaign, model: Any, cases: list[int], folder: Path) -> list[dic
     by_dt: dict[float, list[tuple[int, Any]]] = {}
     for case, pre in ready:
         by_dt.setdefault(pre.sim.dt, []).append((case, pre))
+    nominal = _nominal_vectors(camp, model)
+    for case, pre in ready:
+        rows[case]["applied"] = applied(model, pre, nominal)
     for group in by_dt.values():
         first = group[0][1]
         results = first.sim.run_batch(np.array([pre.z0 for _, pre in group]), first.inputs.duration,
@@ -143,6 +146,40 @@ def _fly(camp: Campaign, model: Any, cases: list[int], folder: Path) -> list[dic
         for (case, pre), res in zip(group, results, strict=True):
             rows[case].update(_finish(camp, model, case, pre, res, folder))
     return [rows[c] for c in cases]
+
+
+#: The plant's initial-state fields recorded in each row's ``applied`` (the rest of z0, the
+#: actuator and controller states, follows from them and the parameters).
+PLANT_STATE = ("q_c", "w_c", "h_w", "q_t", "w_t", "r", "v")
+_NOMINAL: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
+
+
+def _nominal_vectors(camp: Campaign, model: Any) -> tuple[np.ndarray, np.ndarray] | None:
+    """The parameter and gain vectors of the campaign's undispersed scenario (None if refused)."""
+    from ..scenario import validate_scenario
+
+    key = (camp.hash, model.manifest["manifest_hash"])
+    if key not in _NOMINAL:
+        sc = validate_scenario(camp.scenario_data, camp.source, model.manifest)
+        inputs = sc.to_run(model)
+        ctrl = model.manifest["controllers"][inputs.controller]["gains"]
+        _NOMINAL[key] = (model.vector("p", inputs.params), model.vector(ctrl, inputs.gains))
+    return _NOMINAL[key]
+
+
+def applied(model: Any, pre: Any, nominal: tuple[np.ndarray, np.ndarray] | None) -> dict[str, Any]:
+    """What the simulation was handed, read back from the vectors themselves: the plant's initial
+    state, and every parameter and gain field whose values differ from the undispersed scenario's
+    (the draws, as the model sees them: SI, packed), for the row (and the tests) to check."""
+    z_offs = model.offsets(pre.sim.z_layout)
+    out: dict[str, Any] = {"z0": {f: pre.z0[z_offs[f]].tolist() for f in PLANT_STATE}}
+    ctrl = model.manifest["controllers"][pre.sim.controller]["gains"]
+    for what, vec, layout, base in (("p", pre.sim.p, "p", None if nominal is None else nominal[0]),
+                                    ("k", pre.sim.k, ctrl, None if nominal is None else nominal[1])):
+        offs = model.offsets(layout)
+        out[what] = {f: vec[sl].tolist() for f, sl in offs.items()
+                     if base is None or not np.array_equal(vec[sl], base[sl])}
+    return out
 
 
 def _finish(camp: Campaign, model: Any, case: int, pre: Any, res: Any, folder: Path) -> dict[str, Any]:

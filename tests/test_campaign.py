@@ -1,0 +1,433 @@
+"""Monte Carlo campaigns: statistics against an analytic case, dispersions provably applied,
+determinism across executors, SIGKILL and resume, divergence and invalid draws, bad input.
+
+The analytic reference is the Clohessy-Wiltshire solution (independent of the generated model):
+uncontrolled relative motion about a circular orbit from a Gaussian initial state; the campaign's
+final mean and covariance must match the linear propagation of the initial ones through the CW
+state-transition matrix within the sampling confidence interval.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+import pyarrow.parquet as pq
+import pytest
+from scipy import stats
+from scipy.spatial.transform import Rotation
+
+from rpo.runtime.campaign import loads_campaign, run_campaign, start_folder, storage
+from rpo.runtime.campaign.sampling import Design, run_seed
+from rpo.runtime.errors import CampaignError
+
+ROOT = Path(__file__).resolve().parents[1]
+MU = 3.986004418e14
+A_ORBIT = 7.0e6
+
+#: A free-flying pair on a circular orbit, no disturbance, the baseline law with zero position
+#: gains and ideal actuators: the relative translation is the uncontrolled nonlinear relative
+#: motion, which CW approximates to O(|r| / a).
+BASE = f"""
+[meta]
+name = "cw"
+[simulation]
+duration = 1500.0
+rate = 1.0
+controller = "baseline"
+[orbit]
+semi_major_axis = {A_ORBIT!r}
+eccentricity = 0.0
+inclination_deg = 30.0
+[environment]
+gravity_gradient = false
+magnetic = false
+j2 = false
+drag = false
+random_torque_std_chaser = 0.0
+random_torque_std_target = 0.0
+[plant]
+actuators = "ideal"
+max_force = 1.0
+max_torque = 0.1
+[chaser]
+mass = 100.0
+mass_profile = "constant"
+attitude_frame = "eci"
+quaternion = [0.0, 0.0, 0.0, 1.0]
+[target]
+attitude_frame = "eci"
+quaternion = [0.0, 0.0, 0.0, 1.0]
+[relative]
+position = [50.0, 20.0, -10.0]
+velocity = [0.0, -0.05, 0.01]
+[controller.baseline]
+kp_pos = 0.0
+kd_pos = 0.0
+kp_att = 0.0
+kd_att = 0.0
+"""
+
+CW_CAMPAIGN = BASE + """
+[campaign]
+runs = 256
+seed = 11
+rate_hz = 0.1
+[dispersions.relative.position]
+dist = "normal"
+std = [2.0, 3.0, 1.5]
+[dispersions.relative.velocity]
+dist = "normal"
+std = [0.002, 0.001, 0.0015]
+"""
+
+
+def cw_stm(n: float, t: float) -> np.ndarray:
+    """Clohessy-Wiltshire state-transition matrix, x radial, y along-track, z normal; state [r, v]
+    with v the derivative in the rotating frame (rpo's LVLH)."""
+    s, c = math.sin(n * t), math.cos(n * t)
+    return np.array([
+        [4 - 3 * c, 0, 0, s / n, 2 * (1 - c) / n, 0],
+        [6 * (s - n * t), 1, 0, -2 * (1 - c) / n, (4 * s - 3 * n * t) / n, 0],
+        [0, 0, c, 0, 0, s / n],
+        [3 * n * s, 0, 0, c, 2 * s, 0],
+        [-6 * n * (1 - c), 0, 0, -2 * s, 4 * c - 3, 0],
+        [0, 0, -n * s, 0, 0, c],
+    ])
+
+
+@pytest.fixture(scope="module")
+def cw_folder(model, tmp_path_factory):
+    camp = loads_campaign(CW_CAMPAIGN, "cw.toml", model.manifest)
+    folder = start_folder(camp, model, tmp_path_factory.mktemp("cw") / "mc")
+    out = run_campaign(camp, model, folder, workers=1)
+    assert out.counts["ok"] == camp.runs
+    return folder, camp
+
+
+def _final_states(folder: Path, runs: int) -> np.ndarray:
+    rows = storage.read_rows(folder)
+    X = []
+    for c in range(runs):
+        cols, _, _ = storage.read_history(folder, c)
+        X.append([cols[k][-1] for k in ("r_x", "r_y", "r_z", "v_x", "v_y", "v_z")])
+        assert rows[c]["status"] == "ok"
+    return np.array(X, float)
+
+
+def test_statistics_match_the_clohessy_wiltshire_propagation(cw_folder):
+    folder, camp = cw_folder
+    n = math.sqrt(MU / A_ORBIT**3)
+    phi = cw_stm(n, 1500.0)
+    m0 = np.array([50.0, 20.0, -10.0, 0.0, -0.05, 0.01])
+    P0 = np.diag(np.array([2.0, 3.0, 1.5, 0.002, 0.001, 0.0015]) ** 2)
+    mean_ref, P_ref = phi @ m0, phi @ P0 @ phi.T
+    X = _final_states(folder, camp.runs)
+    N = X.shape[0]
+    # the mean: each component within 4.5 standard errors (two-sided p ~ 7e-6 per component)
+    se = np.sqrt(np.diag(P_ref) / N)
+    z = (X.mean(axis=0) - mean_ref) / se
+    assert np.all(np.abs(z) < 4.5), z
+    # the variances: (N - 1) S_ii / P_ii ~ chi^2(N - 1); inside its 1e-5 .. 1 - 1e-5 quantiles
+    S = np.cov(X.T)
+    ratio = (N - 1) * np.diag(S) / np.diag(P_ref)
+    lo, hi = stats.chi2.ppf([1e-5, 1 - 1e-5], N - 1)
+    assert np.all((ratio > lo) & (ratio < hi)), (ratio, lo, hi)
+    # the correlations that CW makes strong (|rho| > 0.3): Fisher z within 4.5 / sqrt(N - 3)
+    d = np.sqrt(np.diag(P_ref))
+    R_ref, R = P_ref / np.outer(d, d), S / np.outer(np.sqrt(np.diag(S)), np.sqrt(np.diag(S)))
+    strong = np.abs(R_ref) > 0.3
+    np.fill_diagonal(strong, False)
+    assert strong.sum() >= 4  # the along-track/radial coupling: a test that can fail
+    dz = np.abs(np.arctanh(R[strong]) - np.arctanh(R_ref[strong])) * math.sqrt(N - 3)
+    assert np.all(dz < 4.5), dz
+    # and a wrong reference is told apart: without the Coriolis coupling the along-track variance is off
+    phi_bad = phi.copy()
+    phi_bad[1, 0] = 0.0
+    P_bad = phi_bad @ P0 @ phi_bad.T
+    assert not lo < (N - 1) * S[1, 1] / P_bad[1, 1] < hi
+
+
+def test_dispersions_are_applied_as_drawn(model, tmp_path):
+    text = BASE + """
+[campaign]
+runs = 24
+seed = 5
+rate_hz = 0.1
+sampling = "lhs"
+[dispersions.relative.position]
+dist = "normal"
+std = 2.0
+[dispersions.chaser.mass]
+dist = "uniform"
+low = 80.0
+high = 120.0
+[dispersions.chaser.inertia]
+dist = "inertia"
+moment_std = 0.1
+axes_sigma_deg = 3.0
+[dispersions.target.quaternion]
+dist = "rotation"
+sigma_deg = 10.0
+[dispersions.controller.baseline.kd_att]
+dist = "lognorm"
+shapes = { s = 0.3 }
+scale = 2.0
+"""
+    camp = loads_campaign(text.replace('duration = 1500.0', 'duration = 20.0'), "applied.toml", model.manifest)
+    folder = start_folder(camp, model, tmp_path / "mc")
+    run_campaign(camp, model, folder, workers=1)
+    rows = storage.read_rows(folder)
+    for c in range(camp.runs):
+        draws, row = camp.draws(c), rows[c]
+        applied = row["applied"]
+        # the initial state the simulation was handed, and its first recorded row
+        assert applied["z0"]["r"] == draws["relative.position"]
+        q = np.array(draws["target.quaternion"])
+        assert np.allclose(applied["z0"]["q_t"], q / np.linalg.norm(q), rtol=0, atol=1e-15)
+        cols, _, _ = storage.read_history(folder, c)
+        assert [cols[f"r_{a}"][0] for a in "xyz"] == list(np.float32(draws["relative.position"]))
+        # the parameters and gains in the vectors passed to the lockstep loop
+        assert applied["p"]["chaser_mass"] == [draws["chaser.mass"]]
+        I = np.array(draws["chaser.inertia"])
+        want = [I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[0, 2], I[1, 2]]
+        labels = next(f["labels"] for f in model.manifest["layouts"]["p"] if f["name"] == "chaser_inertia")
+        ax = {"x": 0, "y": 1, "z": 2}
+        got = dict(zip([(ax[lbl[-2]], ax[lbl[-1]]) for lbl in labels], applied["p"]["chaser_inertia"], strict=True))
+        assert sorted(got.values()) == sorted(want)
+        assert all(got[(i, j)] == I[i, j] for (i, j) in got)
+        assert applied["k"]["kd_att"] == [draws["controller.baseline.kd_att"]]
+        # and the summary's draw columns are the same numbers
+        assert row["draws"]["draw.chaser.mass"] == draws["chaser.mass"]
+        # the only fields that differ from the undispersed scenario are the dispersed ones
+        assert set(applied["p"]) == {"chaser_mass", "chaser_inertia"}
+        assert set(applied["k"]) == {"kd_att"}
+    # the inertia draws are physical (SPD, triangle inequality) and the rotations are of ~10 deg
+    angles = []
+    for c in range(camp.runs):
+        d = camp.draws(c)
+        lam = np.linalg.eigvalsh(np.array(d["chaser.inertia"]))
+        assert lam.min() > 0 and lam[0] + lam[1] >= lam[2]
+        rel = Rotation.from_quat([0, 0, 0, 1]).inv() * Rotation.from_quat(d["target.quaternion"])
+        angles.append(np.degrees(rel.magnitude()))
+    assert 5 < np.median(angles) < 25  # |phi| of a 3-D normal of 10 deg per axis: median ~15 deg
+
+
+def test_seeds_streams_and_designs(model):
+    camp = loads_campaign(CW_CAMPAIGN, "cw.toml", model.manifest)
+    more = loads_campaign(CW_CAMPAIGN + '[dispersions.chaser.mass]\ndist = "normal"\nrel_std = 0.05\n',
+                          "cw2.toml", model.manifest)
+    bigger = loads_campaign(CW_CAMPAIGN, "cw.toml", model.manifest, runs=1000)
+    for c in (0, 7, 255):
+        a, b = camp.draws(c), more.draws(c)
+        # adding a dispersion leaves the other draws (and the noise seed) unchanged; so does adding runs
+        assert a["relative.position"] == b["relative.position"] == bigger.draws(c)["relative.position"]
+        assert a["relative.velocity"] == b["relative.velocity"]
+        assert camp.seed_of(c) == more.seed_of(c) == run_seed(11, c)
+    assert len({camp.seed_of(c) for c in range(256)}) == 256
+    # a Latin hypercube puts exactly one run in each of the N strata of every coordinate
+    d = Design("lhs", 3, 64, camp.dispersions)
+    U = np.array([d.uniforms(c)["relative.position"] for c in range(64)])
+    for j in range(3):
+        assert sorted(np.floor(U[:, j] * 64).astype(int)) == list(range(64))
+    # Sobol: the first 2^k points of a scrambled Sobol sequence are balanced in each half
+    s = Design("sobol", 3, 64, camp.dispersions)
+    U = np.array([s.uniforms(c)["relative.position"] for c in range(64)])
+    assert all((U[:, j] < 0.5).sum() == 32 for j in range(3))
+
+
+def test_same_summary_bytes_in_process_pool_and_dask(model, tmp_path):
+    text = CW_CAMPAIGN.replace("runs = 256", "runs = 40").replace("duration = 1500.0", "duration = 200.0")
+    text = text.replace("rate_hz = 0.1\n", "rate_hz = 0.1\nbatch = 8\n")
+    camp = loads_campaign(text, "det.toml", model.manifest)
+    out = {}
+    for name, kw in (("one", {"workers": 1}), ("pool", {"workers": 2}), ("dask", {"workers": 2, "dask": "local"})):
+        folder = start_folder(camp, model, tmp_path / name)
+        res = run_campaign(camp, model, folder, **kw)
+        assert res.counts["ok"] == 40, res
+        out[name] = (folder / storage.SUMMARY).read_bytes()
+    assert out["one"] == out["pool"] == out["dask"]
+
+
+def _rpo(*args, **kw) -> subprocess.CompletedProcess:
+    env = {**os.environ, "PYTHONWARNINGS": "default"}
+    return subprocess.run([sys.executable, "-m", "rpo.runtime.cli", *map(str, args)], env=env, capture_output=True,
+                          text=True, timeout=kw.pop("timeout", 300), **kw)
+
+
+def _wait_for(cond, timeout=120.0) -> None:
+    t0 = time.perf_counter()
+    while not cond():
+        assert time.perf_counter() - t0 < timeout, "the campaign did not get there in time"
+        time.sleep(0.005)
+
+
+def test_sigkill_at_any_moment_then_resume_gives_the_same_summary(model, tmp_path):
+    text = CW_CAMPAIGN.replace("runs = 256", "runs = 64").replace("duration = 1500.0", "duration = 3000.0")
+    text = text.replace("rate_hz = 0.1\n", "rate_hz = 0.1\nbatch = 4\n")
+    path = tmp_path / "kill.toml"
+    path.write_text(text)
+    ref = tmp_path / "ref"
+    res = _rpo("mc", "run", path, "--out", ref, "--workers", "2", "-q")
+    assert res.returncode == 0, res.stderr
+    want = (ref / storage.SUMMARY).read_bytes()
+
+    def lines(folder: Path) -> int:
+        try:
+            return (folder / storage.MANIFEST).read_bytes().count(b"\n")
+        except FileNotFoundError:
+            return 0
+
+    def histories(folder: Path) -> int:
+        d = folder / storage.HISTORIES
+        return len(list(d.glob("case_*.parquet"))) if d.is_dir() else 0
+
+    # the moments: as soon as the folder exists (before any run), once a history is written (its
+    # line maybe not), and twice in the middle of the campaign (after 8 and 40 lines)
+    moments = {"folder": lambda f: (f / storage.RESOLVED).exists(), "history": lambda f: histories(f) > 0,
+               "8 lines": lambda f: lines(f) >= 8, "40 lines": lambda f: lines(f) >= 40}
+    for name, cond in moments.items():
+        folder = tmp_path / name.replace(" ", "_")
+        proc = subprocess.Popen([sys.executable, "-m", "rpo.runtime.cli", "mc", "run", str(path), "--out",
+                                 str(folder), "--workers", "2", "-q"], start_new_session=True,
+                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        _wait_for(lambda f=folder, c=cond, p=proc: c(f) or p.poll() is not None)
+        os.killpg(proc.pid, signal.SIGKILL)  # the command and its workers, at once
+        proc.wait()
+        done = len(storage.read_rows(folder))
+        assert done < 64, f"{name}: the campaign finished before the kill"
+        res = _rpo("mc", "resume", folder, "--workers", "2", "-q")
+        assert res.returncode == 0, res.stderr
+        assert (folder / storage.SUMMARY).read_bytes() == want, (name, done)
+        assert not list(folder.rglob(".*.tmp"))
+    # a cut-off last line (a write killed half-way) is ignored and repaired by resume
+    folder = tmp_path / "8_lines"
+    raw = (folder / storage.MANIFEST).read_bytes()
+    (folder / storage.MANIFEST).write_bytes(raw + raw.splitlines()[0][:37])
+    res = _rpo("mc", "resume", folder, "-q")
+    assert res.returncode == 0, res.stderr
+    assert (folder / storage.SUMMARY).read_bytes() == want
+    assert (folder / storage.MANIFEST).read_bytes() == raw
+
+
+def test_resume_refuses_a_changed_campaign_or_model(model, tmp_path):
+    text = CW_CAMPAIGN.replace("runs = 256", "runs = 8").replace("duration = 1500.0", "duration = 20.0")
+    path = tmp_path / "c.toml"
+    path.write_text(text)
+    folder = tmp_path / "mc"
+    assert _rpo("mc", "run", path, "--out", folder, "--workers", "1", "-q").returncode == 0
+    path.write_text(text.replace("std = [2.0, 3.0, 1.5]", "std = [2.0, 3.0, 2.5]"))
+    res = _rpo("mc", "resume", folder)
+    assert res.returncode == 2 and "dispersions[0].params.std[2]: 1.5 then, 2.5 now" in res.stderr, res.stderr
+    path.write_text(text)
+    resolved = json.loads((folder / storage.RESOLVED).read_text())
+    resolved["model_hash"] = "0" * 64
+    (folder / storage.RESOLVED).write_text(json.dumps(resolved))
+    res = _rpo("mc", "resume", folder)
+    assert res.returncode == 2 and "the model changed" in res.stderr, res.stderr
+
+
+def test_diverging_and_invalid_draws_are_recorded_and_the_campaign_goes_on(model, tmp_path):
+    # a relative speed above 1e8 m / 3000 s = 33 km/s carries |r| past the divergence bound (1e8 m)
+    # before the end: a divergence in the middle of the run, not a refused input
+    text = BASE.replace("duration = 1500.0", "duration = 3000.0") + """
+[campaign]
+runs = 32
+seed = 2
+rate_hz = 0.01
+[dispersions.relative.velocity]
+dist = "uniform"
+low = [0.0, 0.0, 0.0]
+high = [6.0e4, 0.0, 0.0]
+[dispersions.chaser.mass]
+dist = "normal"
+mean = 3.0
+std = 3.0
+"""
+    camp = loads_campaign(text, "div.toml", model.manifest)
+    folder = start_folder(camp, model, tmp_path / "mc")
+    out = run_campaign(camp, model, folder, workers=2)
+    rows = storage.read_rows(folder)
+    assert len(rows) == 32 and out.missing == []
+    c = out.counts
+    assert c["diverged"] > 0 and c["ok"] > 0 and c["invalid"] > 0 and c["error"] == 0, c
+    for r in rows.values():
+        mass = r["draws"]["draw.chaser.mass"]
+        if r["status"] == "invalid":
+            # a refused draw: told why, never clipped (the drawn value is kept as drawn) nor flown
+            assert mass < 0.01 and "chaser.mass" in r["message"], r["message"]
+            assert not storage.history_path(folder, r["case"]).exists()
+        else:
+            assert mass >= 0.01
+        if r["status"] == "diverged":
+            assert "diverged in step" in r["message"] and r["outcome"]["diverged"] and r["outcome"]["failed"]
+            step = int(r["message"].split("diverged in step ")[1].split()[0])
+            assert 100 < step < 3000  # in the middle of the run
+            cols, _, _ = storage.read_history(folder, r["case"])
+            assert cols["t"][-1] < 3000.0  # its history ends where it stopped
+    table = pq.read_table(folder / storage.SUMMARY)
+    assert table.column("status").to_pylist().count("invalid") == c["invalid"]
+
+
+BAD = {
+    "unknown key": ('[dispersions.relative.positon]\ndist = "normal"\nstd = 1.0\n', "dispersions.relative.positon"),
+    "unknown distribution": ('[dispersions.chaser.mass]\ndist = "gaussian"\nstd = 1.0\n', "unknown distribution"),
+    "negative spread": ('[dispersions.chaser.mass]\ndist = "normal"\nstd = -1.0\n', "dispersions.chaser.mass.std"),
+    "empty truncation": ('[dispersions.chaser.mass]\ndist = "normal"\nstd = 1.0\nlow = 200.0\nhigh = 300.0\n',
+                         "excludes everything"),
+    "bad shape": ('[dispersions.chaser.mass]\ndist = "lognorm"\nshapes = { k = 1.0 }\n', "shapes.k"),
+    "runs = 0": ("", "campaign.runs"),
+    "fixed section": ('[dispersions.simulation.duration]\ndist = "uniform"\nlow = 1.0\nhigh = 2.0\n',
+                      "dispersions.simulation.duration"),
+}
+
+
+@pytest.mark.parametrize("case", list(BAD))
+def test_bad_campaign_is_one_line_exit_2_and_writes_nothing(tmp_path, case):
+    extra, needle = BAD[case]
+    text = BASE + "\n[campaign]\nruns = " + ("0" if case == "runs = 0" else "10") + "\n" + extra
+    path = tmp_path / "bad.toml"
+    path.write_text(text)
+    res = _rpo("mc", "run", path, "--out", tmp_path / "out")
+    assert res.returncode == 2, res.stderr
+    lines = res.stderr.strip().splitlines()
+    assert len(lines) == 1 and lines[0].startswith("error: ") and needle in lines[0], res.stderr
+    assert "Traceback" not in res.stderr
+    assert not (tmp_path / "out").exists()
+
+
+def test_bad_campaign_in_python(model):
+    with pytest.raises(CampaignError, match=r"dispersions\.orbit\.eccentricity\.low = -1\.0: .*excludes"):
+        loads_campaign(BASE + '[campaign]\nruns = 3\n[dispersions.orbit.eccentricity]\ndist = "normal"\n'
+                              'std = 0.001\nlow = -1.0\nhigh = -0.5\n', "x", model.manifest)
+    with pytest.raises(CampaignError, match="median"):  # almost every draw would be refused
+        loads_campaign(BASE + '[campaign]\nruns = 3\n[dispersions.chaser.mass]\ndist = "uniform"\n'
+                              'low = -10.0\nhigh = -1.0\n', "x", model.manifest)
+
+
+def test_one_case_flown_alone_is_the_campaigns_run(model, tmp_path):
+    text = CW_CAMPAIGN.replace("runs = 256", "runs = 12").replace("duration = 1500.0", "duration = 100.0")
+    path = tmp_path / "c.toml"
+    path.write_text(text)
+    folder = tmp_path / "mc"
+    assert _rpo("mc", "run", path, "--out", folder, "-q").returncode == 0
+    res = _rpo("run", "--campaign", folder, "--case", 7, "--no-plots")
+    assert res.returncode == 0, res.stderr
+    assert "the campaign's run, bit for bit" in res.stdout
+    case_dir = folder / "cases" / "case_000007"
+    assert (case_dir / "timeseries.parquet").exists()
+    # its scenario.toml is the case's scenario: flying it again gives the same run
+    rerun = _rpo("run", case_dir / "scenario.toml", "--out", tmp_path / "rerun", "--no-plots", "-q")
+    assert rerun.returncode == 0, rerun.stderr
+    a = pq.read_table(case_dir / "timeseries.parquet")
+    b = pq.read_table(tmp_path / "rerun" / "timeseries.parquet")
+    assert a.column("r_x").to_pylist() == b.column("r_x").to_pylist()
+    bad = _rpo("run", "--campaign", folder, "--case", 12)
+    assert bad.returncode == 2 and "--case 12: must be in [0, 11]" in bad.stderr
