@@ -11,7 +11,7 @@ Reads what the campaign runner writes (pyarrow and NumPy only; no pandas):
   ``err_att_rad``, ``err_pos_m``, ``h_w_norm``...).
 
 :func:`write_report` writes the report; :func:`summary_table` and :func:`case_history` give the
-columns as NumPy arrays.  Conventions of the report (also in ``docs/campaigns_statistics.md``):
+columns as NumPy arrays.  Conventions of the report (also in ``docs/campaigns.md``):
 
 * **flown** runs are those with status ``ok`` or ``diverged``; rates (failed, not settled,
   diverged, constraint violated) are over the flown runs, invalid draws and worker errors over
@@ -411,7 +411,7 @@ def write_report(campaign_dir: str | Path, out: str | Path | None = None, covera
     # ---------------------------------------------------------------- header
     r = c.resolved
     L.append(f"- folder: `{cdir}`")
-    for key, label in (("scenario", "scenario"), ("controller", "controller"), ("campaign_file", "campaign file")):
+    for key, label in (("scenario_file", "scenario"), ("controller", "controller"), ("campaign_file", "campaign file")):
         if r.get(key):
             L.append(f"- {label}: `{r[key]}`")
     if r.get("duration_s") is not None:

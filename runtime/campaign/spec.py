@@ -110,6 +110,8 @@ class Campaign:
     dispersions: list[Dispersion]
     manifest: dict = field(repr=False, default_factory=dict)
     overrides: dict[str, Any] = field(default_factory=dict)
+    #: the scenario file the campaign extends (itself when it extends none)
+    base: str = ""
 
     # -- identity ----------------------------------------------------------------------------
 
@@ -118,6 +120,7 @@ class Campaign:
         sim = self.scenario_data.get("simulation", {})
         return {
             "format": FORMAT, "name": self.name, "campaign_file": _absolute(self.source),
+            "scenario_file": _absolute(self.base or self.source),
             "runs": self.settings.runs, "sampling": self.settings.sampling, "seed": self.settings.seed,
             "record_every": int(sim.get("record_every", 1)), "channels": list(self.channels),
             "controller": sim.get("controller", "baseline"), "duration_s": float(sim["duration"]),
@@ -131,7 +134,7 @@ class Campaign:
     def hash(self) -> str:
         """sha256 of :meth:`resolved` without the file's path (canonical JSON): equal hashes, equal
         runs (with the same model), wherever the file lies."""
-        body = {k: v for k, v in self.resolved().items() if k != "campaign_file"}
+        body = {k: v for k, v in self.resolved().items() if k not in ("campaign_file", "scenario_file")}
         return hashlib.sha256(json.dumps(body, sort_keys=True, separators=(",", ":")).encode()).hexdigest()
 
     @property
@@ -283,7 +286,9 @@ def load_campaign(path: str | Path | ScenarioSource, manifest: dict | None = Non
         manifest = read_manifest()
     src = path if isinstance(path, ScenarioSource) else read_scenario(path)
     data = copy.deepcopy(src.data)
-    return campaign_from_table(data, src.source, src.text, manifest, runs=runs, duration=duration)
+    camp = campaign_from_table(data, src.source, src.text, manifest, runs=runs, duration=duration)
+    camp.base = str(src.bases[0]) if src.bases else src.source
+    return camp
 
 
 def loads_campaign(text: str, source: str = "campaign", manifest: dict | None = None, **kw: Any) -> Campaign:
@@ -401,4 +406,5 @@ def campaign_from_resolved(resolved: dict, manifest: dict) -> Campaign:
     disps = [Dispersion(key=d["key"], dist=d["dist"], params=d["params"], nominal=d["nominal"], unit=d["unit"],
                         size=d["size"]) for d in resolved["dispersions"]]
     return Campaign(name=resolved["name"], source=resolved["campaign_file"], text="", settings=settings,
-                    scenario_data=data, dispersions=disps, manifest=manifest, overrides=resolved.get("overrides", {}))
+                    scenario_data=data, dispersions=disps, manifest=manifest, overrides=resolved.get("overrides", {}),
+                    base=resolved.get("scenario_file", ""))
