@@ -891,6 +891,9 @@ class Model:
         self._controllers = None if controllers is None else sorted(set(controllers))
         self._log = log
         self._lanes: LaneLibrary | None = None
+        #: layout name -> (field -> (offset, size), packed defaults, fields without a default, size)
+        self._packing: dict[str, tuple[dict[str, tuple[int, int]], np.ndarray, list[str], int]] = {}
+        self._bad_defaults: dict[str, list[str]] = {}
         for f in functions.values():
             if isinstance(f, CompiledFunction):
                 f._model = self
@@ -939,12 +942,28 @@ class Model:
     def layout_size(self, name: str) -> int:
         return sum(f["size"] for f in self.layouts[name])
 
+    def _pack(self, name: str) -> tuple[dict[str, tuple[int, int]], np.ndarray, list[str], int]:
+        """The packing of a layout, made once (a campaign packs thousands of vectors)."""
+        info = self._packing.get(name)
+        if info is None:
+            offs, i, missing = {}, 0, []
+            for f in self.layouts[name]:
+                offs[f["name"]] = (i, int(f["size"]))
+                i += int(f["size"])
+            base = np.zeros(i)
+            for f in self.layouts[name]:
+                a, n = offs[f["name"]]
+                if "default" in f and len(f["default"]) == n:
+                    base[a:a + n] = np.array(f["default"], float)
+                elif "default" in f:
+                    self._bad_defaults.setdefault(name, []).append(f["name"])
+                else:
+                    missing.append(f["name"])
+            info = self._packing[name] = (offs, base, missing, i)
+        return info
+
     def offsets(self, name: str) -> dict[str, slice]:
-        out, i = {}, 0
-        for f in self.layouts[name]:
-            out[f["name"]] = slice(i, i + f["size"])
-            i += f["size"]
-        return out
+        return {k: slice(a, a + n) for k, (a, n) in self._pack(name)[0].items()}
 
     def labels(self, name: str) -> list[str]:
         return [lbl for f in self.layouts[name] for lbl in f["labels"]]
@@ -957,21 +976,27 @@ class Model:
 
     def vector(self, name: str, values: dict | None = None) -> np.ndarray:
         """Pack a layout from defaults overridden by ``values`` (by field name)."""
-        values = dict(values or {})
-        out = []
-        for f in self.layouts[name]:
-            if f["name"] in values:
-                v = np.atleast_1d(np.asarray(values.pop(f["name"]), float)).ravel()
-            elif "default" in f:
-                v = np.array(f["default"], float)
-            else:
-                raise ModelError(f"{name}.{f['name']} has no default and was not given")
-            if v.size != f["size"]:
-                raise ModelError(f"{name}.{f['name']} needs {f['size']} values, got {v.size}")
-            out.append(v)
-        if values:
-            raise ModelError(f"unknown {name} fields: {', '.join(sorted(values))}")
-        return np.concatenate(out) if out else np.zeros(0)
+        offs, base, no_default, _size = self._pack(name)
+        bad = self._bad_defaults.get(name, [])
+        values = values or {}
+        for f in no_default:
+            if f not in values:
+                raise ModelError(f"{name}.{f} has no default and was not given")
+        out = base.copy()
+        given = sorted((offs[k][0], k) for k in values if k in offs)
+        for a, k in given:
+            n = offs[k][1]
+            v = np.atleast_1d(np.asarray(values[k], float)).ravel()
+            if v.size != n:
+                raise ModelError(f"{name}.{k} needs {n} values, got {v.size}")
+            out[a:a + n] = v
+        unknown = [k for k in values if k not in offs]
+        if unknown:
+            raise ModelError(f"unknown {name} fields: {', '.join(sorted(unknown))}")
+        for f in bad:  # a default of the wrong size (a hand-edited manifest), used: refused as before
+            if f not in values:
+                raise ModelError(f"{name}.{f} needs {offs[f][1]} values, got its default's")
+        return out
 
     @property
     def run_function(self):

@@ -311,10 +311,12 @@ def chatter(t: np.ndarray, u: np.ndarray, deadband: float = 0.0) -> tuple[float,
 
 def compute_metrics(t: ArrayLike, columns: Mapping[str, np.ndarray], thresholds: Mapping[str, float] | None = None, *,
                     goal: ArrayLike | None = None, error_times: Iterable[float] = (),
-                    params: Mapping[str, Any] | None = None) -> dict[str, Any]:
+                    params: Mapping[str, Any] | None = None, per_unit: bool = True) -> dict[str, Any]:
     """All metrics of one run (see the module docstring); ``goal`` is the goal position [m] used
     when the controller logs no ``ctrl_pos_err``; ``error_times`` adds ``errors_at``; ``params``
-    (the run's parameters by name, SI) give the actuator limits of the per-unit use."""
+    (the run's parameters by name, SI) give the actuator limits of the per-unit use;
+    ``per_unit=False`` leaves ``per_wheel`` / ``per_thruster`` None (a campaign's summary keeps
+    the scalar metrics only, and the per-unit lists are a fifth of the time)."""
     th = {**DEFAULT_THRESHOLDS, **(thresholds or {})}
     t = np.asarray(t, float)
     m: dict = {k: None for k in UNITS}
@@ -379,8 +381,11 @@ def compute_metrics(t: ArrayLike, columns: Mapping[str, np.ndarray], thresholds:
         else:
             unavailable[f"chatter_{g}_sign_changes_per_s"] = unavailable[f"chatter_{g}_tv_per_s"]
 
-    m["per_wheel"], m["per_thruster"], why = unit_use(t, columns, params)
-    unavailable.update(why)
+    if per_unit:
+        m["per_wheel"], m["per_thruster"], why = unit_use(t, columns, params)
+        unavailable.update(why)
+    else:
+        m["per_wheel"] = m["per_thruster"] = None
 
     settled = [m[f"{q}_settling_time_s"] for q in ("att", "pos") if q in sig]
     m["converged"] = bool(settled) and all(s is not None for s in settled)

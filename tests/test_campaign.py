@@ -269,6 +269,7 @@ def _wait_for(cond, timeout=120.0) -> None:
         time.sleep(0.005)
 
 
+@pytest.mark.slow  # ~30 s: five campaigns of 64 runs as subprocesses
 def test_sigkill_at_any_moment_then_resume_gives_the_same_summary(model, tmp_path):
     text = CW_CAMPAIGN.replace("runs = 256", "runs = 64").replace("duration = 1500.0", "duration = 3000.0")
     text = text.replace("rate_hz = 0.1\n", "rate_hz = 0.1\nbatch = 4\n")
@@ -389,18 +390,31 @@ BAD = {
 }
 
 
+def _bad_text(case: str) -> str:
+    extra, _ = BAD[case]
+    return BASE + "\n[campaign]\nruns = " + ("0" if case == "runs = 0" else "10") + "\n" + extra
+
+
 @pytest.mark.parametrize("case", list(BAD))
+def test_bad_campaign_is_refused_naming_the_key(model, case):
+    with pytest.raises(CampaignError) as exc:
+        loads_campaign(_bad_text(case), "bad.toml", model.manifest)
+    msg = str(exc.value)
+    assert BAD[case][1] in msg and "\n" not in msg and msg.startswith("bad.toml: "), msg
+
+
+@pytest.mark.parametrize("case", ["unknown key", "runs = 0"])
 def test_bad_campaign_is_one_line_exit_2_and_writes_nothing(tmp_path, case):
-    extra, needle = BAD[case]
-    text = BASE + "\n[campaign]\nruns = " + ("0" if case == "runs = 0" else "10") + "\n" + extra
     path = tmp_path / "bad.toml"
-    path.write_text(text)
+    path.write_text(_bad_text(case))
     res = _rpo("mc", "run", path, "--out", tmp_path / "out")
     assert res.returncode == 2, res.stderr
     lines = res.stderr.strip().splitlines()
-    assert len(lines) == 1 and lines[0].startswith("error: ") and needle in lines[0], res.stderr
+    assert len(lines) == 1 and lines[0].startswith("error: ") and BAD[case][1] in lines[0], res.stderr
     assert "Traceback" not in res.stderr
     assert not (tmp_path / "out").exists()
+    res = _rpo("mc", "run", path, "--out", tmp_path / "out", "--runs", "0")
+    assert res.returncode == 2 and "--runs" in res.stderr and "Traceback" not in res.stderr
 
 
 def test_bad_campaign_in_python(model):
@@ -431,3 +445,34 @@ def test_one_case_flown_alone_is_the_campaigns_run(model, tmp_path):
     assert a.column("r_x").to_pylist() == b.column("r_x").to_pylist()
     bad = _rpo("run", "--campaign", folder, "--case", 12)
     assert bad.returncode == 2 and "--case 12: must be in [0, 11]" in bad.stderr
+
+
+def test_report_of_a_campaign_folder(cw_folder):
+    from rpo.runtime.campaign import load_history, load_summary
+    from rpo.runtime.campaign.report import write_report
+
+    folder, camp = cw_folder
+    path = write_report(folder, figures=False)
+    text = path.read_text()
+    assert f"runs requested: {camp.runs}; done: {camp.runs}" in text and "## Failure rates" in text
+    df = load_summary(folder)  # the Python API: pandas
+    assert len(df) == camp.runs and list(df["case"]) == list(range(camp.runs))
+    assert df.attrs["units"]["pos_err_final_m"] == "m"
+    h = load_history(folder, 3)
+    assert h["t"].iloc[-1] == 1500.0 and "err_pos_m" in h.columns
+
+
+@pytest.mark.slow  # a Dask cluster of its own: ~10 s
+def test_dask_scheduler_address_gives_the_same_summary(model, tmp_path):
+    from dask.distributed import LocalCluster
+
+    text = CW_CAMPAIGN.replace("runs = 256", "runs = 24").replace("duration = 1500.0", "duration = 100.0")
+    camp = loads_campaign(text.replace("rate_hz = 0.1\n", "rate_hz = 0.1\nbatch = 8\n"), "addr.toml",
+                          model.manifest)
+    one = start_folder(camp, model, tmp_path / "one")
+    run_campaign(camp, model, one, workers=1)
+    with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster:
+        folder = start_folder(camp, model, tmp_path / "addr")
+        out = run_campaign(camp, model, folder, workers=2, dask=cluster.scheduler_address)
+    assert out.counts["ok"] == 24
+    assert (folder / storage.SUMMARY).read_bytes() == (one / storage.SUMMARY).read_bytes()

@@ -2,9 +2,10 @@
 
 * ```python blocks run in order in one namespace, in the checkout (as a reader pastes them);
 * every ``rpo`` command of the ```sh blocks (``.venv/bin/rpo`` too, each part of a ``&&`` chain,
-  ``[...]`` optional parts taken as given) is parsed by the command's own options; ``rpo run``
-  also runs, with ``--duration 0.5 --no-plots`` into a temporary folder, and must end with its
-  verdict; ``rpo validate`` runs;
+  ``[...]`` optional parts taken as given) is parsed by the command's own options (a group's by
+  its subcommand's); ``rpo run`` also runs, with ``--duration 0.5 --no-plots`` into a temporary
+  folder, and must end with its verdict (``rpo run --campaign DIR --case N``: after a small
+  campaign of ``scenarios/campaigns/000_III_mc.toml`` made for it); ``rpo validate`` runs;
 * a block preceded by the line ``<!-- readme-test: no-run -->`` is not run (the installs);
   its ``rpo`` commands are still parsed and run as above (nothing is installed);
 * the verdicts the README quotes (```text blocks starting with ``verdict:``) are what the full runs
@@ -95,7 +96,11 @@ def test_rpo_shell_lines_parse_and_run(line, args, tmp_path, monkeypatch, capsys
     assert name in cli.commands, f"README.md:{line}: no rpo command {name!r}"
     cmd = cli.commands[name]
     try:
-        cmd.make_context(name, list(rest))  # parses every option and argument, runs nothing
+        if isinstance(cmd, click.Group):  # rpo mc run ...: the subcommand's own options
+            assert rest and rest[0] in cmd.commands, f"README.md:{line}: no rpo {name} {rest[:1]}"
+            cmd.commands[rest[0]].make_context(rest[0], list(rest[1:]))
+        else:
+            cmd.make_context(name, list(rest))  # parses every option and argument, runs nothing
     except click.ClickException as exc:
         pytest.fail(f"README.md:{line}: rpo {' '.join(args)}: {exc.format_message()}")
     for tok in rest:
@@ -103,7 +108,14 @@ def test_rpo_shell_lines_parse_and_run(line, args, tmp_path, monkeypatch, capsys
             assert (ROOT / tok).is_file(), f"README.md:{line}: {tok} does not exist"
     if name not in RUN:
         return
-    if name == "run":
+    if name == "run" and "--campaign" in rest:
+        # one case of a campaign: fly a small campaign of the README's file first (enough cases)
+        case = int(rest[rest.index("--case") + 1])
+        folder = tmp_path / "mc"
+        assert main(["mc", "run", "scenarios/campaigns/000_III_mc.toml", "--out", str(folder), "--runs",
+                     str(case + 1), "--duration", "0.5", "-q"]) == 0
+        rest = ["--campaign", str(folder), "--case", str(case), "--no-plots", "--out", str(tmp_path / "run")]
+    elif name == "run":
         drop = {"--out", "--duration"}
         kept, skip = [], False
         for tok in rest:

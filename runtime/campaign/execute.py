@@ -198,7 +198,7 @@ def run_row(camp: Campaign, model: Any, inputs: Any, res: Any) -> tuple[dict[str
     cols = {lbl: res.z[:, i] for i, lbl in enumerate(res.z_labels)}
     cols.update({lbl: res.y[:, i] for i, lbl in enumerate(res.y_labels)})
     goal = np.ravel(inputs.gains["r_goal"]) if "r_goal" in inputs.gains else None
-    met = compute_metrics(res.t, cols, goal=goal, params=inputs.params)
+    met = compute_metrics(res.t, cols, goal=goal, params=inputs.params, per_unit=False)
     ver = verdict(met, res.t, cols, inputs.params, res.divergence)
     goals = ver["goals"]
     att, pos = goals["att"]["reached"], goals["pos"]["reached"]

@@ -346,8 +346,15 @@ def campaign_from_table(data: dict, source: str, text: str, manifest: dict, *, r
     data.pop("output", None)  # a campaign writes its own histories (campaign.channels)
     data.pop("reproduction", None)
     dispersions = []
-    for key, spec in _flatten(disp_table):
-        nominal, unit, size = _nominal(key, data, manifest)
+    try:
+        flat = _flatten(disp_table)
+    except CampaignError as exc:
+        raise CampaignError(f"{source}: {exc}") from None
+    for key, spec in flat:
+        try:
+            nominal, unit, size = _nominal(key, data, manifest)
+        except CampaignError as exc:
+            raise CampaignError(f"{source}: {exc}") from None
         if size is None:
             vals = spec.get("values")
             size = len(vals[0]) if isinstance(vals, list) and vals and isinstance(vals[0], list) else 1
