@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_c000: controller half of a step of c000: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_c000' (hash 5c6c0174004eb706736e83d7496d81d9407ffc6d557e549834920546935b7c21),
+ * Produced by `python build.py` from family 'controller_c000' (hash 251e692c1b4319e299da7a10e8fd160df204bb38f054a95ac02f06710c3a09ab),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_c002: controller half of a step of c002: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_c002' (hash dca871bc1c7f2324acd1274b27ac49a96d31973a1ec5c9efd8ac1d86a055b91e),
+ * Produced by `python build.py` from family 'controller_c002' (hash 2e6371e622e0db93a7502e236d5ea180c90efe105c2776c1772a701ea68b56e4),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * ideal_actuators: ideal actuators: per-axis saturated force and torque
- * Produced by `python build.py` from family 'plant' (hash 288b23ff3472d79f70ab3341195311e4940b2dffd072ad3869e4d707539caccc),
+ * Produced by `python build.py` from family 'plant' (hash 4dd1f8891fc03256ab8436c72d889d2094a6519c3f88d6d2adbe0af548756161),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -107,9 +107,9 @@ CASADI_SYMBOL_EXPORT int ideal_actuators_casadi_int_size(void) { return (int) si
 CASADI_SYMBOL_EXPORT int ideal_actuators_casadi_real_size(void) { return (int) sizeof(casadi_real); }
 
 static const casadi_int casadi_s0[3] = {3, 1, 1};
-static const casadi_int casadi_s1[3] = {315, 1, 1};
+static const casadi_int casadi_s1[3] = {375, 1, 1};
 
-/* ideal_actuators:(F[3],tau[3],p[315])->(F_applied[3],tau_applied[3]) */
+/* ideal_actuators:(F[3],tau[3],p[375])->(F_applied[3],tau_applied[3]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0, a1, a2;
   a0=arg[2]? arg[2][20] : 0;

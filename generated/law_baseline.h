@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_baseline: control law of baseline
- * Produced by `python build.py` from family 'controller_baseline' (hash 9b308ea73a98138d7d8d33c5adfa300a026aede8c5233ec7cbaea5d73166cd56),
+ * Produced by `python build.py` from family 'controller_baseline' (hash b1105fe5f6ff5b12833b5546cc08cabcd9cab553c22e7204820d608d1f0f1374),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

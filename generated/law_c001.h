@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c001: control law of c001
- * Produced by `python build.py` from family 'controller_c001' (hash f8d5af369fb9c3ff0227837c297f1b75717cfcbd0a5d86470ac734df070137fe),
+ * Produced by `python build.py` from family 'controller_c001' (hash 86660a56144dfb966a17195effd9a6516ca6852aaa9e68b5f51ef40af59a344b),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

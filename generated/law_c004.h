@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c004: control law of c004
- * Produced by `python build.py` from family 'controller_c004' (hash d2779778424629077549cbbd5fada77050f604b8a8e31ae904c6d58e449ac7d1),
+ * Produced by `python build.py` from family 'controller_c004' (hash b98a2da699885c786d5b270728288bba27d2d15b82f3f32a21ea3a79673cb887),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * measure: truth + sensor noise, bias and faults -> what the controllers read; the sensor hold after it
- * Produced by `python build.py` from family 'plant' (hash 288b23ff3472d79f70ab3341195311e4940b2dffd072ad3869e4d707539caccc),
+ * Produced by `python build.py` from family 'plant' (hash 4dd1f8891fc03256ab8436c72d889d2094a6519c3f88d6d2adbe0af548756161),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -99,11 +99,11 @@ CASADI_SYMBOL_EXPORT int measure_casadi_real_size(void) { return (int) sizeof(ca
 static const casadi_int casadi_s0[3] = {25, 1, 1};
 static const casadi_int casadi_s1[3] = {13, 1, 1};
 static const casadi_int casadi_s2[3] = {1, 1, 1};
-static const casadi_int casadi_s3[3] = {315, 1, 1};
+static const casadi_int casadi_s3[3] = {375, 1, 1};
 static const casadi_int casadi_s4[3] = {18, 1, 1};
 static const casadi_int casadi_s5[3] = {43, 1, 1};
 
-/* measure:(x[25],hold[13],t,p[315],w[18])->(meas[43],hold_next[13]) */
+/* measure:(x[25],hold[13],t,p[375],w[18])->(meas[43],hold_next[13]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
@@ -112,11 +112,11 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a00=1.;
   a01=0.;
   a02=arg[2]? arg[2][0] : 0;
-  a03=arg[3]? arg[3][266] : 0;
+  a03=arg[3]? arg[3][326] : 0;
   a03=(a02-a03);
   a03=(a01<=a03);
   a03=(a00-a03);
-  a04=arg[3]? arg[3][262] : 0;
+  a04=arg[3]? arg[3][322] : 0;
   a04=(a02-a04);
   a04=(a01<=a04);
   a05=(a03*a04);
@@ -129,30 +129,30 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a10=arg[4]? arg[4][6] : 0;
   a10=(a08*a10);
   a11=arg[3]? arg[3][76] : 0;
-  a12=arg[3]? arg[3][274] : 0;
+  a12=arg[3]? arg[3][334] : 0;
   a12=(a02-a12);
   a12=(a01<=a12);
   a12=(a00-a12);
-  a13=arg[3]? arg[3][270] : 0;
+  a13=arg[3]? arg[3][330] : 0;
   a13=(a02-a13);
   a13=(a01<=a13);
   a14=(a12*a13);
   a14=(a00-a14);
   a11=(a11*a14);
-  a14=arg[3]? arg[3][301] : 0;
+  a14=arg[3]? arg[3][361] : 0;
   a14=(a14*a12);
   a14=(a14*a13);
   a11=(a11+a14);
   a10=(a10*a11);
   a09=(a09+a10);
-  a10=arg[3]? arg[3][298] : 0;
+  a10=arg[3]? arg[3][358] : 0;
   a10=(a08*a10);
-  a14=arg[3]? arg[3][258] : 0;
+  a14=arg[3]? arg[3][318] : 0;
   a14=(a02-a14);
   a14=(a01<=a14);
   a14=(a00-a14);
   a10=(a10*a14);
-  a13=arg[3]? arg[3][254] : 0;
+  a13=arg[3]? arg[3][314] : 0;
   a13=(a02-a13);
   a13=(a01<=a13);
   a10=(a10*a13);
@@ -165,7 +165,7 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a15=(a08*a15);
   a15=(a15*a11);
   a12=(a12+a15);
-  a15=arg[3]? arg[3][299] : 0;
+  a15=arg[3]? arg[3][359] : 0;
   a15=(a08*a15);
   a15=(a15*a14);
   a15=(a15*a13);
@@ -178,7 +178,7 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a16=(a08*a16);
   a16=(a16*a11);
   a15=(a15+a16);
-  a16=arg[3]? arg[3][300] : 0;
+  a16=arg[3]? arg[3][360] : 0;
   a16=(a08*a16);
   a16=(a16*a14);
   a16=(a16*a13);
@@ -255,11 +255,11 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a13=(a13*a04);
   a05=(a05+a13);
   if (res[0]!=0) res[0][3]=a05;
-  a13=arg[3]? arg[3][267] : 0;
+  a13=arg[3]? arg[3][327] : 0;
   a13=(a02-a13);
   a13=(a01<=a13);
   a13=(a00-a13);
-  a04=arg[3]? arg[3][263] : 0;
+  a04=arg[3]? arg[3][323] : 0;
   a04=(a02-a04);
   a04=(a01<=a04);
   a03=(a13*a04);
@@ -269,29 +269,29 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a11=(a11+a15);
   a15=arg[4]? arg[4][9] : 0;
   a10=arg[3]? arg[3][77] : 0;
-  a14=arg[3]? arg[3][275] : 0;
+  a14=arg[3]? arg[3][335] : 0;
   a14=(a02-a14);
   a14=(a01<=a14);
   a14=(a00-a14);
-  a12=arg[3]? arg[3][271] : 0;
+  a12=arg[3]? arg[3][331] : 0;
   a12=(a02-a12);
   a12=(a01<=a12);
   a06=(a14*a12);
   a06=(a00-a06);
   a10=(a10*a06);
-  a06=arg[3]? arg[3][305] : 0;
+  a06=arg[3]? arg[3][365] : 0;
   a06=(a06*a14);
   a06=(a06*a12);
   a10=(a10+a06);
   a15=(a15*a10);
   a11=(a11+a15);
-  a15=arg[3]? arg[3][302] : 0;
-  a06=arg[3]? arg[3][259] : 0;
+  a15=arg[3]? arg[3][362] : 0;
+  a06=arg[3]? arg[3][319] : 0;
   a06=(a02-a06);
   a06=(a01<=a06);
   a06=(a00-a06);
   a15=(a15*a06);
-  a12=arg[3]? arg[3][255] : 0;
+  a12=arg[3]? arg[3][315] : 0;
   a12=(a02-a12);
   a12=(a01<=a12);
   a15=(a15*a12);
@@ -308,7 +308,7 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a19=arg[4]? arg[4][10] : 0;
   a19=(a19*a10);
   a09=(a09+a19);
-  a19=arg[3]? arg[3][303] : 0;
+  a19=arg[3]? arg[3][363] : 0;
   a19=(a19*a06);
   a19=(a19*a12);
   a09=(a09+a19);
@@ -324,7 +324,7 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a22=arg[4]? arg[4][11] : 0;
   a22=(a22*a10);
   a21=(a21+a22);
-  a22=arg[3]? arg[3][304] : 0;
+  a22=arg[3]? arg[3][364] : 0;
   a22=(a22*a06);
   a22=(a22*a12);
   a21=(a21+a22);
@@ -348,11 +348,11 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   if (res[0]!=0) res[0][12]=a23;
   a24=arg[0]? arg[0][17] : 0;
   if (res[0]!=0) res[0][13]=a24;
-  a25=arg[3]? arg[3][268] : 0;
+  a25=arg[3]? arg[3][328] : 0;
   a25=(a02-a25);
   a25=(a01<=a25);
   a25=(a00-a25);
-  a26=arg[3]? arg[3][264] : 0;
+  a26=arg[3]? arg[3][324] : 0;
   a26=(a02-a26);
   a26=(a01<=a26);
   a27=(a25*a26);
@@ -362,29 +362,29 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a28=(a28+a29);
   a29=arg[4]? arg[4][12] : 0;
   a30=arg[3]? arg[3][78] : 0;
-  a31=arg[3]? arg[3][276] : 0;
+  a31=arg[3]? arg[3][336] : 0;
   a31=(a02-a31);
   a31=(a01<=a31);
   a31=(a00-a31);
-  a32=arg[3]? arg[3][272] : 0;
+  a32=arg[3]? arg[3][332] : 0;
   a32=(a02-a32);
   a32=(a01<=a32);
   a33=(a31*a32);
   a33=(a00-a33);
   a30=(a30*a33);
-  a33=arg[3]? arg[3][309] : 0;
+  a33=arg[3]? arg[3][369] : 0;
   a33=(a33*a31);
   a33=(a33*a32);
   a30=(a30+a33);
   a29=(a29*a30);
   a28=(a28+a29);
-  a29=arg[3]? arg[3][306] : 0;
-  a33=arg[3]? arg[3][260] : 0;
+  a29=arg[3]? arg[3][366] : 0;
+  a33=arg[3]? arg[3][320] : 0;
   a33=(a02-a33);
   a33=(a01<=a33);
   a33=(a00-a33);
   a29=(a29*a33);
-  a32=arg[3]? arg[3][256] : 0;
+  a32=arg[3]? arg[3][316] : 0;
   a32=(a02-a32);
   a32=(a01<=a32);
   a29=(a29*a32);
@@ -401,7 +401,7 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a31=arg[4]? arg[4][13] : 0;
   a31=(a31*a30);
   a29=(a29+a31);
-  a31=arg[3]? arg[3][307] : 0;
+  a31=arg[3]? arg[3][367] : 0;
   a31=(a31*a33);
   a31=(a31*a32);
   a29=(a29+a31);
@@ -417,7 +417,7 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a34=arg[4]? arg[4][14] : 0;
   a34=(a34*a30);
   a31=(a31+a34);
-  a34=arg[3]? arg[3][308] : 0;
+  a34=arg[3]? arg[3][368] : 0;
   a34=(a34*a33);
   a34=(a34*a32);
   a31=(a31+a34);
@@ -427,11 +427,11 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a31=(a31*a26);
   a27=(a27+a31);
   if (res[0]!=0) res[0][16]=a27;
-  a31=arg[3]? arg[3][269] : 0;
+  a31=arg[3]? arg[3][329] : 0;
   a31=(a02-a31);
   a31=(a01<=a31);
   a31=(a00-a31);
-  a26=arg[3]? arg[3][265] : 0;
+  a26=arg[3]? arg[3][325] : 0;
   a26=(a02-a26);
   a26=(a01<=a26);
   a25=(a31*a26);
@@ -441,29 +441,29 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a34=(a34+a32);
   a32=arg[4]? arg[4][15] : 0;
   a33=arg[3]? arg[3][79] : 0;
-  a30=arg[3]? arg[3][277] : 0;
+  a30=arg[3]? arg[3][337] : 0;
   a30=(a02-a30);
   a30=(a01<=a30);
   a30=(a00-a30);
-  a35=arg[3]? arg[3][273] : 0;
+  a35=arg[3]? arg[3][333] : 0;
   a35=(a02-a35);
   a35=(a01<=a35);
   a36=(a30*a35);
   a36=(a00-a36);
   a33=(a33*a36);
-  a36=arg[3]? arg[3][313] : 0;
+  a36=arg[3]? arg[3][373] : 0;
   a36=(a36*a30);
   a36=(a36*a35);
   a33=(a33+a36);
   a32=(a32*a33);
   a34=(a34+a32);
-  a32=arg[3]? arg[3][310] : 0;
-  a36=arg[3]? arg[3][261] : 0;
+  a32=arg[3]? arg[3][370] : 0;
+  a36=arg[3]? arg[3][321] : 0;
   a36=(a02-a36);
   a36=(a01<=a36);
   a36=(a00-a36);
   a32=(a32*a36);
-  a35=arg[3]? arg[3][257] : 0;
+  a35=arg[3]? arg[3][317] : 0;
   a35=(a02-a35);
   a01=(a01<=a35);
   a32=(a32*a01);
@@ -480,7 +480,7 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a35=arg[4]? arg[4][16] : 0;
   a35=(a35*a33);
   a32=(a32+a35);
-  a35=arg[3]? arg[3][311] : 0;
+  a35=arg[3]? arg[3][371] : 0;
   a35=(a35*a36);
   a35=(a35*a01);
   a32=(a32+a35);
@@ -496,7 +496,7 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a30=arg[4]? arg[4][17] : 0;
   a30=(a30*a33);
   a35=(a35+a30);
-  a30=arg[3]? arg[3][312] : 0;
+  a30=arg[3]? arg[3][372] : 0;
   a30=(a30*a36);
   a30=(a30*a01);
   a35=(a35+a30);

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * pwpf_filter: PWPF prefilter update over dt
- * Produced by `python build.py` from family 'plant' (hash 288b23ff3472d79f70ab3341195311e4940b2dffd072ad3869e4d707539caccc),
+ * Produced by `python build.py` from family 'plant' (hash 4dd1f8891fc03256ab8436c72d889d2094a6519c3f88d6d2adbe0af548756161),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -87,20 +87,20 @@ CASADI_SYMBOL_EXPORT int pwpf_filter_casadi_int_size(void) { return (int) sizeof
 CASADI_SYMBOL_EXPORT int pwpf_filter_casadi_real_size(void) { return (int) sizeof(casadi_real); }
 
 static const casadi_int casadi_s0[3] = {16, 1, 1};
-static const casadi_int casadi_s1[3] = {315, 1, 1};
+static const casadi_int casadi_s1[3] = {375, 1, 1};
 
-/* pwpf_filter:(f[16],duty[16],on[16],p[315])->(f_next[16]) */
+/* pwpf_filter:(f[16],duty[16],on[16],p[375])->(f_next[16]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0, a1, a2, a3, a4;
   a0=arg[0]? arg[0][0] : 0;
   a1=1.;
-  a2=arg[3]? arg[3][133] : 0;
-  a3=arg[3]? arg[3][130] : 0;
+  a2=arg[3]? arg[3][193] : 0;
+  a3=arg[3]? arg[3][190] : 0;
   a2=(a2/a3);
   a2=(-a2);
   a2=exp(a2);
   a1=(a1-a2);
-  a2=arg[3]? arg[3][129] : 0;
+  a2=arg[3]? arg[3][189] : 0;
   a3=arg[1]? arg[1][0] : 0;
   a4=arg[2]? arg[2][0] : 0;
   a3=(a3-a4);

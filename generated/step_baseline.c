@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_baseline: one closed-loop step (plant + baseline + actuators), RK4 over dt: measure, control_baseline, plant_advance
- * Produced by `python build.py` from family 'controller_baseline' (hash 9b308ea73a98138d7d8d33c5adfa300a026aede8c5233ec7cbaea5d73166cd56),
+ * Produced by `python build.py` from family 'controller_baseline' (hash b1105fe5f6ff5b12833b5546cc08cabcd9cab553c22e7204820d608d1f0f1374),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -26,7 +26,7 @@
  *   symbolic/special.py
  *   symbolic/structural_cse.py
  *   symbolic/to_casadi.py
- * Operations: 20498 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 25047 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {
@@ -60,7 +60,7 @@ int plant_advance(const casadi_real** arg, casadi_real** res, casadi_int* iw, ca
 
 static const casadi_int step_baseline_s0[3] = {86, 1, 1};
 static const casadi_int step_baseline_s1[3] = {1, 1, 1};
-static const casadi_int step_baseline_s2[3] = {315, 1, 1};
+static const casadi_int step_baseline_s2[3] = {375, 1, 1};
 static const casadi_int step_baseline_s3[3] = {7, 1, 1};
 static const casadi_int step_baseline_s4[3] = {18, 1, 1};
 static const casadi_int step_baseline_s5[3] = {86, 1, 1};
@@ -176,7 +176,7 @@ CASADI_SYMBOL_EXPORT int step_baseline_work(casadi_int *sz_arg, casadi_int* sz_r
   if (sz_arg) *sz_arg = 5;
   if (sz_res) *sz_res = 2;
   if (sz_iw) *sz_iw = 0;
-  if (sz_w) *sz_w = 1257;
+  if (sz_w) *sz_w = 1401;
   return 0;
 }
 
@@ -185,7 +185,7 @@ CASADI_SYMBOL_EXPORT int step_baseline_work_bytes(casadi_int *sz_arg, casadi_int
   if (sz_arg) *sz_arg = 5*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 2*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
-  if (sz_w) *sz_w = 1257*sizeof(casadi_real);
+  if (sz_w) *sz_w = 1401*sizeof(casadi_real);
   return 0;
 }
 

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c000: one closed-loop step (plant + c000 + actuators), RK4 over dt: measure, control_c000, plant_advance
- * Produced by `python build.py` from family 'controller_c000' (hash 5c6c0174004eb706736e83d7496d81d9407ffc6d557e549834920546935b7c21),
+ * Produced by `python build.py` from family 'controller_c000' (hash 251e692c1b4319e299da7a10e8fd160df204bb38f054a95ac02f06710c3a09ab),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -26,7 +26,7 @@
  *   symbolic/special.py
  *   symbolic/structural_cse.py
  *   symbolic/to_casadi.py
- * Operations: 21519 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 26068 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {
@@ -60,7 +60,7 @@ int plant_advance(const casadi_real** arg, casadi_real** res, casadi_int* iw, ca
 
 static const casadi_int step_c000_s0[3] = {119, 1, 1};
 static const casadi_int step_c000_s1[3] = {1, 1, 1};
-static const casadi_int step_c000_s2[3] = {315, 1, 1};
+static const casadi_int step_c000_s2[3] = {375, 1, 1};
 static const casadi_int step_c000_s3[3] = {43, 1, 1};
 static const casadi_int step_c000_s4[3] = {18, 1, 1};
 static const casadi_int step_c000_s5[3] = {119, 1, 1};
@@ -177,7 +177,7 @@ CASADI_SYMBOL_EXPORT int step_c000_work(casadi_int *sz_arg, casadi_int* sz_res, 
   if (sz_arg) *sz_arg = 5;
   if (sz_res) *sz_res = 2;
   if (sz_iw) *sz_iw = 0;
-  if (sz_w) *sz_w = 1354;
+  if (sz_w) *sz_w = 1498;
   return 0;
 }
 
@@ -186,7 +186,7 @@ CASADI_SYMBOL_EXPORT int step_c000_work_bytes(casadi_int *sz_arg, casadi_int* sz
   if (sz_arg) *sz_arg = 5*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 2*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
-  if (sz_w) *sz_w = 1354*sizeof(casadi_real);
+  if (sz_w) *sz_w = 1498*sizeof(casadi_real);
   return 0;
 }
 

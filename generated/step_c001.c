@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c001: one closed-loop step (plant + c001 + actuators), RK4 over dt: measure, control_c001, plant_advance
- * Produced by `python build.py` from family 'controller_c001' (hash f8d5af369fb9c3ff0227837c297f1b75717cfcbd0a5d86470ac734df070137fe),
+ * Produced by `python build.py` from family 'controller_c001' (hash 86660a56144dfb966a17195effd9a6516ca6852aaa9e68b5f51ef40af59a344b),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -26,7 +26,7 @@
  *   symbolic/special.py
  *   symbolic/structural_cse.py
  *   symbolic/to_casadi.py
- * Operations: 25437 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 29986 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {
@@ -60,7 +60,7 @@ int plant_advance(const casadi_real** arg, casadi_real** res, casadi_int* iw, ca
 
 static const casadi_int step_c001_s0[3] = {98, 1, 1};
 static const casadi_int step_c001_s1[3] = {1, 1, 1};
-static const casadi_int step_c001_s2[3] = {315, 1, 1};
+static const casadi_int step_c001_s2[3] = {375, 1, 1};
 static const casadi_int step_c001_s3[3] = {37, 1, 1};
 static const casadi_int step_c001_s4[3] = {18, 1, 1};
 static const casadi_int step_c001_s5[3] = {98, 1, 1};
@@ -177,7 +177,7 @@ CASADI_SYMBOL_EXPORT int step_c001_work(casadi_int *sz_arg, casadi_int* sz_res, 
   if (sz_arg) *sz_arg = 5;
   if (sz_res) *sz_res = 2;
   if (sz_iw) *sz_iw = 0;
-  if (sz_w) *sz_w = 1307;
+  if (sz_w) *sz_w = 1451;
   return 0;
 }
 
@@ -186,7 +186,7 @@ CASADI_SYMBOL_EXPORT int step_c001_work_bytes(casadi_int *sz_arg, casadi_int* sz
   if (sz_arg) *sz_arg = 5*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 2*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
-  if (sz_w) *sz_w = 1307*sizeof(casadi_real);
+  if (sz_w) *sz_w = 1451*sizeof(casadi_real);
   return 0;
 }
 

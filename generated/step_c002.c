@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c002: one closed-loop step (plant + c002 + actuators), RK4 over dt: measure, control_c002, plant_advance
- * Produced by `python build.py` from family 'controller_c002' (hash dca871bc1c7f2324acd1274b27ac49a96d31973a1ec5c9efd8ac1d86a055b91e),
+ * Produced by `python build.py` from family 'controller_c002' (hash 2e6371e622e0db93a7502e236d5ea180c90efe105c2776c1772a701ea68b56e4),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -26,7 +26,7 @@
  *   symbolic/special.py
  *   symbolic/structural_cse.py
  *   symbolic/to_casadi.py
- * Operations: 23280 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 27829 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {
@@ -60,7 +60,7 @@ int plant_advance(const casadi_real** arg, casadi_real** res, casadi_int* iw, ca
 
 static const casadi_int step_c002_s0[3] = {101, 1, 1};
 static const casadi_int step_c002_s1[3] = {1, 1, 1};
-static const casadi_int step_c002_s2[3] = {315, 1, 1};
+static const casadi_int step_c002_s2[3] = {375, 1, 1};
 static const casadi_int step_c002_s3[3] = {38, 1, 1};
 static const casadi_int step_c002_s4[3] = {18, 1, 1};
 static const casadi_int step_c002_s5[3] = {101, 1, 1};
@@ -177,7 +177,7 @@ CASADI_SYMBOL_EXPORT int step_c002_work(casadi_int *sz_arg, casadi_int* sz_res, 
   if (sz_arg) *sz_arg = 5;
   if (sz_res) *sz_res = 2;
   if (sz_iw) *sz_iw = 0;
-  if (sz_w) *sz_w = 1312;
+  if (sz_w) *sz_w = 1456;
   return 0;
 }
 
@@ -186,7 +186,7 @@ CASADI_SYMBOL_EXPORT int step_c002_work_bytes(casadi_int *sz_arg, casadi_int* sz
   if (sz_arg) *sz_arg = 5*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 2*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
-  if (sz_w) *sz_w = 1312*sizeof(casadi_real);
+  if (sz_w) *sz_w = 1456*sizeof(casadi_real);
   return 0;
 }
 

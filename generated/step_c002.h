@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c002: one closed-loop step (plant + c002 + actuators), RK4 over dt: measure, control_c002, plant_advance
- * Produced by `python build.py` from family 'controller_c002' (hash dca871bc1c7f2324acd1274b27ac49a96d31973a1ec5c9efd8ac1d86a055b91e),
+ * Produced by `python build.py` from family 'controller_c002' (hash 2e6371e622e0db93a7502e236d5ea180c90efe105c2776c1772a701ea68b56e4),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -26,7 +26,7 @@
  *   symbolic/special.py
  *   symbolic/structural_cse.py
  *   symbolic/to_casadi.py
- * Operations: 23280 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 27829 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {

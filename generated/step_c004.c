@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c004: one closed-loop step (plant + c004 + actuators), RK4 over dt: measure, control_c004, plant_advance
- * Produced by `python build.py` from family 'controller_c004' (hash d2779778424629077549cbbd5fada77050f604b8a8e31ae904c6d58e449ac7d1),
+ * Produced by `python build.py` from family 'controller_c004' (hash b98a2da699885c786d5b270728288bba27d2d15b82f3f32a21ea3a79673cb887),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -26,7 +26,7 @@
  *   symbolic/special.py
  *   symbolic/structural_cse.py
  *   symbolic/to_casadi.py
- * Operations: 22247 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 26796 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {
@@ -60,7 +60,7 @@ int plant_advance(const casadi_real** arg, casadi_real** res, casadi_int* iw, ca
 
 static const casadi_int step_c004_s0[3] = {97, 1, 1};
 static const casadi_int step_c004_s1[3] = {1, 1, 1};
-static const casadi_int step_c004_s2[3] = {315, 1, 1};
+static const casadi_int step_c004_s2[3] = {375, 1, 1};
 static const casadi_int step_c004_s3[3] = {30, 1, 1};
 static const casadi_int step_c004_s4[3] = {18, 1, 1};
 static const casadi_int step_c004_s5[3] = {97, 1, 1};
@@ -177,7 +177,7 @@ CASADI_SYMBOL_EXPORT int step_c004_work(casadi_int *sz_arg, casadi_int* sz_res, 
   if (sz_arg) *sz_arg = 5;
   if (sz_res) *sz_res = 2;
   if (sz_iw) *sz_iw = 0;
-  if (sz_w) *sz_w = 1304;
+  if (sz_w) *sz_w = 1448;
   return 0;
 }
 
@@ -186,7 +186,7 @@ CASADI_SYMBOL_EXPORT int step_c004_work_bytes(casadi_int *sz_arg, casadi_int* sz
   if (sz_arg) *sz_arg = 5*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 2*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
-  if (sz_w) *sz_w = 1304*sizeof(casadi_real);
+  if (sz_w) *sz_w = 1448*sizeof(casadi_real);
   return 0;
 }
 

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c004: one closed-loop step (plant + c004 + actuators), RK4 over dt: measure, control_c004, plant_advance
- * Produced by `python build.py` from family 'controller_c004' (hash d2779778424629077549cbbd5fada77050f604b8a8e31ae904c6d58e449ac7d1),
+ * Produced by `python build.py` from family 'controller_c004' (hash b98a2da699885c786d5b270728288bba27d2d15b82f3f32a21ea3a79673cb887),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -26,7 +26,7 @@
  *   symbolic/special.py
  *   symbolic/structural_cse.py
  *   symbolic/to_casadi.py
- * Operations: 22247 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 26796 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * wheel_alloc: pyramid wheel allocation with saturation (inverse of 000 eq. 46), nominal or over the healthy wheels
- * Produced by `python build.py` from family 'plant' (hash 288b23ff3472d79f70ab3341195311e4940b2dffd072ad3869e4d707539caccc),
+ * Produced by `python build.py` from family 'plant' (hash 4dd1f8891fc03256ab8436c72d889d2094a6519c3f88d6d2adbe0af548756161),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * xc0_c000: initial state of c000 from the first measurement
- * Produced by `python build.py` from family 'controller_c000' (hash 5c6c0174004eb706736e83d7496d81d9407ffc6d557e549834920546935b7c21),
+ * Produced by `python build.py` from family 'controller_c000' (hash 251e692c1b4319e299da7a10e8fd160df204bb38f054a95ac02f06710c3a09ab),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -92,10 +92,10 @@ CASADI_SYMBOL_EXPORT int xc0_c000_casadi_int_size(void) { return (int) sizeof(ca
 CASADI_SYMBOL_EXPORT int xc0_c000_casadi_real_size(void) { return (int) sizeof(casadi_real); }
 
 static const casadi_int casadi_s0[3] = {43, 1, 1};
-static const casadi_int casadi_s1[3] = {315, 1, 1};
+static const casadi_int casadi_s1[3] = {375, 1, 1};
 static const casadi_int casadi_s2[3] = {33, 1, 1};
 
-/* xc0_c000:(meas[43],p[315],k[43])->(xc0[33]) */
+/* xc0_c000:(meas[43],p[375],k[43])->(xc0[33]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12;

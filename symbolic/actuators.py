@@ -2,14 +2,16 @@
 
 Values (000 Table 3, via SPEC.md) are parameters with defaults in :mod:`rpo.symbolic.plant`.
 The thruster geometry is not published; rpo's choice is defined here and documented in
-``docs/actuators.md``.
+``docs/actuators.md``.  Misalignment (rpo's model, not the papers'): the plant may rotate each wheel
+axis and each thruster direction by a small rotation (:func:`rotation_offset`), while the
+allocations keep the nominal geometry of this module.
 """
 
 from __future__ import annotations
 
 import sympy as sp
 
-from .rotations import cross
+from .rotations import cross, dot
 from .special import Fmax, fmax
 
 # --------------------------------------------------------------------------- reaction wheels
@@ -19,6 +21,33 @@ def pyramid_matrix(beta):
     """A*: wheel axes in body axes as columns, tilt beta (000 eq. 47)."""
     c, s = sp.cos(beta), sp.sin(beta)
     return sp.Matrix([[c, 0, -c, 0], [0, c, 0, -c], [s, s, s, s]])
+
+
+def rotation_offset(theta, v):
+    """R(theta) v - v: how much a rotation by the rotation vector ``theta`` [rad] moves v.
+
+    rpo's misalignment rotation is the Cayley transform R = (I - [g]x)^-1 (I + [g]x) of the Gibbs
+    vector g = theta / 2, i.e. R = I + 2 / (1 + g.g) ([g]x + [g]x^2): an exact rotation about
+    theta / |theta| by the angle 2 atan(|theta| / 2) = |theta| - |theta|^3 / 12 + ... (the same
+    rotation as the unit quaternion [theta / 2, 1] / |[theta / 2, 1]|, the convention of the
+    attitude bias of :meth:`rpo.symbolic.plant.Plant.measurement`).  Rational in theta (no trig, no
+    branch), smooth at 0, and exactly 0 at theta = 0 in floating point too (every term of the
+    numerator has a factor theta_k; the denominator is then 4), so the true geometry is built as
+    nominal + this offset and a zero misalignment adds exact zeros (x + 0 = x) to the nominal
+    expressions, which keep their bits.
+
+    With g = theta / 2: R v - v = (4 theta x v + 2 theta x (theta x v)) / (4 + theta.theta).
+    """
+    theta, v = sp.Matrix(theta), sp.Matrix(v)
+    tv = cross(theta, v)
+    return (4 * tv + 2 * cross(theta, tv)) / (4 + dot(theta, theta))
+
+
+def wheel_axes_offset(beta, theta):
+    """dA (3 x 4): true wheel axes minus the nominal ones A* (eq. 47); ``theta`` holds the 12
+    components of the four wheels' rotation vectors (wheel 1 x, y, z, wheel 2 x, ...) [rad]."""
+    A = pyramid_matrix(beta)
+    return sp.Matrix.hstack(*[rotation_offset(theta[3 * i:3 * i + 3], A[:, i]) for i in range(4)])
 
 
 def pyramid_pseudo_inverse(beta):
@@ -42,9 +71,11 @@ def allocate_wheel_torques(beta, T_cmd, T_max):
     return T_w / scale
 
 
-def wheel_speeds(h_w, I_w, A, omega):
-    """Wheel spin rates relative to the body, Omega_i = h_i / I_w - a_i . omega [rad/s]."""
-    return h_w / I_w - A.T * omega
+def wheel_speeds(h_w, I_w, A, omega, dA=None):
+    """Wheel spin rates relative to the body, Omega_i = h_i / I_w - a_i . omega [rad/s] (the true
+    axes A + dA when misaligned, :func:`wheel_axes_offset`; dA = 0 gives the nominal bits)."""
+    out = h_w / I_w - A.T * omega
+    return out if dA is None else out - dA.T * omega
 
 
 def speed_limited_torques(T_w, Omega, Omega_max):
@@ -93,6 +124,19 @@ def thruster_wrench_matrix():
     return sp.Matrix.hstack(*cols)
 
 
+def thruster_wrench_offset(theta):
+    """dB (6 x 16): true minus nominal wrench columns of thrusters whose force directions are
+    rotated by the rotation vectors ``theta`` (48: thruster 00 x, y, z, thruster 01 x, ...) [rad];
+    column j = [dd_j; r_j x dd_j] with dd_j = :func:`rotation_offset` of direction j (the thruster
+    stays where it is; its line of action turns about its mounting point)."""
+    pos, dirs = thruster_layout()
+    cols = []
+    for j, (p, d) in enumerate(zip(pos, dirs, strict=True)):
+        dd = rotation_offset(theta[3 * j:3 * j + 3], d)
+        cols.append(sp.Matrix.vstack(dd, cross(p, dd)))
+    return sp.Matrix.hstack(*cols)
+
+
 def thruster_pair_matrix():
     """B8 (6 x 8): the wrench columns of the first thruster of each coaxial pair.
 
@@ -126,6 +170,13 @@ def allocate_thrusters(F_cmd, tau_cmd, F_max):
 def thruster_wrench(on, F_max):
     """Body force [N] and torque [N m] of thrusters firing at levels ``on`` (0 or 1 each)."""
     w = thruster_wrench_matrix() * on * F_max
+    return sp.Matrix(w[0:3]), sp.Matrix(w[3:6])
+
+
+def thruster_wrench_misalignment(on, F_max, theta):
+    """Force [N] and torque [N m] that misaligned thrusters (rotation vectors ``theta``, 48) add
+    to :func:`thruster_wrench`: dB on F_max (:func:`thruster_wrench_offset`), exactly 0 at theta = 0."""
+    w = thruster_wrench_offset(theta) * on * F_max
     return sp.Matrix(w[0:3]), sp.Matrix(w[3:6])
 
 

@@ -31,12 +31,14 @@ from .mass_properties import chaser_mass_properties
 from .relative_attitude import attitude_error, rate_error
 from .relative_translation import chaser_inertial_state, relative_acceleration
 from .rigid_body import (
+    angular_acceleration_offset,
     chaser_angular_acceleration,
     locked_wheel_inertia,
+    locked_wheel_inertia_offset,
     locked_wheel_momentum_rate,
     target_angular_acceleration,
 )
-from .rotations import norm, quat_conj, quat_mul, quat_rate, quat_to_dcm, vec
+from .rotations import cross, norm, quat_conj, quat_mul, quat_rate, quat_to_dcm, vec
 
 INERTIA_COMPONENTS = ("xx", "yy", "zz", "xy", "xz", "yz")
 WHEELS = ("1", "2", "3", "4")
@@ -228,6 +230,17 @@ def _params() -> Layout:
     p.add("wheel_delay", 1, "s", "wheel transport delay", default=0.002,
           bounds=Bounds(0.0, 10.0, why="below the delay line, checked with the step"), scenario=S("wheels.delay"),
           presets=full_default)
+    # misalignment (rpo's model, not 000's): the true wheel axes and thruster directions are the
+    # nominal ones rotated by these rotation vectors (actuators.rotation_offset); the allocations
+    # keep the nominal geometry.  Not in the "full" preset: 000 has none, and --plant full must not
+    # erase a dispersion the scenario sets.
+    misalign = Bounds(-10 * DEG, 10 * DEG, why="a mounting error, not a different layout (real ones are 0.01-1 "
+                      "deg); up to 10 deg per axis the rotation angle, 2 atan(t/2) for t the norm of theta, is "
+                      "within 0.8 % of t")
+    p.add("wheel_misalign", 12, "rad", "wheel spin-axis misalignment: rotation vector of each wheel's true axis "
+          "from its nominal one (Cayley form, actuators.rotation_offset), body axes",
+          tuple(f"{w}_{a}" for w in WHEELS for a in XYZ), default=(0.0,) * 12, bounds=misalign,
+          scenario=S("wheels.misalignment_deg", "deg", DEG))
     # thrusters (000 Table 3)
     p.add("thruster_force", 1, "N", "thrust of one thruster", default=1.0,
           bounds=Bounds(0.0, 1e4, lo_open=True, why="a micro-thruster (mN) to a main engine"),
@@ -236,6 +249,10 @@ def _params() -> Layout:
           bounds=Bounds(1.0, 1e5, why="cold gas (60 s) to ion engines (1e4 s); m_dot = F / (Isp g0)"),
           scenario=S("thrusters.isp"),
           presets=full_default)
+    p.add("thruster_misalign", 48, "rad", "thruster force-direction misalignment: rotation vector of each "
+          "thruster's true direction from its nominal one (Cayley form, about its mounting point), body axes",
+          tuple(f"{j}_{a}" for j in THRUSTERS for a in XYZ), default=(0.0,) * 48, bounds=misalign,
+          scenario=S("thrusters.misalignment_deg", "deg", DEG))
     # u_off < u_on is checked by the runtime (a relation between two fields)
     pwpf_bounds = {"pwpf_km": Bounds(0.0, 1e4, lo_open=True, why="a prefilter gain; 000 uses 10"),
                    "pwpf_tm": Bounds(1e-6, 1e4, why="a time constant (the filter step is exact)"),
@@ -451,18 +468,29 @@ class Plant:
         _q_L, C_IL, n_L, n_dot_L = self.reference_frame(o)
         m_c, I_c = self.mass_properties()
         I_t = inertia_tensor(p["target_inertia"])
+        # the TRUE wheel axes A + dA and thruster directions (misalignment, docs/actuators.md): every
+        # use below is the plant's physics; the allocations (closed_loop.plant_pieces) and the
+        # measured wheel momentum (measurement) keep the nominal A.  Bit-identity at zero: the
+        # nominal expressions are built exactly as without misalignment and the offsets (exactly
+        # 0 at zero) are only ever ADDED to them, never substituted inside a product or a solve,
+        # where SymPy could reorder a sum (a different rounding) or expand it (eq. 6's adjugate).
         A = act.pyramid_matrix(p["wheel_beta"])
+        dA = act.wheel_axes_offset(p["wheel_beta"], p["wheel_misalign"])
         q_c, w_c, h_w = x["q_c"], x["w_c"], x["h_w"]
         q_t = x["q_t"]
         r, v = x["r"], x["v"]
 
-        Omega = act.wheel_speeds(h_w, p["wheel_inertia"], A, w_c)
+        Omega = act.wheel_speeds(h_w, p["wheel_inertia"], A, w_c, dA)
         # motor torques; a locked wheel (u wheel_locked = 1) exerts none of its own but turns with the body
         locked = u["wheel_locked"]
         T_w = act.speed_limited_torques(u["T_w"], Omega, p["wheel_speed_max"])
         T_free = sp.Matrix([(1 - locked[i]) * T_w[i] for i in range(4)])
-        I_locked = locked_wheel_inertia(p["wheel_inertia"], A, locked)
-        F_thr, tau_thr = act.thruster_wrench(u["thr_on"], p["thruster_force"])
+        T_motor = A * T_free + dA * T_free  # the motors' torque on the body (eq. 46, true axes)
+        I_locked0 = locked_wheel_inertia(p["wheel_inertia"], A, locked)
+        dI_locked = locked_wheel_inertia_offset(p["wheel_inertia"], A, dA, locked)
+        F_thr0, tau_thr0 = act.thruster_wrench(u["thr_on"], p["thruster_force"])
+        dF_thr, dtau_thr = act.thruster_wrench_misalignment(u["thr_on"], p["thruster_force"], p["thruster_misalign"])
+        F_thr, tau_thr = F_thr0 + dF_thr, tau_thr0 + dtau_thr
 
         r_c_eci, v_c_eci = chaser_inertial_state(o["r_eci"], o["v_eci"], o["C_IL"], o["n"], r, v)
         C_Ic, C_It = quat_to_dcm(q_c), quat_to_dcm(q_t)
@@ -490,20 +518,28 @@ class Plant:
         F_dist = self.scenario_disturbance("force", o["nu"])
         tau_dist = self.scenario_disturbance("torque", o["nu"])
         F_ctrl = F_thr + u["F_ideal"]
-        a_ctrl = C_IL.T * C_Ic * (F_ctrl + F_dist) / m_c
+        a_ctrl = (C_IL.T * C_Ic * (F_thr0 + u["F_ideal"] + F_dist) / m_c  # nominal thrusters, then their offset
+                  + C_IL.T * C_Ic * dF_thr / m_c)
 
-        M_c = M_gg_c + M_mag_c + M_r_c + tau_thr + u["tau_ideal"] + tau_dist
+        M_c0 = M_gg_c + M_mag_c + M_r_c + tau_thr0 + u["tau_ideal"] + tau_dist
+        M_c = M_c0 + dtau_thr
         M_t = M_gg_t + M_mag_t + M_r_t
-        h_rw = A * h_w
-        w_dot = chaser_angular_acceleration(I_c, w_c, h_rw, A * T_free, M_c, I_locked)
-        T_c = A * T_free - I_locked * w_dot  # the wheels' torque on the body, locked ones included
+        # eq. 6 with the nominal geometry, then the exact change for the true one (rigid_body.py):
+        # right-hand side + db (wheel momentum coupling, motor torques, thruster torques), inertia
+        # + dI_locked
+        w_dot0 = chaser_angular_acceleration(I_c, w_c, A * h_w, A * T_free, M_c0, I_locked0)
+        db = -cross(w_c, dA * h_w) + dA * T_free + dtau_thr
+        w_dot = w_dot0 + angular_acceleration_offset(I_c + I_locked0, dI_locked, db, w_dot0)
+        h_rw = A * h_w + dA * h_w
+        I_locked = I_locked0 + dI_locked
+        T_c = T_motor - I_locked * w_dot  # the wheels' torque on the body, locked ones included
         return {
-            "orbit": o, "m_c": m_c, "I_c": I_c, "I_t": I_t, "A": A, "Omega": Omega, "T_w": T_w,
-            "w_dot": w_dot, "h_w_dot": locked_wheel_momentum_rate(T_w, p["wheel_inertia"], A, locked, w_dot),
+            "orbit": o, "m_c": m_c, "I_c": I_c, "I_t": I_t, "A": A, "dA": dA, "Omega": Omega, "T_w": T_w,
+            "w_dot": w_dot, "h_w_dot": locked_wheel_momentum_rate(T_w, p["wheel_inertia"], A, locked, w_dot, dA),
             "T_c": T_c, "F_thr": F_thr, "tau_thr": tau_thr, "M_c": M_c, "M_t": M_t,
             "M_gg_c": M_gg_c, "M_gg_t": M_gg_t, "M_mag_t": M_mag_t, "a_d": a_d, "a_ctrl": a_ctrl,
             "h_rw": h_rw, "n_L": n_L, "n_dot_L": n_dot_L, "C_IL": C_IL, "C_Ic": C_Ic,
-            "F_ctrl": F_ctrl, "tau_ctrl": A * T_free + tau_thr + u["tau_ideal"], "F_dist": F_dist, "tau_dist": tau_dist,
+            "F_ctrl": F_ctrl, "tau_ctrl": T_motor + tau_thr + u["tau_ideal"], "F_dist": F_dist, "tau_dist": tau_dist,
         }
 
     def rhs(self) -> sp.Matrix:
@@ -559,6 +595,8 @@ class Plant:
             "q_c": q_c, "w_c": w_c, "q_t": x["q_t"], "w_t": x["w_t"],
             "r": out["pos"], "v": out["vel"],
             "q_L": q_L, "n": n_L, "n_dot": n_dot_L, "r_t": o["r"], "r_t_dot": g * o["r_dot"], "nu": o["nu"],
+            # what the flight software computes from the wheels' momenta: the NOMINAL axes (it does
+            # not know the misalignment; the plant's h_rw uses the true ones)
             "h_rw": act.pyramid_matrix(p["wheel_beta"]) * x["h_w"],
             "q_e": q_e,
             "w_e": rate_error(q_e, w_c, x["w_t"]),

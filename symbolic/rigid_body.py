@@ -48,9 +48,46 @@ def locked_wheel_inertia(I_w, A, locked):
     return I_w * A * sp.diag(*locked) * A.T
 
 
-def locked_wheel_momentum_rate(T_w, I_w, A, locked, omega_dot):
-    """dh_w/dt [N m]: -T_w for a free wheel (eq. 6), I_w a_i . omega_dot for a locked one."""
+def locked_wheel_inertia_offset(I_w, A, dA, locked):
+    """:func:`locked_wheel_inertia` of the true axes A + dA minus that of the nominal A [kg m^2]
+    (misalignment): I_w (A L dA^T + dA L A^T + dA L dA^T), L = diag(locked); exactly 0 when dA = 0."""
+    L = sp.diag(*locked)
+    return I_w * (A * L * dA.T + dA * L * A.T + dA * L * dA.T)
+
+
+def solve3_explicit(M, b):
+    """M^{-1} b by the cofactor formulas written out (a d - b c per minor).
+
+    For a matrix whose entries are long sums: SymPy's adjugate (:func:`solve3`) simplifies each
+    minor with ``cancel``, which expands such entries into very large polynomials.
+    """
+    def cof(i, j):
+        r = [k for k in range(3) if k != i]
+        c = [k for k in range(3) if k != j]
+        return (-1) ** (i + j) * (M[r[0], c[0]] * M[r[1], c[1]] - M[r[0], c[1]] * M[r[1], c[0]])
+
+    adj = sp.Matrix(3, 3, lambda i, j: cof(j, i))
+    det = M[0, 0] * adj[0, 0] + M[0, 1] * adj[1, 0] + M[0, 2] * adj[2, 0]
+    return adj * b / det
+
+
+def angular_acceleration_offset(J, dJ, db, omega_dot0):
+    """delta with (J + dJ)(omega_dot0 + delta) = J omega_dot0 + db, exactly: the change of
+    omega_dot [rad/s^2] when the inertia of eq. 6 changes by dJ and its right-hand side by db
+    (misaligned wheels and thrusters), from the nominal solution omega_dot0 of J omega_dot0 = b.
+
+    delta = (J + dJ)^{-1} (db - dJ omega_dot0), which is exactly 0 (bit for bit) when dJ and db
+    are, so omega_dot0 + delta keeps the nominal bits at zero misalignment.
+    """
+    return solve3_explicit(J + dJ, db - dJ * omega_dot0)
+
+
+def locked_wheel_momentum_rate(T_w, I_w, A, locked, omega_dot, dA=None):
+    """dh_w/dt [N m]: -T_w for a free wheel (eq. 6), I_w a_i . omega_dot for a locked one (true
+    axes A + dA, as :func:`locked_wheel_inertia`)."""
     turn = A.T * omega_dot
+    if dA is not None:
+        turn = turn + dA.T * omega_dot
     return sp.Matrix([-(1 - locked[i]) * T_w[i] + locked[i] * I_w * turn[i] for i in range(len(T_w))])
 
 

@@ -90,6 +90,8 @@ class Inputs:
                 p[s] = g.uniform(0, 0.01, f["size"])
             elif f["name"].startswith(("meas_", "dist_")):
                 p[s] = g.uniform(0, 0.01, f["size"])
+            elif f["name"].endswith("_misalign"):
+                p[s] = g.uniform(-0.1, 0.1, f["size"])  # rad, within the +-10 deg bounds
             elif f["name"] in ("dt", "wheel_delay", "pwpf_uon", "pwpf_uoff"):
                 continue
             elif f["name"] == "orbit_e":
