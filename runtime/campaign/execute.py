@@ -86,7 +86,9 @@ def fly_batch(resolved: dict, key: str, cases: Sequence[int], folder: str,
     try:
         model = model if model is not None else worker_model(resolved["controller"])
         camp = _campaign(resolved, model.manifest, key)
-        return _fly(camp, model, list(cases), Path(folder))
+        from ..scenario.params import unchanging
+        with unchanging(model.manifest):  # the loaded model's manifest: parsed once for the whole batch
+            return _fly(camp, model, list(cases), Path(folder))
     except Exception as exc:  # the whole task failed: its runs are recorded as errors, resume re-flies them
         msg = f"{type(exc).__name__}: {exc}".splitlines()[0]
         return [{"case": int(c), "seed": run_seed_of(resolved, c), "status": "error", "message": msg,
@@ -294,10 +296,17 @@ def fly_cases(camp: Campaign, model: Any, folder: Path, cases: Sequence[int], *,
 
 def _pool(resolved, key, tasks, folder, workers, record, stop) -> bool:
     import multiprocessing
+    import threading
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
-
     methods = multiprocessing.get_all_start_methods()
-    ctx = multiprocessing.get_context("fork" if "fork" in methods else "spawn")
+    # fork: the workers start with the model and the lane library already loaded (no import, no
+    # load); but forking a process that runs other threads (a Dask client's event loop, say) can
+    # copy a lock held by one of them, so then a clean forkserver or spawn start instead
+    if "fork" in methods and threading.active_count() == 1:
+        method = "fork"
+    else:
+        method = "forkserver" if "forkserver" in methods else "spawn"
+    ctx = multiprocessing.get_context(method)
     pool = ProcessPoolExecutor(max_workers=min(workers, len(tasks)), mp_context=ctx,
                                initializer=_init_worker, initargs=(os.environ.get("RPO_CACHE_DIR"),))
     pending = {pool.submit(fly_batch, resolved, key, t, str(folder)): t for t in tasks}
@@ -319,6 +328,7 @@ def _init_worker(cache: str | None) -> None:
     # the parent decides what a signal means (stop dispatching, keep what came back); a worker
     # killed with the pool is its runs left to resume
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)  # not the parent's handler: a worker told to stop, stops
     if cache is not None:
         os.environ["RPO_CACHE_DIR"] = cache
 

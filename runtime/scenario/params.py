@@ -18,7 +18,8 @@ knows a parameter by name.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
+from contextlib import contextmanager
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -207,29 +208,47 @@ class ScenarioParam:
         return all(self.bounds.contains(float(v)) for v in si)
 
 
-#: (id of a layout's field list) -> (that list, its parsed entries): a validation reads them many
-#: times, and a campaign validates thousands of scenarios; the list itself is kept and compared by
-#: identity, so an id reused after the list is freed cannot hit.
-_PARSED: dict[tuple[int, str], tuple[list, Any]] = {}
+#: Manifests declared unchanging (:func:`unchanging`): id -> (the manifest, its parsed entries).
+_FROZEN: dict[int, tuple[dict, dict]] = {}
 
 
-def _cached(fields: list, what: str, make):
-    key = (id(fields), what)
-    hit = _PARSED.get(key)
-    if hit is not None and hit[0] is fields:
-        return hit[1]
-    value = make()
-    if len(_PARSED) > 64:  # a process rarely sees more than a few manifests
-        _PARSED.clear()
-    _PARSED[key] = (fields, value)
-    return value
+@contextmanager
+def unchanging(manifest: dict) -> Iterator[None]:
+    """Within this block ``manifest`` is not edited, so what is read from it is parsed once: a
+    campaign validates thousands of scenarios against its model's manifest.  Outside such a block
+    every call reads the manifest afresh (a test may edit one in place and validate again)."""
+    key = id(manifest)
+    outer = key in _FROZEN
+    if not outer:
+        _FROZEN[key] = (manifest, {})
+    try:
+        yield
+    finally:
+        if not outer:
+            _FROZEN.pop(key, None)
+
+
+def frozen_cache(manifest: dict) -> dict | None:
+    """The parse cache of a manifest inside :func:`unchanging`, else None."""
+    hit = _FROZEN.get(id(manifest))
+    return hit[1] if hit is not None and hit[0] is manifest else None
+
+
+def _cached(manifest: dict, what: tuple, make):
+    cache = frozen_cache(manifest)
+    if cache is None:
+        return make()
+    if what not in cache:
+        cache[what] = make()
+    return cache[what]
 
 
 def scenario_params(manifest: dict, layout: str = "p") -> list[ScenarioParam]:
     """Every field of ``layout`` that a scenario sets, in layout order (a new list; the entries
     are frozen)."""
     fields = manifest["layouts"][layout]
-    return list(_cached(fields, "params", lambda: [ScenarioParam.from_manifest(f) for f in fields if "scenario" in f]))
+    return list(_cached(manifest, ("params", layout),
+                        lambda: [ScenarioParam.from_manifest(f) for f in fields if "scenario" in f]))
 
 
 def param(manifest: dict, name: str) -> ScenarioParam:
@@ -244,8 +263,8 @@ def manifest_defaults(manifest: dict, layout: str) -> dict[str, np.ndarray]:
     """Default values of a manifest layout by field name (as :meth:`Model.defaults`; new arrays,
     the caller may change them)."""
     fields = manifest["layouts"][layout]
-    d = _cached(fields, "defaults", lambda: {f["name"]: np.array(f["default"], float) for f in fields
-                                              if "default" in f})
+    d = _cached(manifest, ("defaults", layout), lambda: {f["name"]: np.array(f["default"], float) for f in fields
+                                                          if "default" in f})
     return {k: v.copy() for k, v in d.items()}
 
 

@@ -38,7 +38,16 @@ from pydantic_core import PydanticCustomError
 from ..errors import ModelError, ScenarioError
 from .faults import Fault, FaultConflict, fault_params, fault_value_unit
 from .messages import field_error, first_error, unknown_key
-from .params import Interval, ScenarioParam, finite, gain_bounds, manifest_defaults, param, scenario_params
+from .params import (
+    Interval,
+    ScenarioParam,
+    finite,
+    frozen_cache,
+    gain_bounds,
+    manifest_defaults,
+    param,
+    scenario_params,
+)
 from .reproduction import Reproduction
 
 if TYPE_CHECKING:
@@ -613,20 +622,19 @@ def apply_preset(data: dict, manifest: dict, preset: str) -> None:
 # --------------------------------------------------------------------------- derived model
 
 _MODELS: dict[str, type[Scenario]] = {}
-#: id of a manifest's p layout -> (that list, its class); the list is compared by identity
-_BY_IDENTITY: dict[int, tuple[list, type[Scenario]]] = {}
 
 
 def scenario_model(manifest: dict) -> type[Scenario]:
     """:class:`Scenario` with the manifest's parameter keys added (cached per parameter schema)."""
     fields = manifest["layouts"]["p"]
-    hit = _BY_IDENTITY.get(id(fields))
-    if hit is not None and hit[0] is fields:  # the same manifest object: no need to serialise it again
-        return hit[1]
+    frozen = frozen_cache(manifest)
+    if frozen is not None and "scenario_model" in frozen:  # an unchanging manifest: not serialised again
+        return cast(type[Scenario], frozen["scenario_model"])
     params = scenario_params(manifest)
     cache_key = json.dumps([f for f in fields if "scenario" in f], sort_keys=True)
     if cache_key in _MODELS:
-        _BY_IDENTITY[id(fields)] = (fields, _MODELS[cache_key])
+        if frozen is not None:
+            frozen["scenario_model"] = _MODELS[cache_key]
         return _MODELS[cache_key]
     tree: dict[str, Any] = {}
     for prm in params:
@@ -643,7 +651,8 @@ def scenario_model(manifest: dict) -> type[Scenario]:
         node[leaf] = prm
     cls = cast(type[Scenario], _build("Scenario", tree, Scenario))
     _MODELS[cache_key] = cls
-    _BY_IDENTITY[id(fields)] = (fields, cls)
+    if frozen is not None:
+        frozen["scenario_model"] = cls
     return cls
 
 
