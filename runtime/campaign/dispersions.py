@@ -276,8 +276,9 @@ class Dispersion:
                 elif np.isinf(lo[i]) and np.isinf(hi[i]):
                     out[i] = mean[i] + std[i] * special.ndtri(u[i])  # the normal ppf, without stats' overhead
                 else:
-                    a, b = (lo[i] - mean[i]) / std[i], (hi[i] - mean[i]) / std[i]
-                    out[i] = stats.truncnorm.ppf(u[i], a, b, loc=mean[i], scale=std[i])
+                    out[i] = mean[i] + std[i] * _truncated_normal_ppf(u[i], (lo[i] - mean[i]) / std[i],
+                                                                      (hi[i] - mean[i]) / std[i])
+                    out[i] = min(max(out[i], lo[i]), hi[i])  # the last ulp of rounding, not a clip of the draw
             return self._shape(out)
         if self.dist == "uniform":
             lo, hi = self._frozen
@@ -335,6 +336,17 @@ class Dispersion:
                 return {f"{name}[{i}][{j}]": float(x) for i, row in enumerate(value) for j, x in enumerate(row)}
             return {f"{name}[{i}]": _cell(v) for i, v in enumerate(value)}
         return {name: _cell(value)}
+
+
+def _truncated_normal_ppf(u: float, a: float, b: float) -> float:
+    """The inverse CDF of the standard normal truncated to [a, b] at ``u``: ``Phi^-1(Phi(a) + u
+    (Phi(b) - Phi(a)))``, taken in the lower tail (reflected when a > 0) where Phi keeps its relative
+    precision; scipy.stats.truncnorm.ppf gives the same values to ~1e-15 at a hundred times the
+    cost (tests/test_campaign.py)."""
+    if a > 0:  # both bounds in the upper tail: reflect
+        return -_truncated_normal_ppf(1.0 - u, -b, -a)
+    pa, pb = float(special.ndtr(a)), float(special.ndtr(b))
+    return float(special.ndtri(pa + u * (pb - pa)))
 
 
 def _cell(v: Any) -> Any:

@@ -113,7 +113,8 @@ def prepare_case(camp: Campaign, model: Any, case: int) -> tuple[dict, dict[str,
         cols.update(d.columns(draws[d.key]))
     row = {"case": case, "seed": camp.seed_of(case), "draws": cols}
     try:
-        sc = validate_scenario(camp.case_data(case, draws), camp.case_source(case), model.manifest)
+        sc = validate_scenario(camp.case_data(case, draws, share=True), camp.case_source(case), model.manifest,
+                               own=True)
         pre = preflight(sc, model)
     except RpoError as exc:
         return row, draws, str(exc)

@@ -4,10 +4,10 @@ Everything descends from the campaign's ``seed`` through :class:`numpy.random.Se
 a *stream id* per dispersed key (the first 8 bytes of sha256 of the key: the same in every
 process and Python version, unlike ``hash``):
 
-* ``sampling = "random"``: the uniforms of key ``k`` in run ``i`` come from
-  ``SeedSequence(seed, spawn_key=(id(k), i))``.  Run ``i``'s draws need nothing of the other runs,
-  adding a dispersion or more runs leaves every other draw unchanged, and a case can be drawn
-  alone (``rpo run --campaign DIR --case i``).
+* ``sampling = "random"``: the uniforms of key ``k`` in run ``i`` are the 64-bit words of
+  ``SeedSequence(seed, spawn_key=(id(k), i))`` (top 53 bits, centred in their interval).  Run
+  ``i``'s draws need nothing of the other runs, adding a dispersion or more runs leaves every
+  other draw unchanged, and a case can be drawn alone (``rpo run --campaign DIR --case i``).
 * ``sampling = "lhs"``: a Latin hypercube per key (``scipy.stats.qmc.LatinHypercube`` seeded from
   ``SeedSequence(seed, spawn_key=(id(k),))``): each key's marginal is stratified into ``runs``
   equal-probability strata, and keys are paired at random.  Adding a dispersion leaves the others
@@ -51,6 +51,14 @@ def run_seed(seed: int, case: int) -> int:
     return int(state[0])
 
 
+def _uniforms(seed: int, stream: int, case: int, n: int) -> np.ndarray:
+    """n uniforms in (0, 1) of one stream and run: the 64-bit words of
+    ``SeedSequence(seed, spawn_key=(stream, case))`` (its output is a hash of the key, uniformly
+    distributed), their top 53 bits plus one half, times 2**-53."""
+    words = np.random.SeedSequence(seed, spawn_key=(stream, case)).generate_state(n, np.uint64)
+    return ((words >> np.uint64(11)).astype(np.float64) + 0.5) * 2.0**-53
+
+
 def _clip(u: np.ndarray) -> np.ndarray:
     return np.clip(u, U_MIN, 1.0 - U_MIN)
 
@@ -64,6 +72,7 @@ class Design:
         self.sampling, self.seed, self.runs = sampling, int(seed), int(runs)
         self.dispersions = list(dispersions)
         self._table: dict[str, np.ndarray] | None = None
+        self._ids = {d.key: stream_id(d.key) for d in self.dispersions}
 
     def _build(self) -> dict[str, np.ndarray]:
         """The whole design (lhs, sobol): key -> (runs, dims) uniforms."""
@@ -90,8 +99,7 @@ class Design:
         if not 0 <= case < self.runs:
             raise IndexError(f"case {case} is not in this campaign (0 .. {self.runs - 1})")
         if self.sampling == "random":
-            return {d.key: _clip(np.random.default_rng(np.random.SeedSequence(
-                self.seed, spawn_key=(stream_id(d.key), case))).random(d.dims)) for d in self.dispersions}
+            return {d.key: _uniforms(self.seed, self._ids[d.key], case, d.dims) for d in self.dispersions}
         if self._table is None:
             self._table = self._build()
         return {d.key: self._table[d.key][case] for d in self.dispersions}

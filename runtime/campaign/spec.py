@@ -163,12 +163,27 @@ class Campaign:
         u = self.design.uniforms(case)
         return {d.key: d.value(u[d.key]) for d in self.dispersions}
 
-    def case_data(self, case: int, draws: dict[str, Any] | None = None) -> dict[str, Any]:
-        """The scenario table of run ``case``: the base with its draws and its noise seed."""
-        data = copy.deepcopy(self.scenario_data)
-        for key, value in (draws if draws is not None else self.draws(case)).items():
-            set_path(data, key, value)
-        data.setdefault("simulation", {})["seed"] = self.seed_of(case)
+    def case_data(self, case: int, draws: dict[str, Any] | None = None, share: bool = False) -> dict[str, Any]:
+        """The scenario table of run ``case``: the base with its draws and its noise seed.  A deep
+        copy; with ``share`` only the tables and arrays on the way to a changed key are copied and
+        the rest is the base's (for a caller that reads it only: a campaign's validation)."""
+        changes = dict(draws if draws is not None else self.draws(case))
+        changes["simulation.seed"] = self.seed_of(case)
+        if not share:
+            data = copy.deepcopy(self.scenario_data)
+            for key, value in changes.items():
+                set_path(data, key, value)
+            return data
+        data = dict(self.scenario_data)
+        for key, value in changes.items():
+            node: Any = data
+            parts = _parts(key)
+            for p in parts[:-1]:  # copy each container on the path once, share the others
+                child = node[p] if isinstance(p, int) else node.get(p, {})
+                child = list(child) if isinstance(child, list) else dict(child)
+                node[p] = child
+                node = child
+            node[parts[-1]] = copy.deepcopy(value)
         return data
 
     def case_source(self, case: int) -> str:

@@ -298,6 +298,7 @@ class Scenario(_Section):
     _manifest: dict = PrivateAttr(default_factory=dict)
     _data: dict = PrivateAttr(default_factory=dict)
     _text: str | None = PrivateAttr(default=None)
+    _overrides: tuple[dict, dict] | None = PrivateAttr(default=None)
 
     # -- lookups -----------------------------------------------------------------------------
 
@@ -322,6 +323,16 @@ class Scenario(_Section):
     def param_overrides(self, manifest: dict | None = None) -> dict[str, Any]:
         """The parameters this scenario sets, by p-field name, in SI (omitted ones are absent)."""
         manifest = manifest or self._manifest
+        if frozen_cache(manifest) is not None:  # an unchanging manifest (a campaign): once per scenario
+            hit = self._overrides
+            if hit is not None and hit[0] is manifest:
+                return dict(hit[1])
+            out = self._param_overrides(manifest)
+            self._overrides = (manifest, out)
+            return dict(out)
+        return self._param_overrides(manifest)
+
+    def _param_overrides(self, manifest: dict) -> dict[str, Any]:
         out: dict[str, Any] = {}
         for prm in scenario_params(manifest):
             v = self.get(prm.key)
@@ -677,8 +688,10 @@ def _build(name: str, node: dict[str, Any], base: type[BaseModel]) -> type[BaseM
     return create_model(name, __base__=base, **fields)
 
 
-def validate_scenario(data: dict, source: str = "scenario", manifest: dict | None = None) -> Scenario:
-    """Validate a parsed scenario table; raises :class:`ScenarioError` with a one-line message."""
+def validate_scenario(data: dict, source: str = "scenario", manifest: dict | None = None, *,
+                      own: bool = False) -> Scenario:
+    """Validate a parsed scenario table; raises :class:`ScenarioError` with a one-line message.
+    ``own``: the caller hands ``data`` over (it will not change it), so it is kept without a copy."""
     if manifest is None:
         from ..compiled import read_manifest
         manifest = read_manifest()
@@ -689,5 +702,5 @@ def validate_scenario(data: dict, source: str = "scenario", manifest: dict | Non
         raise ScenarioError(first_error(exc.errors(include_url=False), source, cls)) from None
     sc._source = source
     sc._manifest = manifest
-    sc._data = copy.deepcopy(data)
+    sc._data = data if own else copy.deepcopy(data)
     return sc
