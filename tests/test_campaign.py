@@ -271,7 +271,7 @@ def _wait_for(cond, timeout=120.0) -> None:
         time.sleep(0.005)
 
 
-@pytest.mark.slow  # ~30 s: five campaigns of 64 runs as subprocesses
+@pytest.mark.slow  # ~40 s: seven campaigns of 64 runs as subprocesses
 def test_sigkill_at_any_moment_then_resume_gives_the_same_summary(model, tmp_path):
     text = CW_CAMPAIGN.replace("runs = 256", "runs = 64").replace("duration = 1500.0", "duration = 3000.0")
     text = text.replace("rate_hz = 0.1\n", "rate_hz = 0.1\nbatch = 4\n")
@@ -310,6 +310,23 @@ def test_sigkill_at_any_moment_then_resume_gives_the_same_summary(model, tmp_pat
         assert res.returncode == 0, res.stderr
         assert (folder / storage.SUMMARY).read_bytes() == want, (name, done)
         assert not list(folder.rglob(".*.tmp"))
+    # SIGINT (and SIGTERM): the command stops dispatching, keeps what came back, writes the summary
+    # of the runs so far and exits 130 (143) naming resume; resume then gives the same summary
+    for sig, code in ((signal.SIGINT, 130), (signal.SIGTERM, 143)):
+        folder = tmp_path / f"signal_{code}"
+        proc = subprocess.Popen([sys.executable, "-m", "rpo.runtime.cli", "mc", "run", str(path), "--out",
+                                 str(folder), "--workers", "2", "-q"], stdout=subprocess.PIPE,
+                                stderr=subprocess.PIPE, text=True)
+        _wait_for(lambda f=folder, p=proc: lines(f) >= 8 or p.poll() is not None)
+        proc.send_signal(sig)
+        _out, err = proc.communicate(timeout=120)
+        assert proc.returncode == code, (proc.returncode, err)
+        assert "rpo mc resume" in err and "Traceback" not in err, err
+        partial = pq.read_table(folder / storage.SUMMARY)
+        assert 8 <= partial.num_rows < 64
+        res = _rpo("mc", "resume", folder, "--workers", "2", "-q")
+        assert res.returncode == 0, res.stderr
+        assert (folder / storage.SUMMARY).read_bytes() == want
     # a cut-off last line (a write killed half-way) is ignored and repaired by resume
     folder = tmp_path / "8_lines"
     raw = (folder / storage.MANIFEST).read_bytes()
@@ -493,3 +510,17 @@ def test_fast_inverse_cdfs_agree_with_scipy():
     w = np.concatenate([_uniforms(7, 123, c, 64) for c in range(200)])
     assert np.all((w > 0) & (w < 1))
     assert stats.kstest(w, "uniform").pvalue > 1e-4  # uniform (a fixed sample: this either always passes or never)
+
+
+def test_rotation_and_inertia_draws_agree_with_scipy_rotation():
+    from rpo.runtime.campaign.dispersions import _quat_mul, _rotvec_matrix, _rotvec_quat
+
+    rng = np.random.default_rng(4)
+    for scale in (1e-9, 1e-5, 1e-3, 0.1, 1.0, 3.0):
+        phi = rng.normal(size=3) * scale
+        assert np.allclose(_rotvec_quat(phi), Rotation.from_rotvec(phi).as_quat(), rtol=0, atol=1e-15)
+        assert np.allclose(_rotvec_matrix(phi), Rotation.from_rotvec(phi).as_matrix(), rtol=0, atol=2e-15)
+        q0 = Rotation.random(random_state=rng).as_quat()
+        ref = (Rotation.from_quat(q0) * Rotation.from_rotvec(phi)).as_quat()
+        got = _quat_mul(q0, _rotvec_quat(phi))
+        assert np.allclose(got * np.sign(got @ ref), ref, rtol=0, atol=1e-15)

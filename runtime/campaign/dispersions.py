@@ -47,7 +47,6 @@ from typing import Any
 
 import numpy as np
 from scipy import special, stats
-from scipy.spatial.transform import Rotation
 
 DEG = math.pi / 180.0
 #: Smallest probability a truncation may keep: below it the draws would all sit at a bound to
@@ -269,16 +268,14 @@ class Dispersion:
         u = np.asarray(u, float)
         if self.dist == "normal":
             mean, std, lo, hi = self._frozen
-            out = np.empty(self.size)
-            for i in range(self.size):
-                if std[i] == 0.0:
-                    out[i] = mean[i]
-                elif np.isinf(lo[i]) and np.isinf(hi[i]):
-                    out[i] = mean[i] + std[i] * special.ndtri(u[i])  # the normal ppf, without stats' overhead
-                else:
-                    out[i] = mean[i] + std[i] * _truncated_normal_ppf(u[i], (lo[i] - mean[i]) / std[i],
-                                                                      (hi[i] - mean[i]) / std[i])
-                    out[i] = min(max(out[i], lo[i]), hi[i])  # the last ulp of rounding, not a clip of the draw
+            z = special.ndtri(u[: self.size])  # the normal ppf, without scipy.stats' overhead
+            out = mean + std * z
+            for i in np.flatnonzero(np.isfinite(lo) | np.isfinite(hi)):  # truncated components
+                if std[i] > 0:
+                    x = mean[i] + std[i] * _truncated_normal_ppf(u[i], (lo[i] - mean[i]) / std[i],
+                                                                 (hi[i] - mean[i]) / std[i])
+                    out[i] = min(max(x, lo[i]), hi[i])  # the last ulp of rounding, not a clip of the draw
+            out[std == 0.0] = mean[std == 0.0]
             return self._shape(out)
         if self.dist == "uniform":
             lo, hi = self._frozen
@@ -290,7 +287,8 @@ class Dispersion:
         if self.dist == "rotation":
             q0, sigma = self._frozen
             phi = sigma * special.ndtri(u[:3])
-            q = (Rotation.from_quat(q0) * Rotation.from_rotvec(phi)).as_quat()
+            q = _quat_mul(q0, _rotvec_quat(phi))  # = (Rotation(q0) * Rotation.from_rotvec(phi)).as_quat()
+            q = q / math.sqrt(float(q @ q))
             if float(np.dot(q, q0)) < 0:  # the same attitude, on the nominal's side (continuous draws)
                 q = -q
             return [float(x) for x in q]
@@ -298,7 +296,7 @@ class Dispersion:
             s, V, mstd, asig = self._frozen
             s_new = s * np.exp(mstd * special.ndtri(u[:3]))
             lam = s_new.sum() - s_new
-            R = Rotation.from_rotvec(asig * special.ndtri(u[3:6])).as_matrix()
+            R = _rotvec_matrix(asig * special.ndtri(u[3:6]))
             W = R @ V
             I = W @ np.diag(lam) @ W.T
             I = 0.5 * (I + I.T)  # symmetric to the last bit
@@ -325,9 +323,8 @@ class Dispersion:
         if self.dist == "rotation":
             q0 = self._frozen[0]
             q = np.array(value, float)
-            ang = 2.0 * math.degrees(math.atan2(float(np.linalg.norm(
-                (Rotation.from_quat(q0).inv() * Rotation.from_quat(q)).as_quat()[:3])),
-                abs(float((Rotation.from_quat(q0).inv() * Rotation.from_quat(q)).as_quat()[3]))))
+            rel = _quat_mul(np.array([-q0[0], -q0[1], -q0[2], q0[3]]), q / math.sqrt(float(q @ q)))
+            ang = 2.0 * math.degrees(math.atan2(math.sqrt(float(rel[:3] @ rel[:3])), abs(float(rel[3]))))
             return {f"{name}.angle_deg": ang, **{f"{name}[{i}]": float(v) for i, v in enumerate(value)}}
         if self.dist == "inertia":
             return {f"{name}[{i}][{j}]": float(value[i][j]) for i in range(3) for j in range(i, 3)}
@@ -336,6 +333,28 @@ class Dispersion:
                 return {f"{name}[{i}][{j}]": float(x) for i, row in enumerate(value) for j, x in enumerate(row)}
             return {f"{name}[{i}]": _cell(v) for i, v in enumerate(value)}
         return {name: _cell(value)}
+
+
+def _quat_mul(p: np.ndarray, q: np.ndarray) -> np.ndarray:
+    """Hamilton product p (x) q of [x, y, z, w] quaternions (docs/conventions.md)."""
+    pv, pw, qv, qw = p[:3], p[3], q[:3], q[3]
+    return np.append(pw * qv + qw * pv + np.cross(pv, qv), pw * qw - pv @ qv)
+
+
+def _rotvec_quat(phi: np.ndarray) -> np.ndarray:
+    """The unit quaternion [x, y, z, w] of the rotation vector ``phi`` [rad] (angle |phi| about
+    phi / |phi|; scipy's Rotation.from_rotvec)."""
+    a = math.sqrt(float(phi @ phi))
+    s = 0.5 - a * a / 48.0 if a < 1e-4 else math.sin(0.5 * a) / a  # sin(a/2)/a, its series near 0
+    return np.append(s * phi, math.cos(0.5 * a))
+
+
+def _rotvec_matrix(phi: np.ndarray) -> np.ndarray:
+    """The rotation matrix of the rotation vector ``phi`` (as Rotation.from_rotvec(phi).as_matrix())."""
+    x, y, z, w = _rotvec_quat(phi)
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
 
 
 def _truncated_normal_ppf(u: float, a: float, b: float) -> float:

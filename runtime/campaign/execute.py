@@ -289,10 +289,23 @@ def fly_cases(camp: Campaign, model: Any, folder: Path, cases: Sequence[int], *,
                 if stop.requested():
                     break
         elif dask is None:
+            _warm(camp, model)
             _pool(resolved, key, tasks, folder, workers, record, stop)
         else:
             _dask(resolved, key, tasks, folder, workers, dask, record, stop)
     return stop.signum
+
+
+def _warm(camp: Campaign, model: Any) -> None:
+    """What every worker needs, made in the parent before the pool forks it: the imports a batch
+    makes on first use (pyarrow's Parquet writer alone is ~0.3 s a process), the undispersed
+    vectors and the history's columns."""
+    import pyarrow.parquet  # noqa: F401
+
+    from ..scenario import preflight  # noqa: F401
+    _nominal_vectors(camp, model)
+    _selection(camp, model, camp.scenario_data.get("simulation", {}).get("controller", "baseline"))
+    _campaign(camp.resolved(), model.manifest, camp.hash)
 
 
 def _pool(resolved, key, tasks, folder, workers, record, stop) -> bool:
