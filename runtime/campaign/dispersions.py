@@ -282,8 +282,8 @@ class Dispersion:
             return self._shape(lo + (hi - lo) * u[: self.size])
         if self.dist == "choice":
             values, cum = self._frozen
-            i = min(int(np.searchsorted(cum, u[0], side="right")), len(values) - 1)
-            return values[i]
+            pick = min(int(np.searchsorted(cum, u[0], side="right")), len(values) - 1)
+            return values[pick]
         if self.dist == "rotation":
             q0, sigma = self._frozen
             phi = sigma * special.ndtri(u[:3])
