@@ -995,7 +995,8 @@ class Model:
             raise ModelError(f"unknown {name} fields: {', '.join(sorted(unknown))}")
         for f in bad:  # a default of the wrong size (a hand-edited manifest), used: refused as before
             if f not in values:
-                raise ModelError(f"{name}.{f} needs {offs[f][1]} values, got its default's")
+                got = len(next(e for e in self.layouts[name] if e["name"] == f)["default"])
+                raise ModelError(f"{name}.{f} needs {offs[f][1]} values, got {got}")
         return out
 
     @property

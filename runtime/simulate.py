@@ -36,6 +36,12 @@ DEFAULT_BOUNDS = {
 }
 
 
+def record_grid(last: int, every: int) -> np.ndarray:
+    """The steps a run records: every ``every``-th from 0, and always ``last``."""
+    G = np.arange(0, last + 1, every)
+    return G if G[-1] == last else np.append(G, last)
+
+
 @dataclass
 class Divergence:
     """Where a run stopped: the step, its end time [s], the offending entry and both states.
@@ -270,9 +276,7 @@ class Simulation:
         Zc = np.empty((chunk + 1, nz))
         Yc = np.empty((chunk, ny))
         # recorded steps: every record_every-th, and always the last one
-        G = np.arange(0, n_total + 1, record_every)
-        if G[-1] != n_total:
-            G = np.append(G, n_total)
+        G = record_grid(n_total, record_every)
         Z = np.full((G.size, nz), np.nan)
         Y = np.full((G.size, ny), np.nan)
         Z[0] = z0

@@ -228,7 +228,7 @@ def test_metric_table_matches_numpy(campaign):
         v = data[key][ok]
         v = v[~np.isnan(v)]
         cells = row(m, col)
-        assert cells[1] == R.load_campaign(path).unit(col)
+        assert cells[1] == R.read_folder(path).unit(col)
         assert cells[2] == str(v.size)
         assert cells[3].startswith(f4(v.mean()) + " [")
         lo, hi = sps.t.interval(0.95, v.size - 1, loc=v.mean(), scale=sps.sem(v))

@@ -48,6 +48,8 @@ from typing import Any
 import numpy as np
 from scipy import special, stats
 
+from ..frames import dcm_from_quat, quat_conjugate, quat_multiply, rotation_angle
+
 DEG = math.pi / 180.0
 #: Smallest probability a truncation may keep: below it the draws would all sit at a bound to
 #: rounding, which is a typo, not a distribution.
@@ -287,7 +289,7 @@ class Dispersion:
         if self.dist == "rotation":
             q0, sigma = self._frozen
             phi = sigma * special.ndtri(u[:3])
-            q = _quat_mul(q0, _rotvec_quat(phi))  # = (Rotation(q0) * Rotation.from_rotvec(phi)).as_quat()
+            q = quat_multiply(q0, _rotvec_quat(phi))  # = (Rotation(q0) * Rotation.from_rotvec(phi)).as_quat()
             q = q / math.sqrt(float(q @ q))
             if float(np.dot(q, q0)) < 0:  # the same attitude, on the nominal's side (continuous draws)
                 q = -q
@@ -296,7 +298,7 @@ class Dispersion:
             s, V, mstd, asig = self._frozen
             s_new = s * np.exp(mstd * special.ndtri(u[:3]))
             lam = s_new.sum() - s_new
-            R = _rotvec_matrix(asig * special.ndtri(u[3:6]))
+            R = dcm_from_quat(_rotvec_quat(asig * special.ndtri(u[3:6])))
             W = R @ V
             I = W @ np.diag(lam) @ W.T
             I = 0.5 * (I + I.T)  # symmetric to the last bit
@@ -323,8 +325,7 @@ class Dispersion:
         if self.dist == "rotation":
             q0 = self._frozen[0]
             q = np.array(value, float)
-            rel = _quat_mul(np.array([-q0[0], -q0[1], -q0[2], q0[3]]), q / math.sqrt(float(q @ q)))
-            ang = 2.0 * math.degrees(math.atan2(math.sqrt(float(rel[:3] @ rel[:3])), abs(float(rel[3]))))
+            ang = math.degrees(float(rotation_angle(quat_multiply(quat_conjugate(q0), q))))
             return {f"{name}.angle_deg": ang, **{f"{name}[{i}]": float(v) for i, v in enumerate(value)}}
         if self.dist == "inertia":
             return {f"{name}[{i}][{j}]": float(value[i][j]) for i in range(3) for j in range(i, 3)}
@@ -335,26 +336,12 @@ class Dispersion:
         return {name: _cell(value)}
 
 
-def _quat_mul(p: np.ndarray, q: np.ndarray) -> np.ndarray:
-    """Hamilton product p (x) q of [x, y, z, w] quaternions (docs/conventions.md)."""
-    pv, pw, qv, qw = p[:3], p[3], q[:3], q[3]
-    return np.append(pw * qv + qw * pv + np.cross(pv, qv), pw * qw - pv @ qv)
-
-
 def _rotvec_quat(phi: np.ndarray) -> np.ndarray:
     """The unit quaternion [x, y, z, w] of the rotation vector ``phi`` [rad] (angle |phi| about
     phi / |phi|; scipy's Rotation.from_rotvec)."""
     a = math.sqrt(float(phi @ phi))
     s = 0.5 - a * a / 48.0 if a < 1e-4 else math.sin(0.5 * a) / a  # sin(a/2)/a, its series near 0
     return np.append(s * phi, math.cos(0.5 * a))
-
-
-def _rotvec_matrix(phi: np.ndarray) -> np.ndarray:
-    """The rotation matrix of the rotation vector ``phi`` (as Rotation.from_rotvec(phi).as_matrix())."""
-    x, y, z, w = _rotvec_quat(phi)
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
 
 
 def _truncated_normal_ppf(u: float, a: float, b: float) -> float:

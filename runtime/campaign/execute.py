@@ -90,10 +90,14 @@ def fly_batch(resolved: dict, key: str, cases: Sequence[int], folder: str,
         with unchanging(model.manifest):  # the loaded model's manifest: parsed once for the whole batch
             return _fly(camp, model, list(cases), Path(folder))
     except Exception as exc:  # the whole task failed: its runs are recorded as errors, resume re-flies them
-        msg = f"{type(exc).__name__}: {exc}".splitlines()[0]
-        return [{"case": int(c), "seed": run_seed_of(resolved, c), "status": "error", "message": msg,
-                 "draws": {}, "outcome": {}, "metrics": {}, "traceback": traceback.format_exc(limit=5)}
-                for c in cases]
+        return error_rows(resolved, cases, f"{type(exc).__name__}: {exc}", traceback.format_exc(limit=5))
+
+
+def error_rows(resolved: dict, cases: Iterable[int], message: str, tb: str | None = None) -> list[dict[str, Any]]:
+    """The rows of runs that ended in an error (flown again by resume): ``message``'s first line."""
+    extra = {} if tb is None else {"traceback": tb}
+    return [{"case": int(c), "seed": run_seed_of(resolved, c), "status": "error", "message": message.splitlines()[0],
+             "draws": {}, "outcome": {}, "metrics": {}, **extra} for c in cases]
 
 
 def run_seed_of(resolved: dict, case: int) -> int:
@@ -351,9 +355,7 @@ def _result(fut: Any, resolved: dict, cases: list[int]) -> list[dict]:
     try:
         return list(fut.result())
     except Exception as exc:  # the worker process died (killed, out of memory): its runs are errors
-        msg = f"worker lost: {type(exc).__name__}: {exc}".splitlines()[0]
-        return [{"case": int(c), "seed": run_seed_of(resolved, c), "status": "error", "message": msg,
-                 "draws": {}, "outcome": {}, "metrics": {}} for c in cases]
+        return error_rows(resolved, cases, f"worker lost: {type(exc).__name__}: {exc}")
 
 
 def _shutdown(pool: Any, cancel: bool) -> None:

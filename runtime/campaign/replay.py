@@ -94,14 +94,11 @@ def case_scenario(folder: Path, case: int, model: Any, full_logging: bool = True
 def _subsample(res: Any, every: int) -> Any:
     """The record the campaign keeps of a run recorded at every step: every ``every``-th step and
     the last (Simulation.run's grid)."""
-    from ..simulate import RunResult
+    from ..simulate import RunResult, record_grid
 
     steps = np.rint((res.t - res.t[0]) / res.dt).astype(np.int64)
     last = int(steps[-1])
-    grid = np.arange(0, last + 1, every)
-    if grid[-1] != last:
-        grid = np.append(grid, last)
-    idx = np.searchsorted(steps, grid)
+    idx = np.searchsorted(steps, record_grid(last, every))
     return RunResult(t=res.t[idx], z=res.z[idx], y=res.y[idx], z_labels=res.z_labels, z_units=res.z_units,
                      y_labels=res.y_labels, y_units=res.y_units, steps_done=res.steps_done,
                      steps_requested=res.steps_requested, dt=res.dt, wall_time=res.wall_time,

@@ -40,6 +40,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from . import stats as S
+from .storage import history_path
 
 STATUSES = ("ok", "diverged", "invalid", "error")
 FLOWN = ("ok", "diverged")
@@ -117,16 +118,11 @@ def summary_table(campaign_dir: str | Path) -> dict[str, np.ndarray]:
     return {name: _to_numpy(table.column(name)) for name in table.column_names}
 
 
-def history_path(campaign_dir: str | Path, case: int) -> Path:
-    """The history file of ``case``: ``<campaign_dir>/histories/case_NNNNNN.parquet``."""
-    return Path(campaign_dir) / "histories" / f"case_{int(case):06d}.parquet"
-
-
 def case_history(campaign_dir: str | Path, case: int, columns: Sequence[str] | None = None) -> dict[str, np.ndarray]:
     """The time history of one flown case as NumPy arrays (``t`` [s] and the channels, in their
     units; ``columns`` selects some, those absent from the file are left out).  Raises
     FileNotFoundError for a case that has no history (invalid draw, worker error, not done)."""
-    path = history_path(campaign_dir, case)
+    path = history_path(Path(campaign_dir), case)
     if not path.is_file():
         raise FileNotFoundError(f"case {case} has no history ({path} does not exist: the case was not flown, "
                                 f"or is not done yet)")
@@ -139,7 +135,7 @@ def case_history(campaign_dir: str | Path, case: int, columns: Sequence[str] | N
 
 
 @dataclass
-class Campaign:
+class CampaignFolder:
     """A campaign folder read into memory: the resolved campaign, the summary columns, their kinds
     (``bool``, ``int``, ``float``, ``string``) and units, and the campaign metadata of the file."""
 
@@ -186,7 +182,7 @@ class Campaign:
         return self.units.get(column, "")
 
 
-def load_campaign(campaign_dir: str | Path) -> Campaign:
+def read_folder(campaign_dir: str | Path) -> CampaignFolder:
     """Read ``resolved.json`` (optional) and ``summary.parquet`` (required) of a campaign folder."""
     path = Path(campaign_dir)
     summary = path / "summary.parquet"
@@ -198,7 +194,7 @@ def load_campaign(campaign_dir: str | Path) -> Campaign:
     columns = {name: _to_numpy(table.column(name)) for name in table.column_names}
     kinds = {name: _column_kind(table.schema.field(name).type) for name in table.column_names}
     units = {str(k): str(v) for k, v in _meta_json(table.schema, b"rpo.units").items()}
-    return Campaign(path, resolved, columns, kinds, units, _meta_json(table.schema, b"rpo.campaign"))
+    return CampaignFolder(path, resolved, columns, kinds, units, _meta_json(table.schema, b"rpo.campaign"))
 
 
 # --------------------------------------------------------------------------- formatting
@@ -250,7 +246,7 @@ def refly_command(campaign_dir: str | Path, case: int) -> str:
 # --------------------------------------------------------------------------- the sections
 
 
-def _flag_count(c: Campaign, column: str, rows: np.ndarray, value: float = 1.0) -> tuple[int, int] | None:
+def _flag_count(c: CampaignFolder, column: str, rows: np.ndarray, value: float = 1.0) -> tuple[int, int] | None:
     """(cases where ``column`` == value, cases where it is not null) among ``rows``; None if absent."""
     a = c.columns.get(column)
     if a is None or c.kinds.get(column) not in ("bool", "float", "int"):
@@ -262,7 +258,7 @@ def _flag_count(c: Campaign, column: str, rows: np.ndarray, value: float = 1.0) 
     return int(np.sum(v[have] == value)), int(np.sum(have))
 
 
-def _not_settled(c: Campaign, settling: str, reached: str, flown: np.ndarray) -> tuple[int, int] | None:
+def _not_settled(c: CampaignFolder, settling: str, reached: str, flown: np.ndarray) -> tuple[int, int] | None:
     """(flown runs whose settling time is null, flown runs where the error is measured): measured =
     ``reached`` not null when the runner has that column (null = the controller logs no such error)."""
     s = c.columns.get(settling)
@@ -277,7 +273,7 @@ def _not_settled(c: Campaign, settling: str, reached: str, flown: np.ndarray) ->
     return int(np.sum(np.isnan(s[measured]))), int(np.sum(measured))
 
 
-def _wilks_values(c: Campaign, metric: str, side: str, flown: np.ndarray) -> np.ndarray:
+def _wilks_values(c: CampaignFolder, metric: str, side: str, flown: np.ndarray) -> np.ndarray:
     """The values a tolerance bound of ``metric`` is taken over: flown runs; diverged ones beyond
     any bound; for a settling time a null is "never" (+inf); other nulls are dropped."""
     v = c.columns[metric][flown].astype(float).copy()
@@ -288,12 +284,12 @@ def _wilks_values(c: Campaign, metric: str, side: str, flown: np.ndarray) -> np.
     return v
 
 
-def _label(c: Campaign, column: str) -> str:
+def _label(c: CampaignFolder, column: str) -> str:
     u = c.unit(column)
     return f"{column} [{u}]" if u else column
 
 
-def _draw_label(c: Campaign, column: str) -> str:
+def _draw_label(c: CampaignFolder, column: str) -> str:
     name = column[len("draw."):] if column.startswith("draw.") else column
     u = c.unit(column)
     return f"{name} [{u}]" if u else name
@@ -307,7 +303,7 @@ class _Histories:
     missing: list[int]
 
 
-def _read_histories(c: Campaign, flown: np.ndarray) -> _Histories:
+def _read_histories(c: CampaignFolder, flown: np.ndarray) -> _Histories:
     wanted = [ch for ch, _, _ in ENVELOPE_CHANNELS]
     h = _Histories([], {ch: [] for ch in wanted}, [], [])
     for case in c.cases[flown]:
@@ -328,7 +324,7 @@ def _read_histories(c: Campaign, flown: np.ndarray) -> _Histories:
     return h
 
 
-def _write_figures(c: Campaign, fig_dir: Path, ok: np.ndarray, flown: np.ndarray, hist: _Histories,
+def _write_figures(c: CampaignFolder, fig_dir: Path, ok: np.ndarray, flown: np.ndarray, hist: _Histories,
                    correlations: Mapping[tuple[str, str], S.RankCorrelation], fmt: str) -> list[tuple[str, str]]:
     """Draw the figures; returns [(file name, caption), ...] of those written."""
     from . import figures as F
@@ -395,7 +391,7 @@ def write_report(campaign_dir: str | Path, out: str | Path | None = None, covera
     """
     if fmt not in FIGURE_FORMATS:
         raise ValueError(f"figure format {fmt!r}: allowed {', '.join(FIGURE_FORMATS)}")
-    c = load_campaign(campaign_dir)
+    c = read_folder(campaign_dir)
     out_dir = Path(out) if out is not None else c.path
     out_dir.mkdir(parents=True, exist_ok=True)
     cdir = c.path.resolve()

@@ -112,6 +112,7 @@ class Campaign:
     overrides: dict[str, Any] = field(default_factory=dict)
     #: the scenario file the campaign extends (itself when it extends none)
     base: str = ""
+    _design: Design | None = field(default=None, init=False, repr=False, compare=False)
 
     # -- identity ----------------------------------------------------------------------------
 
@@ -147,11 +148,10 @@ class Campaign:
 
     @property
     def design(self) -> Design:
-        d = getattr(self, "_design", None)
-        if d is None:
-            d = Design(self.settings.sampling, self.settings.seed, self.settings.runs, self.dispersions)
-            self._design = d
-        return d
+        """The uniforms of every run (made once: an LHS or Sobol design is built whole)."""
+        if self._design is None:
+            self._design = Design(self.settings.sampling, self.settings.seed, self.settings.runs, self.dispersions)
+        return self._design
 
     # -- runs --------------------------------------------------------------------------------
 
