@@ -42,6 +42,7 @@ from concurrent.futures import ThreadPoolExecutor, as_completed
 from contextlib import contextmanager
 from importlib import resources
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -893,6 +894,8 @@ class Model:
         self._lanes: LaneLibrary | None = None
         #: layout name -> (field -> (offset, size), packed defaults, fields without a default, size)
         self._packing: dict[str, tuple[dict[str, tuple[int, int]], np.ndarray, list[str], int]] = {}
+        self._slices: dict[str, dict[str, slice]] = {}
+        self._columns: dict[tuple, Any] = {}
         self._bad_defaults: dict[str, list[str]] = {}
         for f in functions.values():
             if isinstance(f, CompiledFunction):
@@ -963,13 +966,33 @@ class Model:
         return info
 
     def offsets(self, name: str) -> dict[str, slice]:
-        return {k: slice(a, a + n) for k, (a, n) in self._pack(name)[0].items()}
+        """{field: slice} of a layout (a new dict each call; the slices are made once per layout:
+        a campaign asks for them a dozen times per run)."""
+        sl = self._slices.get(name)
+        if sl is None:
+            sl = self._slices[name] = {k: slice(a, a + n) for k, (a, n) in self._pack(name)[0].items()}
+        return dict(sl)
 
     def labels(self, name: str) -> list[str]:
-        return [lbl for f in self.layouts[name] for lbl in f["labels"]]
+        """Column labels of a layout (a new list; made once per layout)."""
+        key = ("labels", name)
+        if key not in self._columns:
+            self._columns[key] = [lbl for f in self.layouts[name] for lbl in f["labels"]]
+        return list(self._columns[key])
 
     def units(self, name: str) -> list[str]:
-        return [f["unit"] for f in self.layouts[name] for _ in range(f["size"])]
+        """Column units of a layout (a new list; made once per layout)."""
+        key = ("units", name)
+        if key not in self._columns:
+            self._columns[key] = [f["unit"] for f in self.layouts[name] for _ in range(f["size"])]
+        return list(self._columns[key])
+
+    def field_labels(self, *names: str) -> dict[str, list[str]]:
+        """Field -> its column labels over the layouts ``names`` (new lists; made once per selection)."""
+        key = ("fields", *names)
+        if key not in self._columns:
+            self._columns[key] = {f["name"]: list(f["labels"]) for n in names for f in self.layouts[n]}
+        return {k: list(v) for k, v in self._columns[key].items()}
 
     def defaults(self, name: str) -> dict[str, np.ndarray]:
         return {f["name"]: np.array(f["default"], float) for f in self.layouts[name] if "default" in f}

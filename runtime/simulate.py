@@ -391,8 +391,6 @@ class Simulation:
             assert r is not None
             r.wall_time = wall / n_runs
             r.meta.update({"seed": seeds[i], "lanes": K, "batch_index": i})
-            if r.divergence is None:  # as run(): the outputs at the final state, by the same scalar call
-                r.y[-1] = Simulation._with(self, P[i], G[i])._final_output(r.z[-1], n_total, seeds[i], t0)
         return [r for r in results if r is not None]
 
     def _per_case(self, what: str, values, n: int, layout: str, base: dict) -> np.ndarray:
@@ -419,7 +417,7 @@ class Simulation:
         return other
 
     def _run_block(self, lanes, Z0, seeds, P, G, n_real, n_total, t0, record_every, chunk, progress):
-        K, nz, ny, nw = lanes.width, self.nz, self.ny, self.nw
+        K, nz, ny = lanes.width, self.nz, self.ny
         chunk = max(record_every, (chunk // record_every) * record_every)  # chunks start on the recording grid
         keys = np.array([noise.key(s) for s in seeds], dtype=np.uint64)
         Z = np.ascontiguousarray(Z0, dtype=float)
@@ -433,37 +431,65 @@ class Simulation:
         rows = (n_total - 1) // record_every + 2
         Zall = [np.empty((rows, nz)) for _ in range(K)]
         Yall = [np.empty((rows, ny)) for _ in range(K)]
-        PP = ctypes.POINTER(_DP)
         last_good: list = [None] * K
         fn, sz_w = lanes.pointers[self.step_fn.name], lanes.work[self.step_fn.name]
-        bound = self.bound
+        call = self._lane_caller(lanes, fn, sz_w, t0, P, G, keys)
         done = 0
         while done < n_total and status.any():
             n = min(chunk, n_total - done)
             row0 = done // record_every  # done is on the grid
-            zr = (_DP * K)(*[ctypes.cast(a.ctypes.data + row0 * nz * 8, _DP) for a in Zall])
-            yr = (_DP * K)(*[ctypes.cast(a.ctypes.data + row0 * ny * 8, _DP) for a in Yall])
             was = status.copy()
-            rc = lanes.run(ctypes.c_void_p(fn), ctypes.c_longlong(sz_w), ctypes.c_double(t0), ctypes.c_double(self.dt),
-                           ctypes.c_longlong(done), ctypes.c_int(n), ctypes.c_longlong(record_every),
-                           P.ctypes.data_as(_DP), ctypes.c_int(P.shape[1]), G.ctypes.data_as(_DP),
-                           ctypes.c_int(G.shape[1]), keys.ctypes.data_as(ctypes.POINTER(ctypes.c_ulonglong)),
-                           ctypes.c_int(nw), Z.ctypes.data_as(_DP), ctypes.c_int(nz), ctypes.cast(zr, PP),
-                           ctypes.cast(yr, PP), ctypes.c_int(ny), bound.ctypes.data_as(_DP),
-                           status.ctypes.data_as(ctypes.POINTER(ctypes.c_int)),
-                           steps_ok.ctypes.data_as(ctypes.POINTER(ctypes.c_longlong)),
-                           bad.ctypes.data_as(ctypes.POINTER(ctypes.c_int)), Zbad.ctypes.data_as(_DP),
-                           Ylast.ctypes.data_as(_DP))
-            if rc != 0:
-                raise MemoryError("rpo_run_lanes could not allocate its work space")
+            call(done, n, record_every, Z, Zall, Yall, row0, status, steps_ok, bad, Zbad, Ylast)
             for l in range(n_real):
                 if was[l] and not status[l]:
                     last_good[l] = (int(steps_ok[l]), Z[l].copy(), Ylast[l].copy(), Zbad[l].copy(), int(bad[l]))
             done += n
             if progress:
                 progress(min(done, n_total), n_total)
-        return [self._assemble(Zall[l], Yall[l], Z[l], last_good[l], n_total, t0, record_every, seeds[l])
-                for l in range(n_real)]
+        # the outputs at each healthy run's final state: one more step of the block from its end
+        # states with that step's noise (its next state discarded), as run() does it one run at a
+        # time (_final_output); NaN where the step function reports an error
+        live = np.array([l < n_real and last_good[l] is None for l in range(K)], dtype=np.intc)
+        final = np.full((K, ny), np.nan)
+        if live.any():
+            Zf, Yf = [np.empty((1, nz)) for _ in range(K)], [np.full((1, ny), np.nan) for _ in range(K)]
+            bad_f = np.full(K, -2, dtype=np.intc)
+            call(n_total, 1, 1, Z.copy(), Zf, Yf, 0, live, np.zeros(K, dtype=np.int64), bad_f,
+                 np.zeros((K, nz)), np.zeros((K, ny)))
+            for l in range(n_real):
+                if last_good[l] is None and bad_f[l] != -1:
+                    final[l] = Yf[l][0]
+        out = [self._assemble(Zall[l], Yall[l], Z[l], last_good[l], n_total, t0, record_every, seeds[l])
+               for l in range(n_real)]
+        for l, r in enumerate(out):
+            if r.divergence is None:
+                r.y[-1] = final[l]
+        return out
+
+    def _lane_caller(self, lanes, fn, sz_w, t0, P, G, keys):
+        """``call(k0, n, every, Z, Zrec, Yrec, row0, status, steps_ok, bad, Zbad, Ylast)``: n steps of
+        the block from global step k0 by rpo_run_lanes (runtime/csrc/lanes_loop.c), recording into
+        rows row0... of each lane's Zrec / Yrec arrays."""
+        PP = ctypes.POINTER(_DP)
+        nz, ny, nw, K = self.nz, self.ny, self.nw, lanes.width
+        fixed = (ctypes.c_void_p(fn), ctypes.c_longlong(sz_w), ctypes.c_double(t0), ctypes.c_double(self.dt))
+        pg = (P.ctypes.data_as(_DP), ctypes.c_int(P.shape[1]), G.ctypes.data_as(_DP), ctypes.c_int(G.shape[1]),
+              keys.ctypes.data_as(ctypes.POINTER(ctypes.c_ulonglong)), ctypes.c_int(nw))
+        bound = self.bound.ctypes.data_as(_DP)
+
+        def call(k0, n, every, Z, Zrec, Yrec, row0, status, steps_ok, bad, Zbad, Ylast):
+            zr = (_DP * K)(*[ctypes.cast(a.ctypes.data + row0 * nz * 8, _DP) for a in Zrec])
+            yr = (_DP * K)(*[ctypes.cast(a.ctypes.data + row0 * ny * 8, _DP) for a in Yrec])
+            rc = lanes.run(*fixed, ctypes.c_longlong(k0), ctypes.c_int(n), ctypes.c_longlong(every), *pg,
+                           Z.ctypes.data_as(_DP), ctypes.c_int(nz), ctypes.cast(zr, PP), ctypes.cast(yr, PP),
+                           ctypes.c_int(ny), bound, status.ctypes.data_as(ctypes.POINTER(ctypes.c_int)),
+                           steps_ok.ctypes.data_as(ctypes.POINTER(ctypes.c_longlong)),
+                           bad.ctypes.data_as(ctypes.POINTER(ctypes.c_int)), Zbad.ctypes.data_as(_DP),
+                           Ylast.ctypes.data_as(_DP))
+            if rc != 0:
+                raise MemoryError("rpo_run_lanes could not allocate its work space")
+
+        return call
 
     def _assemble(self, Zr, Yr, z_end, lg, n_total, t0, record_every, seed) -> RunResult:
         """A :class:`RunResult` from a run's record (the grid's steps: the state at the start and the
@@ -514,8 +540,7 @@ class Simulation:
 
     def _field_labels(self) -> dict[str, list[str]]:
         """Layout field -> column labels, state fields then outputs (for :class:`RunResult` access)."""
-        lay = self.model.layouts
-        return {f["name"]: list(f["labels"]) for name in (self.z_layout, self.y_layout) for f in lay[name]}
+        return self.model.field_labels(self.z_layout, self.y_layout)
 
     def _final_output(self, z_end: np.ndarray, step: int, seed: int, t0: float) -> np.ndarray:
         """The outputs y at the final state: one more step from ``z_end`` at global ``step`` with

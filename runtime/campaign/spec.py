@@ -270,7 +270,7 @@ def _nominal(key: str, data: dict, manifest: dict) -> tuple[Any, str, int | None
             raise CampaignError(f"dispersions.{key}: unknown gain of {parts[1]}; its gains: {', '.join(layout)}")
         f = layout[parts[2]]
         if value is None:
-            d = manifest_defaults(manifest, ctrls[parts[1]]["gains"])[parts[2]]
+            d = manifest_defaults(manifest, ctrls[parts[1]]["gains"], copy=False)[parts[2]]
             value = float(d[0]) if f["size"] == 1 else [float(x) for x in d]
         return value, f["unit"], int(f["size"])
     if parts[0] == "faults" and len(parts) == 3 and parts[1].isdigit():

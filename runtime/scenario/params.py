@@ -259,13 +259,22 @@ def param(manifest: dict, name: str) -> ScenarioParam:
     raise KeyError(f"the manifest's layout p has no field {name} with a scenario key: run `python build.py`")
 
 
-def manifest_defaults(manifest: dict, layout: str) -> dict[str, np.ndarray]:
-    """Default values of a manifest layout by field name (as :meth:`Model.defaults`; new arrays,
-    the caller may change them)."""
+def manifest_defaults(manifest: dict, layout: str, copy: bool = True) -> dict[str, np.ndarray]:
+    """Default values of a manifest layout by field name (as :meth:`Model.defaults`).
+
+    ``copy=True``: a new dict of new arrays, the caller may change them.  ``copy=False``: the
+    parsed defaults themselves, read-only arrays (for readers: a campaign reads them a few times
+    per run)."""
     fields = manifest["layouts"][layout]
-    d = _cached(manifest, ("defaults", layout), lambda: {f["name"]: np.array(f["default"], float) for f in fields
-                                                          if "default" in f})
-    return {k: v.copy() for k, v in d.items()}
+
+    def make() -> dict[str, np.ndarray]:
+        out = {f["name"]: np.array(f["default"], float) for f in fields if "default" in f}
+        for v in out.values():
+            v.flags.writeable = False
+        return out
+
+    d = _cached(manifest, ("defaults", layout), make)
+    return {k: v.copy() for k, v in d.items()} if copy else d
 
 
 def _is_number(x: Any) -> bool:

@@ -339,12 +339,12 @@ class Scenario(_Section):
             if v is not None:
                 out[prm.name] = prm.to_si(v)
         if self.orbit.perigee_altitude is not None:
-            d = manifest_defaults(manifest, "p")
+            d = manifest_defaults(manifest, "p", copy=False)
             e = out.get("orbit_e", float(d["orbit_e"][0]))
             r_e = out.get("r_earth", float(d["r_earth"][0]))
             out["orbit_a"] = (r_e + self.orbit.perigee_altitude) / (1.0 - e)  # perigee radius = a (1 - e)
         if self.faults:
-            out.update(fault_params(self.faults, manifest_defaults(manifest, "p")))
+            out.update(fault_params(self.faults, manifest_defaults(manifest, "p", copy=False)))
         return out
 
     def params(self, manifest: dict | None = None) -> dict[str, np.ndarray]:
@@ -441,7 +441,7 @@ class Scenario(_Section):
     def _check_faults(self, manifest: dict) -> None:
         """Faults the model can fly: one window per kind and unit; actuator faults need the
         wheels and thrusters (the ideal actuators of 001/002/004 have no units to fail)."""
-        defaults = manifest_defaults(manifest, "p")
+        defaults = manifest_defaults(manifest, "p", copy=False)
         try:
             fault_params(self.faults, defaults)
         except FaultConflict as exc:
@@ -458,7 +458,7 @@ class Scenario(_Section):
                     raise field_error(f"faults[{n}].{where}", getattr(f, where),
                                       f"out of range for {f.kind} of {f.unit_name()}: must be {shown.text(unit)}")
         ideal = self.param_overrides(manifest).get("actuators_ideal",
-                                                   manifest_defaults(manifest, "p")["actuators_ideal"])
+                                                   manifest_defaults(manifest, "p", copy=False)["actuators_ideal"])
         if float(np.ravel(ideal)[0]) == 1.0:
             for n, f in enumerate(self.faults):
                 if f.family != "sensor":
