@@ -7,14 +7,17 @@ PyPI package ``bsk``).  One spacecraft with the mass and inertia of rpo's chaser
 the manifest defaults, read through rpo's scenario reader; nothing else of rpo is used) on
 scenario III's target orbit:
 
-* ``spacecraft.Spacecraft`` hub: rpo's ``chaser_mass`` and full ``chaser_inertia`` tensor (constant:
-  Basilisk has no counterpart of rpo's time-varying mass profile), centre of mass at the body origin;
+* ``spacecraft.Spacecraft`` hub: rpo's ``chaser_mass`` and full ``chaser_inertia`` tensor I_c plus the
+  wheels' spin inertia J_s sum a a^T (Basilisk's balanced wheels belong to the hub's inertia:
+  tests/basilisk_map.py; constant: Basilisk has no counterpart of rpo's time-varying mass
+  profile), centre of mass at the body origin;
 * Earth gravity: point mass plus J2, as Basilisk's spherical-harmonics model of degree 2 with the
   only non-zero coefficients C00 = 1 and the normalised C20 = -J2 / sqrt(5) (rpo's ``mu``, ``j2``,
   ``r_earth``; no coefficient file, so no data download);
 * ``GravityGradientEffector`` about the Earth;
 * four reaction wheels (``reactionWheelStateEffector``, balanced wheels) along the columns of rpo's
-  pyramid matrix A* (000 eq. 47, tilt ``wheel_beta``), spin inertia ``wheel_inertia``, torque limit
+  pyramid matrix A* (000 eq. 47, tilt ``wheel_beta``), spin inertia ``wheel_inertia`` and no
+  transverse inertia (the mapping of tests/basilisk_map.py), torque limit
   ``wheel_torque_max``, speed limit ``wheel_speed_max``, at rest at t = 0, driven by a constant
   motor-torque command (``WHEEL_TORQUE`` per wheel, signs +, -, +, -) written once to a stand-alone
   message: no flight software in the loop.  That command lies in the null space of A* (opposite
@@ -39,6 +42,10 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
+# rpo <-> Basilisk conventions (quaternions/MRPs, wheel speeds/momenta, inertias, LVLH): one module
+sys.path.insert(0, str(ROOT / "tests"))
+import basilisk_map as bmap  # noqa: E402
+
 SCENARIO = ROOT / "scenarios" / "000_scenario_III.toml"
 
 #: Constant motor torque per wheel [N m], signs (+, -, +, -): 0.6 N m s after 300 s, below the
@@ -115,24 +122,9 @@ def kepler_state(mu: float, a: float, e: float, inc: float, raan: float, argp: f
     return C @ r_pf, C @ v_pf
 
 
-def _dcm_from_quat(q) -> np.ndarray:
-    """C_{A<-B} of q_B_A (scalar last, v_A = q v_B q*), rpo's convention."""
-    x, y, z, w = np.asarray(q, float) / np.linalg.norm(q)
-    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
-                     [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
-                     [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
-
-
 def initial_attitude(p: dict, r: np.ndarray, v: np.ndarray) -> np.ndarray:
     """C_{ECI<-B} of the chaser at t = 0 (rpo's frames: "orbit" = X along-track, Z nadir)."""
-    x_l = r / np.linalg.norm(r)
-    z_l = np.cross(r, v)
-    z_l /= np.linalg.norm(z_l)
-    y_l = np.cross(z_l, x_l)
-    frame = p["chaser_attitude_frame"]
-    C_IF = {"eci": np.eye(3), "lvlh": np.column_stack([x_l, y_l, z_l]),
-            "orbit": np.column_stack([y_l, -z_l, -x_l])}[frame]
-    return C_IF @ _dcm_from_quat(p["chaser_quaternion"])
+    return bmap.frame_dcm(p["chaser_attitude_frame"], r, v) @ bmap.dcm_from_quat(p["chaser_quaternion"])
 
 
 def initial_rate(p: dict, r: np.ndarray, v: np.ndarray, C_IB: np.ndarray) -> np.ndarray:
@@ -140,25 +132,92 @@ def initial_rate(p: dict, r: np.ndarray, v: np.ndarray, C_IB: np.ndarray) -> np.
     (the orbit rate about the orbit normal) when it is given relative to an LVLH-fixed frame."""
     w = np.asarray(p["chaser_rate"], float)
     if p["chaser_rate_relative_to"] == "attitude_frame" and p["chaser_attitude_frame"] != "eci":
-        h = np.cross(r, v)
-        w = w + C_IB.T @ (h / float(r @ r))  # n z_L with n = |h| / r^2
+        w = w + C_IB.T @ bmap.lvlh_dcm(r, v) @ bmap.lvlh_rate(r, v)
     return w
 
 
-def pyramid_axes(beta: float) -> np.ndarray:
-    """rpo's wheel axes A* (000 eq. 47) as columns, body axes."""
-    c, s = math.cos(beta), math.sin(beta)
-    return np.array([[c, 0, -c, 0], [0, c, 0, -c], [s, s, s, s]])
+pyramid_axes = bmap.pyramid_axes
+inertia_tensor = bmap.inertia_tensor
 
 
-def inertia_tensor(c) -> np.ndarray:
-    xx, yy, zz, xy, xz, yz = c
-    return np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]], float)
+# --------------------------------------------------------------------------- building blocks
+# (also used by tests/test_xcheck_basilisk.py; every rpo <-> Basilisk conversion is in tests/basilisk_map.py)
+
+
+def set_hub(sc, p: dict, r: np.ndarray, v: np.ndarray, q_IB: np.ndarray, omega: np.ndarray,
+            wheels: bool = True) -> None:
+    """The hub of ``sc``: rpo's chaser mass, and its inertia as basilisk_map.basilisk_inertias maps it
+    (I_c + J_s A A^T with ``wheels``: Basilisk's balanced wheels belong to the hub's inertia; I_c
+    without), centre of mass at the body origin, ECI position/velocity [m, m/s], attitude of rpo's
+    q_B/ECI, body rate [rad/s]."""
+    inert = bmap.basilisk_inertias(inertia_tensor(p["chaser_inertia"]), p["wheel_inertia"] if wheels else 0.0,
+                                   pyramid_axes(p["wheel_beta"]))
+    sc.hub.mHub = p["chaser_mass"]
+    sc.hub.r_BcB_B = [[0.0], [0.0], [0.0]]
+    sc.hub.IHubPntBc_B = inert["hub"].tolist()
+    sc.hub.r_CN_NInit = [[x] for x in r]
+    sc.hub.v_CN_NInit = [[x] for x in v]
+    sc.hub.sigma_BNInit = [[x] for x in bmap.quat_to_mrp(q_IB)]
+    sc.hub.omega_BN_BInit = [[x] for x in omega]
+
+
+def add_earth(p: dict, bsk: dict, spacecraft: list, j2: bool = True) -> dict:
+    """Earth as the central body of every spacecraft in ``spacecraft``: point mass (rpo's ``mu``),
+    plus J2 as a degree-2 spherical-harmonics field (normalised C20 = -J2 / sqrt(5)) when ``j2``."""
+    grav = bsk["simIncludeGravBody"].gravBodyFactory()
+    earth = grav.createEarth()
+    earth.isCentralBody = True
+    earth.mu = p["mu"]
+    earth.radEquator = p["r_earth"]
+    sh = None
+    if j2:
+        sh = bsk["sphericalHarmonicsGravityModel"].SphericalHarmonicsGravityModel()
+        sh.muBody = p["mu"]
+        sh.radEquator = p["r_earth"]
+        sh.maxDeg = 2
+        sh.cBar = [[1.0], [0.0, 0.0], [-p["j2"] / math.sqrt(5.0), 0.0, 0.0]]
+        sh.sBar = [[0.0], [0.0, 0.0], [0.0, 0.0, 0.0]]
+        earth.gravityModel = sh
+    for sc in spacecraft:
+        grav.addBodiesTo(sc)
+    return dict(grav=grav, earth=earth, sh=sh)
+
+
+def add_wheels(sc, p: dict, bsk: dict, omega_rpm, torques) -> dict:
+    """rpo's four pyramid wheels on ``sc`` (balanced, Js = wheel_inertia, Jt = Jg = 0: the mapping of
+    basilisk_map.basilisk_inertias, with the hub of ``set_hub(..., wheels=True)``), initial speeds
+    relative to the body [rpm], and a constant motor-torque command [N m] written once to a
+    stand-alone message."""
+    messaging = bsk["messaging"]
+    A = pyramid_axes(p["wheel_beta"])
+    inert = bmap.basilisk_inertias(inertia_tensor(p["chaser_inertia"]), p["wheel_inertia"], A)
+    rw_factory = bsk["simIncludeRW"].rwFactory()
+    for axis, om in zip(A.T, omega_rpm, strict=True):
+        w = rw_factory.create("custom", list(axis), Js=inert["Js"], u_max=float(p["wheel_torque_max"]),
+                              Omega_max=float(p["wheel_speed_max"] / bmap.RPM), Omega=float(om),
+                              RWModel=messaging.BalancedWheels)
+        w.Jt, w.Jg = inert["Jt"], inert["Jg"]  # the factory's default is Js / 2
+    rw = bsk["reactionWheelStateEffector"].ReactionWheelStateEffector()
+    rw_factory.addToSpacecraft("wheels", rw, sc)
+    cmd = messaging.ArrayMotorTorqueMsgPayload()
+    cmd.motorTorque = [float(t) for t in torques]
+    cmd_msg = messaging.ArrayMotorTorqueMsg().write(cmd)
+    rw.rwMotorCmdInMsg.subscribeTo(cmd_msg)
+    return dict(rw=rw, rw_factory=rw_factory, cmd_msg=cmd_msg)
+
+
+def add_gravity_gradient(sc, bsk: dict, earth):
+    """Basilisk's gravity-gradient torque about ``earth`` on ``sc`` (it uses the whole spacecraft's inertia)."""
+    gg = bsk["GravityGradientEffector"].GravityGradientEffector()
+    gg.ModelTag = "gravityGradient"
+    gg.addPlanetName(earth.planetName)
+    sc.addDynamicEffector(gg)
+    return gg
 
 
 def build(p: dict, dt: float, duration: float, bsk: dict):
     """A Basilisk simulation of the case, initialised; returns (sim, handles)."""
-    sbc, macros, messaging = bsk["SimulationBaseClass"], bsk["macros"], bsk["messaging"]
+    sbc, macros = bsk["SimulationBaseClass"], bsk["macros"]
     sim = sbc.SimBaseClass()
     sim.SetProgressBar(False)
     proc = sim.CreateNewProcess("dynamics")
@@ -171,62 +230,28 @@ def build(p: dict, dt: float, duration: float, bsk: dict):
 
     sc = bsk["spacecraft"].Spacecraft()
     sc.ModelTag = "chaser"
-    sc.hub.mHub = p["chaser_mass"]
-    sc.hub.r_BcB_B = [[0.0], [0.0], [0.0]]
-    sc.hub.IHubPntBc_B = inertia_tensor(p["chaser_inertia"]).tolist()
-    sc.hub.r_CN_NInit = [[x] for x in r0]
-    sc.hub.v_CN_NInit = [[x] for x in v0]
-    sc.hub.sigma_BNInit = [[x] for x in bsk["RigidBodyKinematics"].C2MRP(C_IB.T)]
-    sc.hub.omega_BN_BInit = [[x] for x in initial_rate(p, r0, v0, C_IB)]
+    set_hub(sc, p, r0, v0, bmap.quat_from_dcm(C_IB), initial_rate(p, r0, v0, C_IB))
     integrator = bsk["svIntegrators"].svIntegratorRK4(sc)
     sc.setIntegrator(integrator)
-
-    # Earth: point mass + J2 as a degree-2 spherical-harmonics field (normalised coefficients)
-    grav = bsk["simIncludeGravBody"].gravBodyFactory()
-    earth = grav.createEarth()
-    earth.isCentralBody = True
-    earth.mu = p["mu"]
-    earth.radEquator = p["r_earth"]
-    sh = bsk["sphericalHarmonicsGravityModel"].SphericalHarmonicsGravityModel()
-    sh.muBody = p["mu"]
-    sh.radEquator = p["r_earth"]
-    sh.maxDeg = 2
-    sh.cBar = [[1.0], [0.0, 0.0], [-p["j2"] / math.sqrt(5.0), 0.0, 0.0]]
-    sh.sBar = [[0.0], [0.0, 0.0], [0.0, 0.0, 0.0]]
-    earth.gravityModel = sh
-    grav.addBodiesTo(sc)
-
-    gg = bsk["GravityGradientEffector"].GravityGradientEffector()
-    gg.ModelTag = "gravityGradient"
-    gg.addPlanetName(earth.planetName)
-    sc.addDynamicEffector(gg)
-
-    rw_factory = bsk["simIncludeRW"].rwFactory()
-    rpm = 60.0 / (2 * math.pi)
-    for axis in pyramid_axes(p["wheel_beta"]).T:
-        rw_factory.create("custom", list(axis), Js=float(p["wheel_inertia"]), u_max=float(p["wheel_torque_max"]),
-                          Omega_max=float(p["wheel_speed_max"] * rpm), Omega=0.0, RWModel=messaging.BalancedWheels)
-    rw = bsk["reactionWheelStateEffector"].ReactionWheelStateEffector()
-    rw_factory.addToSpacecraft("wheels", rw, sc)
-    cmd = messaging.ArrayMotorTorqueMsgPayload()
-    cmd.motorTorque = [WHEEL_TORQUE, -WHEEL_TORQUE, WHEEL_TORQUE, -WHEEL_TORQUE]
-    cmd_msg = messaging.ArrayMotorTorqueMsg().write(cmd)
-    rw.rwMotorCmdInMsg.subscribeTo(cmd_msg)
+    earth = add_earth(p, bsk, [sc], j2=True)
+    gg = add_gravity_gradient(sc, bsk, earth["earth"])
+    wheels = add_wheels(sc, p, bsk, [0.0] * 4, [WHEEL_TORQUE, -WHEEL_TORQUE, WHEEL_TORQUE, -WHEEL_TORQUE])
 
     # higher priority runs first: wheel commands, then the gravity-gradient module, then the hub
-    sim.AddModelToTask(task, rw, None, 3)
+    sim.AddModelToTask(task, wheels["rw"], None, 3)
     sim.AddModelToTask(task, gg, None, 2)
     sim.AddModelToTask(task, sc, None, 1)
     sim.InitializeSimulation()
     sim.ConfigureStopTime(macros.sec2nano(duration))
     # keep every SWIG object alive as long as the simulation
-    return sim, dict(sc=sc, integrator=integrator, grav=grav, earth=earth, sh=sh, gg=gg, rw=rw,
-                     rw_factory=rw_factory, cmd_msg=cmd_msg, r0=r0, v0=v0, C_IB0=C_IB)
+    return sim, dict(sc=sc, integrator=integrator, **earth, gg=gg, **wheels, r0=r0, v0=v0, C_IB0=C_IB)
 
 
 def describe(p: dict, dt: float, duration: float) -> str:
-    I = inertia_tensor(p["chaser_inertia"])
-    return (f"Basilisk: 1 spacecraft (hub m = {p['chaser_mass']:g} kg, I = {I.tolist()} kg m^2, constant), "
+    I = bmap.basilisk_inertias(inertia_tensor(p["chaser_inertia"]), p["wheel_inertia"],
+                               pyramid_axes(p["wheel_beta"]))["hub"]
+    return (f"Basilisk: 1 spacecraft (hub m = {p['chaser_mass']:g} kg, I = I_c + J_s A A^T = "
+            f"{np.round(I, 6).tolist()} kg m^2, constant), "
             f"Earth point mass + J2 (spherical harmonics degree 2, mu = {p['mu']:.10g}, J2 = {p['j2']:.9g}, "
             f"R = {p['r_earth']:g} m), gravity-gradient torque, 4 balanced reaction wheels in rpo's pyramid "
             f"(tilt {math.degrees(p['wheel_beta']):g} deg, Js = {p['wheel_inertia']:g} kg m^2, "
