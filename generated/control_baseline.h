@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_baseline: controller half of a step of baseline: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_baseline' (hash b1105fe5f6ff5b12833b5546cc08cabcd9cab553c22e7204820d608d1f0f1374),
+ * Produced by `python build.py` from family 'controller_baseline' (hash e2770bb1f87b673e15e6a1698584c03da31ac39c422ad77ab1f27690b7d010dd),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -25,6 +25,7 @@
  *   symbolic/rotations.py
  *   symbolic/special.py
  *   symbolic/structural_cse.py
+ *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py
  * Operations: 124 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */

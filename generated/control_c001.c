@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_c001: controller half of a step of c001: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_c001' (hash 86660a56144dfb966a17195effd9a6516ca6852aaa9e68b5f51ef40af59a344b),
+ * Produced by `python build.py` from family 'controller_c001' (hash 57588fa93d21866fd4378c62ed9b58b846faaa6a3738bec065785b990a663bca),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -25,6 +25,7 @@
  *   symbolic/rotations.py
  *   symbolic/special.py
  *   symbolic/structural_cse.py
+ *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py
  * Operations: 5063 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
@@ -131,12 +132,12 @@ CASADI_SYMBOL_EXPORT int control_c001_casadi_real_size(void) { return (int) size
 static const casadi_int casadi_s0[3] = {43, 1, 1};
 static const casadi_int casadi_s1[3] = {12, 1, 1};
 static const casadi_int casadi_s2[3] = {1, 1, 1};
-static const casadi_int casadi_s3[3] = {375, 1, 1};
+static const casadi_int casadi_s3[3] = {376, 1, 1};
 static const casadi_int casadi_s4[3] = {37, 1, 1};
 static const casadi_int casadi_s5[3] = {9, 1, 1};
 static const casadi_int casadi_s6[3] = {39, 1, 1};
 
-/* control_c001:(meas[43],xc[12],t,p[375],k[37])->(cmd[9],xc_next[12],diag[39]) */
+/* control_c001:(meas[43],xc[12],t,p[376],k[37])->(cmd[9],xc_next[12],diag[39]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a000, a001, a002, a003, a004, a005, a006, a007, a008, a009, a010, a011;
   casadi_real a012, a013, a014, a015, a016, a017, a018, a019, a020, a021, a022, a023;
@@ -1499,7 +1500,7 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   if (res[0]!=0) res[0][7]=a150;
   if (res[0]!=0) res[0][8]=a150;
   a195=arg[1]? arg[1][0] : 0;
-  a070=arg[3]? arg[3][193] : 0;
+  a070=arg[3]? arg[3][194] : 0;
   a223=6.;
   a223=(a070/a223);
   a090=arg[4]? arg[4][7] : 0;

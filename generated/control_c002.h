@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_c002: controller half of a step of c002: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_c002' (hash 2e6371e622e0db93a7502e236d5ea180c90efe105c2776c1772a701ea68b56e4),
+ * Produced by `python build.py` from family 'controller_c002' (hash bcda5a75fb82aa47ac0632bad6cfcd7bb6849073883b19efbbfa7bb725281231),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -25,6 +25,7 @@
  *   symbolic/rotations.py
  *   symbolic/special.py
  *   symbolic/structural_cse.py
+ *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py
  * Operations: 2906 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */

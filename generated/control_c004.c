@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_c004: controller half of a step of c004: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_c004' (hash b98a2da699885c786d5b270728288bba27d2d15b82f3f32a21ea3a79673cb887),
+ * Produced by `python build.py` from family 'controller_c004' (hash 40eb665dff71dc99c2ef05bc6ab58e3a355fd95765148ad4abeae9a61ee1c9f1),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -25,6 +25,7 @@
  *   symbolic/rotations.py
  *   symbolic/special.py
  *   symbolic/structural_cse.py
+ *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py
  * Operations: 1873 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
@@ -131,12 +132,12 @@ CASADI_SYMBOL_EXPORT int control_c004_casadi_real_size(void) { return (int) size
 static const casadi_int casadi_s0[3] = {43, 1, 1};
 static const casadi_int casadi_s1[3] = {11, 1, 1};
 static const casadi_int casadi_s2[3] = {1, 1, 1};
-static const casadi_int casadi_s3[3] = {375, 1, 1};
+static const casadi_int casadi_s3[3] = {376, 1, 1};
 static const casadi_int casadi_s4[3] = {30, 1, 1};
 static const casadi_int casadi_s5[3] = {9, 1, 1};
 static const casadi_int casadi_s6[3] = {37, 1, 1};
 
-/* control_c004:(meas[43],xc[11],t,p[375],k[30])->(cmd[9],xc_next[11],diag[37]) */
+/* control_c004:(meas[43],xc[11],t,p[376],k[30])->(cmd[9],xc_next[11],diag[37]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a000, a001, a002, a003, a004, a005, a006, a007, a008, a009, a010, a011;
   casadi_real a012, a013, a014, a015, a016, a017, a018, a019, a020, a021, a022, a023;
@@ -934,7 +935,7 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   if (res[0]!=0) res[0][6]=a065;
   if (res[0]!=0) res[0][7]=a089;
   if (res[0]!=0) res[0][8]=a110;
-  a110=arg[3]? arg[3][193] : 0;
+  a110=arg[3]? arg[3][194] : 0;
   a089=6.;
   a110=(a110/a089);
   a089=arg[4]? arg[4][13] : 0;

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_c004: controller half of a step of c004: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_c004' (hash b98a2da699885c786d5b270728288bba27d2d15b82f3f32a21ea3a79673cb887),
+ * Produced by `python build.py` from family 'controller_c004' (hash 40eb665dff71dc99c2ef05bc6ab58e3a355fd95765148ad4abeae9a61ee1c9f1),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -25,6 +25,7 @@
  *   symbolic/rotations.py
  *   symbolic/special.py
  *   symbolic/structural_cse.py
+ *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py
  * Operations: 1873 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * ideal_actuators: ideal actuators: per-axis saturated force and torque
- * Produced by `python build.py` from family 'plant' (hash 4dd1f8891fc03256ab8436c72d889d2094a6519c3f88d6d2adbe0af548756161),
+ * Produced by `python build.py` from family 'plant' (hash 8d53e6815a15d36619b54099b1afdd97b7511c4e024dfa3a1b02407203d247c3),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -24,6 +24,7 @@
  *   symbolic/rotations.py
  *   symbolic/special.py
  *   symbolic/structural_cse.py
+ *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py
  * Operations: 28 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
@@ -107,12 +108,12 @@ CASADI_SYMBOL_EXPORT int ideal_actuators_casadi_int_size(void) { return (int) si
 CASADI_SYMBOL_EXPORT int ideal_actuators_casadi_real_size(void) { return (int) sizeof(casadi_real); }
 
 static const casadi_int casadi_s0[3] = {3, 1, 1};
-static const casadi_int casadi_s1[3] = {375, 1, 1};
+static const casadi_int casadi_s1[3] = {376, 1, 1};
 
-/* ideal_actuators:(F[3],tau[3],p[375])->(F_applied[3],tau_applied[3]) */
+/* ideal_actuators:(F[3],tau[3],p[376])->(F_applied[3],tau_applied[3]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0, a1, a2;
-  a0=arg[2]? arg[2][20] : 0;
+  a0=arg[2]? arg[2][21] : 0;
   a1=(-a0);
   a2=arg[0]? arg[0][0] : 0;
   a2=casadi_fmin(a2,a0);
@@ -126,7 +127,7 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a2=casadi_fmin(a2,a0);
   a1=casadi_fmax(a1,a2);
   if (res[0]!=0) res[0][2]=a1;
-  a1=arg[2]? arg[2][21] : 0;
+  a1=arg[2]? arg[2][22] : 0;
   a2=(-a1);
   a0=arg[1]? arg[1][0] : 0;
   a0=casadi_fmin(a0,a1);

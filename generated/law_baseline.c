@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_baseline: control law of baseline
- * Produced by `python build.py` from family 'controller_baseline' (hash b1105fe5f6ff5b12833b5546cc08cabcd9cab553c22e7204820d608d1f0f1374),
+ * Produced by `python build.py` from family 'controller_baseline' (hash e2770bb1f87b673e15e6a1698584c03da31ac39c422ad77ab1f27690b7d010dd),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -25,6 +25,7 @@
  *   symbolic/rotations.py
  *   symbolic/special.py
  *   symbolic/structural_cse.py
+ *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py
  * Operations: 129 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
@@ -117,11 +118,11 @@ CASADI_SYMBOL_EXPORT int law_baseline_casadi_real_size(void) { return (int) size
 static const casadi_int casadi_s0[3] = {43, 1, 1};
 static const casadi_int casadi_s1[3] = {0, 1, 1};
 static const casadi_int casadi_s2[3] = {1, 1, 1};
-static const casadi_int casadi_s3[3] = {375, 1, 1};
+static const casadi_int casadi_s3[3] = {376, 1, 1};
 static const casadi_int casadi_s4[3] = {7, 1, 1};
 static const casadi_int casadi_s5[3] = {9, 1, 1};
 
-/* law_baseline:(meas[43],xc[0],t,p[375],k[7])->(cmd[9],xc_dot[0],diag) */
+/* law_baseline:(meas[43],xc[0],t,p[376],k[7])->(cmd[9],xc_dot[0],diag) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18;

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c000: control law of c000
- * Produced by `python build.py` from family 'controller_c000' (hash 251e692c1b4319e299da7a10e8fd160df204bb38f054a95ac02f06710c3a09ab),
+ * Produced by `python build.py` from family 'controller_c000' (hash bd4775af8e1580539a4276f5293513ea61d79fe0fc2ee8e4178e4571641c9442),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -25,6 +25,7 @@
  *   symbolic/rotations.py
  *   symbolic/special.py
  *   symbolic/structural_cse.py
+ *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py
  * Operations: 684 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
@@ -130,11 +131,11 @@ CASADI_SYMBOL_EXPORT int law_c000_casadi_real_size(void) { return (int) sizeof(c
 static const casadi_int casadi_s0[3] = {43, 1, 1};
 static const casadi_int casadi_s1[3] = {33, 1, 1};
 static const casadi_int casadi_s2[3] = {1, 1, 1};
-static const casadi_int casadi_s3[3] = {375, 1, 1};
+static const casadi_int casadi_s3[3] = {376, 1, 1};
 static const casadi_int casadi_s4[3] = {9, 1, 1};
 static const casadi_int casadi_s5[3] = {65, 1, 1};
 
-/* law_c000:(meas[43],xc[33],t,p[375],k[43])->(cmd[9],xc_dot[33],diag[65]) */
+/* law_c000:(meas[43],xc[33],t,p[376],k[43])->(cmd[9],xc_dot[33],diag[65]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a000, a001, a002, a003, a004, a005, a006, a007, a008, a009, a010, a011;
   casadi_real a012, a013, a014, a015, a016, a017, a018, a019, a020, a021, a022, a023;

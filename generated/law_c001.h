@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c001: control law of c001
- * Produced by `python build.py` from family 'controller_c001' (hash 86660a56144dfb966a17195effd9a6516ca6852aaa9e68b5f51ef40af59a344b),
+ * Produced by `python build.py` from family 'controller_c001' (hash 57588fa93d21866fd4378c62ed9b58b846faaa6a3738bec065785b990a663bca),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -25,6 +25,7 @@
  *   symbolic/rotations.py
  *   symbolic/special.py
  *   symbolic/structural_cse.py
+ *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py
  * Operations: 2201 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c002: control law of c002
- * Produced by `python build.py` from family 'controller_c002' (hash 2e6371e622e0db93a7502e236d5ea180c90efe105c2776c1772a701ea68b56e4),
+ * Produced by `python build.py` from family 'controller_c002' (hash bcda5a75fb82aa47ac0632bad6cfcd7bb6849073883b19efbbfa7bb725281231),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -25,6 +25,7 @@
  *   symbolic/rotations.py
  *   symbolic/special.py
  *   symbolic/structural_cse.py
+ *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py
  * Operations: 1017 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
@@ -128,12 +129,12 @@ CASADI_SYMBOL_EXPORT int law_c002_casadi_real_size(void) { return (int) sizeof(c
 static const casadi_int casadi_s0[3] = {43, 1, 1};
 static const casadi_int casadi_s1[3] = {15, 1, 1};
 static const casadi_int casadi_s2[3] = {1, 1, 1};
-static const casadi_int casadi_s3[3] = {375, 1, 1};
+static const casadi_int casadi_s3[3] = {376, 1, 1};
 static const casadi_int casadi_s4[3] = {38, 1, 1};
 static const casadi_int casadi_s5[3] = {9, 1, 1};
 static const casadi_int casadi_s6[3] = {41, 1, 1};
 
-/* law_c002:(meas[43],xc[15],t,p[375],k[38])->(cmd[9],xc_dot[15],diag[41]) */
+/* law_c002:(meas[43],xc[15],t,p[376],k[38])->(cmd[9],xc_dot[15],diag[41]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a000, a001, a002, a003, a004, a005, a006, a007, a008, a009, a010, a011;
   casadi_real a012, a013, a014, a015, a016, a017, a018, a019, a020, a021, a022, a023;

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * pwpf: PWPF Schmitt trigger
- * Produced by `python build.py` from family 'plant' (hash 4dd1f8891fc03256ab8436c72d889d2094a6519c3f88d6d2adbe0af548756161),
+ * Produced by `python build.py` from family 'plant' (hash 8d53e6815a15d36619b54099b1afdd97b7511c4e024dfa3a1b02407203d247c3),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -24,6 +24,7 @@
  *   symbolic/rotations.py
  *   symbolic/special.py
  *   symbolic/structural_cse.py
+ *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py
  * Operations: 179 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
@@ -87,18 +88,18 @@ CASADI_SYMBOL_EXPORT int pwpf_casadi_int_size(void) { return (int) sizeof(casadi
 CASADI_SYMBOL_EXPORT int pwpf_casadi_real_size(void) { return (int) sizeof(casadi_real); }
 
 static const casadi_int casadi_s0[3] = {16, 1, 1};
-static const casadi_int casadi_s1[3] = {375, 1, 1};
+static const casadi_int casadi_s1[3] = {376, 1, 1};
 
-/* pwpf:(f[16],on_prev[16],duty[16],p[375])->(on[16]) */
+/* pwpf:(f[16],on_prev[16],duty[16],p[376])->(on[16]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0, a1, a2, a3, a4, a5, a6;
-  a0=arg[3]? arg[3][191] : 0;
+  a0=arg[3]? arg[3][192] : 0;
   a1=arg[0]? arg[0][0] : 0;
   a2=(a0<=a1);
   a3=1.;
   a4=(a2?a3:0);
   a2=(!a2);
-  a5=arg[3]? arg[3][192] : 0;
+  a5=arg[3]? arg[3][193] : 0;
   a1=(a1<=a5);
   a1=(!a1);
   a6=arg[1]? arg[1][0] : 0;

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * pwpf_filter: PWPF prefilter update over dt
- * Produced by `python build.py` from family 'plant' (hash 4dd1f8891fc03256ab8436c72d889d2094a6519c3f88d6d2adbe0af548756161),
+ * Produced by `python build.py` from family 'plant' (hash 8d53e6815a15d36619b54099b1afdd97b7511c4e024dfa3a1b02407203d247c3),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -24,6 +24,7 @@
  *   symbolic/rotations.py
  *   symbolic/special.py
  *   symbolic/structural_cse.py
+ *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py
  * Operations: 152 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
@@ -87,20 +88,20 @@ CASADI_SYMBOL_EXPORT int pwpf_filter_casadi_int_size(void) { return (int) sizeof
 CASADI_SYMBOL_EXPORT int pwpf_filter_casadi_real_size(void) { return (int) sizeof(casadi_real); }
 
 static const casadi_int casadi_s0[3] = {16, 1, 1};
-static const casadi_int casadi_s1[3] = {375, 1, 1};
+static const casadi_int casadi_s1[3] = {376, 1, 1};
 
-/* pwpf_filter:(f[16],duty[16],on[16],p[375])->(f_next[16]) */
+/* pwpf_filter:(f[16],duty[16],on[16],p[376])->(f_next[16]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a0, a1, a2, a3, a4;
   a0=arg[0]? arg[0][0] : 0;
   a1=1.;
-  a2=arg[3]? arg[3][193] : 0;
-  a3=arg[3]? arg[3][190] : 0;
+  a2=arg[3]? arg[3][194] : 0;
+  a3=arg[3]? arg[3][191] : 0;
   a2=(a2/a3);
   a2=(-a2);
   a2=exp(a2);
   a1=(a1-a2);
-  a2=arg[3]? arg[3][189] : 0;
+  a2=arg[3]? arg[3][190] : 0;
   a3=arg[1]? arg[1][0] : 0;
   a4=arg[2]? arg[2][0] : 0;
   a3=(a3-a4);

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c000: one closed-loop step (plant + c000 + actuators), RK4 over dt: measure, control_c000, plant_advance
- * Produced by `python build.py` from family 'controller_c000' (hash 251e692c1b4319e299da7a10e8fd160df204bb38f054a95ac02f06710c3a09ab),
+ * Produced by `python build.py` from family 'controller_c000' (hash bd4775af8e1580539a4276f5293513ea61d79fe0fc2ee8e4178e4571641c9442),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -25,8 +25,9 @@
  *   symbolic/rotations.py
  *   symbolic/special.py
  *   symbolic/structural_cse.py
+ *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py
- * Operations: 26068 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 33865 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c002: one closed-loop step (plant + c002 + actuators), RK4 over dt: measure, control_c002, plant_advance
- * Produced by `python build.py` from family 'controller_c002' (hash 2e6371e622e0db93a7502e236d5ea180c90efe105c2776c1772a701ea68b56e4),
+ * Produced by `python build.py` from family 'controller_c002' (hash bcda5a75fb82aa47ac0632bad6cfcd7bb6849073883b19efbbfa7bb725281231),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -25,8 +25,9 @@
  *   symbolic/rotations.py
  *   symbolic/special.py
  *   symbolic/structural_cse.py
+ *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py
- * Operations: 27829 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 35626 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {
@@ -58,18 +59,18 @@ int measure(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_r
 int control_c002(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
 int plant_advance(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
 
-static const casadi_int step_c002_s0[3] = {101, 1, 1};
+static const casadi_int step_c002_s0[3] = {107, 1, 1};
 static const casadi_int step_c002_s1[3] = {1, 1, 1};
-static const casadi_int step_c002_s2[3] = {375, 1, 1};
+static const casadi_int step_c002_s2[3] = {376, 1, 1};
 static const casadi_int step_c002_s3[3] = {38, 1, 1};
 static const casadi_int step_c002_s4[3] = {18, 1, 1};
-static const casadi_int step_c002_s5[3] = {101, 1, 1};
+static const casadi_int step_c002_s5[3] = {107, 1, 1};
 static const casadi_int step_c002_s6[3] = {176, 1, 1};
 
 CASADI_SYMBOL_EXPORT int step_c002_casadi_int_size(void) { return (int) sizeof(casadi_int); }
 CASADI_SYMBOL_EXPORT int step_c002_casadi_real_size(void) { return (int) sizeof(casadi_real); }
 
-/* w: [meas (43), hold_next (13), cmd (9), xc_next (15), diag (41), zp_next (73), y_plant (83)] then the callees' work space */
+/* w: [meas (43), hold_next (13), cmd (9), xc_next (15), diag (41), zp_next (79), y_plant (83)] then the callees' work space */
 CASADI_SYMBOL_EXPORT int step_c002(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   (void) mem;
   const casadi_real* a[5];
@@ -80,25 +81,25 @@ CASADI_SYMBOL_EXPORT int step_c002(const casadi_real** arg, casadi_real** res, c
   if (!arg[2]) return 1;  /* p */
   if (!arg[3]) return 1;  /* k */
   if (!arg[4]) return 1;  /* w */
-  /* (meas, hold_next) = measure(z, z+73, t, p, w) */
+  /* (meas, hold_next) = measure(z, z+79, t, p, w) */
   a[0] = arg[0];
-  a[1] = arg[0] + 73;
+  a[1] = arg[0] + 79;
   a[2] = arg[1];
   a[3] = arg[2];
   a[4] = arg[4];
   r[0] = w + 0;
   r[1] = w + 43;
-  if (measure(a, r, iw, w + 277, 0)) return 1;
-  /* (cmd, xc_next, diag) = control_c002(meas, z+86, t, p, k) */
+  if (measure(a, r, iw, w + 283, 0)) return 1;
+  /* (cmd, xc_next, diag) = control_c002(meas, z+92, t, p, k) */
   a[0] = w + 0;
-  a[1] = arg[0] + 86;
+  a[1] = arg[0] + 92;
   a[2] = arg[1];
   a[3] = arg[2];
   a[4] = arg[3];
   r[0] = w + 56;
   r[1] = w + 65;
   r[2] = w + 80;
-  if (control_c002(a, r, iw, w + 277, 0)) return 1;
+  if (control_c002(a, r, iw, w + 283, 0)) return 1;
   /* (zp_next, y_plant) = plant_advance(z, t, p, w, cmd) */
   a[0] = arg[0];
   a[1] = arg[1];
@@ -106,19 +107,19 @@ CASADI_SYMBOL_EXPORT int step_c002(const casadi_real** arg, casadi_real** res, c
   a[3] = arg[4];
   a[4] = w + 56;
   r[0] = w + 121;
-  r[1] = w + 194;
-  if (plant_advance(a, r, iw, w + 277, 0)) return 1;
+  r[1] = w + 200;
+  if (plant_advance(a, r, iw, w + 283, 0)) return 1;
   /* z_next = [zp_next, hold_next, xc_next] */
   if (res[0]) {
-    for (i = 0; i < 73; ++i) res[0][0 + i] = w[121 + i];
-    for (i = 0; i < 13; ++i) res[0][73 + i] = w[43 + i];
-    for (i = 0; i < 15; ++i) res[0][86 + i] = w[65 + i];
+    for (i = 0; i < 79; ++i) res[0][0 + i] = w[121 + i];
+    for (i = 0; i < 13; ++i) res[0][79 + i] = w[43 + i];
+    for (i = 0; i < 15; ++i) res[0][92 + i] = w[65 + i];
   }
   /* y = [meas, cmd, y_plant, diag] */
   if (res[1]) {
     for (i = 0; i < 43; ++i) res[1][0 + i] = w[0 + i];
     for (i = 0; i < 9; ++i) res[1][43 + i] = w[56 + i];
-    for (i = 0; i < 83; ++i) res[1][52 + i] = w[194 + i];
+    for (i = 0; i < 83; ++i) res[1][52 + i] = w[200 + i];
     for (i = 0; i < 41; ++i) res[1][135 + i] = w[80 + i];
   }
   return 0;
@@ -177,7 +178,7 @@ CASADI_SYMBOL_EXPORT int step_c002_work(casadi_int *sz_arg, casadi_int* sz_res, 
   if (sz_arg) *sz_arg = 5;
   if (sz_res) *sz_res = 2;
   if (sz_iw) *sz_iw = 0;
-  if (sz_w) *sz_w = 1456;
+  if (sz_w) *sz_w = 1671;
   return 0;
 }
 
@@ -186,7 +187,7 @@ CASADI_SYMBOL_EXPORT int step_c002_work_bytes(casadi_int *sz_arg, casadi_int* sz
   if (sz_arg) *sz_arg = 5*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 2*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
-  if (sz_w) *sz_w = 1456*sizeof(casadi_real);
+  if (sz_w) *sz_w = 1671*sizeof(casadi_real);
   return 0;
 }
 

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c002: one closed-loop step (plant + c002 + actuators), RK4 over dt: measure, control_c002, plant_advance
- * Produced by `python build.py` from family 'controller_c002' (hash 2e6371e622e0db93a7502e236d5ea180c90efe105c2776c1772a701ea68b56e4),
+ * Produced by `python build.py` from family 'controller_c002' (hash bcda5a75fb82aa47ac0632bad6cfcd7bb6849073883b19efbbfa7bb725281231),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -25,8 +25,9 @@
  *   symbolic/rotations.py
  *   symbolic/special.py
  *   symbolic/structural_cse.py
+ *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py
- * Operations: 27829 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 35626 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * target_orbit: target orbit at t (000 eqs. 31-36, corrected LVLH rate)
- * Produced by `python build.py` from family 'plant' (hash 4dd1f8891fc03256ab8436c72d889d2094a6519c3f88d6d2adbe0af548756161),
+ * Produced by `python build.py` from family 'plant' (hash 8d53e6815a15d36619b54099b1afdd97b7511c4e024dfa3a1b02407203d247c3),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -24,6 +24,7 @@
  *   symbolic/rotations.py
  *   symbolic/special.py
  *   symbolic/structural_cse.py
+ *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py
  * Operations: 288 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
@@ -95,11 +96,11 @@ CASADI_SYMBOL_EXPORT int target_orbit_casadi_int_size(void) { return (int) sizeo
 CASADI_SYMBOL_EXPORT int target_orbit_casadi_real_size(void) { return (int) sizeof(casadi_real); }
 
 static const casadi_int casadi_s0[3] = {1, 1, 1};
-static const casadi_int casadi_s1[3] = {375, 1, 1};
+static const casadi_int casadi_s1[3] = {376, 1, 1};
 static const casadi_int casadi_s2[3] = {3, 1, 1};
 static const casadi_int casadi_s3[3] = {4, 1, 1};
 
-/* target_orbit:(t,p[375])->(nu,r,r_dot,n,n_dot,r_eci[3],v_eci[3],q_IL[4]) */
+/* target_orbit:(t,p[376])->(nu,r,r_dot,n,n_dot,r_eci[3],v_eci[3],q_IL[4]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * wheel_alloc: pyramid wheel allocation with saturation (inverse of 000 eq. 46), nominal or over the healthy wheels
- * Produced by `python build.py` from family 'plant' (hash 4dd1f8891fc03256ab8436c72d889d2094a6519c3f88d6d2adbe0af548756161),
+ * Produced by `python build.py` from family 'plant' (hash 8d53e6815a15d36619b54099b1afdd97b7511c4e024dfa3a1b02407203d247c3),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -24,6 +24,7 @@
  *   symbolic/rotations.py
  *   symbolic/special.py
  *   symbolic/structural_cse.py
+ *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py
  * Operations: 278 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
@@ -110,22 +111,22 @@ CASADI_SYMBOL_EXPORT int wheel_alloc_casadi_real_size(void) { return (int) sizeo
 
 static const casadi_int casadi_s0[3] = {3, 1, 1};
 static const casadi_int casadi_s1[3] = {1, 1, 1};
-static const casadi_int casadi_s2[3] = {375, 1, 1};
+static const casadi_int casadi_s2[3] = {376, 1, 1};
 static const casadi_int casadi_s3[3] = {4, 1, 1};
 
-/* wheel_alloc:(tau[3],t,p[375])->(T_w[4]) */
+/* wheel_alloc:(tau[3],t,p[376])->(T_w[4]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19, a20, a21, a22, a23;
   casadi_real a24, a25, a26, a27, a28, a29, a30, a31, a32, a33;
   a00=1.;
-  a01=arg[2]? arg[2][374] : 0;
+  a01=arg[2]? arg[2][375] : 0;
   a02=(a00-a01);
   a03=2.;
   a04=5.0000000000000000e-01;
   a05=arg[0]? arg[0][0] : 0;
   a06=(a04*a05);
-  a07=arg[2]? arg[2][122] : 0;
+  a07=arg[2]? arg[2][123] : 0;
   a08=cos(a07);
   a08=(2.*a08);
   a08=(a03/a08);
@@ -154,7 +155,7 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a09=(a04+a12);
   a13=casadi_fabs(a09);
   a11=casadi_fmax(a11,a13);
-  a13=arg[2]? arg[2][124] : 0;
+  a13=arg[2]? arg[2][125] : 0;
   a11=(a11/a13);
   a11=casadi_fmax(a00,a11);
   a11=(2.*a11);
@@ -164,37 +165,37 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a13=(1./a13);
   a15=0.;
   a16=arg[1]? arg[1][0] : 0;
-  a17=arg[2]? arg[2][206] : 0;
+  a17=arg[2]? arg[2][207] : 0;
   a17=(a16-a17);
   a17=(a15<=a17);
   a17=(a00-a17);
-  a18=arg[2]? arg[2][202] : 0;
+  a18=arg[2]? arg[2][203] : 0;
   a18=(a16-a18);
   a18=(a15<=a18);
   a19=(a17*a18);
   a19=(a00-a19);
-  a20=arg[2]? arg[2][338] : 0;
+  a20=arg[2]? arg[2][339] : 0;
   a20=(a20*a17);
   a20=(a20*a18);
   a19=(a19+a20);
   a20=1.0000000000000001e-09;
   a19=casadi_fmax(a19,a20);
   a19=(a13/a19);
-  a18=arg[2]? arg[2][198] : 0;
+  a18=arg[2]? arg[2][199] : 0;
   a18=(a16-a18);
   a18=(a15<=a18);
   a18=(a00-a18);
-  a17=arg[2]? arg[2][194] : 0;
+  a17=arg[2]? arg[2][195] : 0;
   a17=(a16-a17);
   a17=(a15<=a17);
   a18=(a18*a17);
   a18=(a00-a18);
-  a17=arg[2]? arg[2][214] : 0;
+  a17=arg[2]? arg[2][215] : 0;
   a17=(a16-a17);
   a17=(a15<=a17);
   a17=(a00-a17);
   a17=(a17*a18);
-  a21=arg[2]? arg[2][210] : 0;
+  a21=arg[2]? arg[2][211] : 0;
   a21=(a16-a21);
   a21=(a15<=a21);
   a17=(a17*a21);
@@ -203,21 +204,21 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a22=(a18*a17);
   a23=(a00-a22);
   a23=(a23*a07);
-  a07=arg[2]? arg[2][200] : 0;
+  a07=arg[2]? arg[2][201] : 0;
   a07=(a16-a07);
   a07=(a15<=a07);
   a07=(a00-a07);
-  a24=arg[2]? arg[2][196] : 0;
+  a24=arg[2]? arg[2][197] : 0;
   a24=(a16-a24);
   a24=(a15<=a24);
   a07=(a07*a24);
   a07=(a00-a07);
-  a24=arg[2]? arg[2][216] : 0;
+  a24=arg[2]? arg[2][217] : 0;
   a24=(a16-a24);
   a24=(a15<=a24);
   a24=(a00-a24);
   a24=(a24*a07);
-  a25=arg[2]? arg[2][212] : 0;
+  a25=arg[2]? arg[2][213] : 0;
   a25=(a16-a25);
   a25=(a15<=a25);
   a24=(a24*a25);
@@ -231,21 +232,21 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a26=(a26*a28);
   a23=(a23+a26);
   a26=-1.;
-  a29=arg[2]? arg[2][199] : 0;
+  a29=arg[2]? arg[2][200] : 0;
   a29=(a16-a29);
   a29=(a15<=a29);
   a29=(a00-a29);
-  a30=arg[2]? arg[2][195] : 0;
+  a30=arg[2]? arg[2][196] : 0;
   a30=(a16-a30);
   a30=(a15<=a30);
   a29=(a29*a30);
   a29=(a00-a29);
-  a30=arg[2]? arg[2][215] : 0;
+  a30=arg[2]? arg[2][216] : 0;
   a30=(a16-a30);
   a30=(a15<=a30);
   a30=(a00-a30);
   a30=(a30*a29);
-  a31=arg[2]? arg[2][211] : 0;
+  a31=arg[2]? arg[2][212] : 0;
   a31=(a16-a31);
   a31=(a15<=a31);
   a30=(a30*a31);
@@ -254,21 +255,21 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a31=(a26+a31);
   a31=(a31*a09);
   a23=(a23+a31);
-  a31=arg[2]? arg[2][201] : 0;
+  a31=arg[2]? arg[2][202] : 0;
   a31=(a16-a31);
   a31=(a15<=a31);
   a31=(a00-a31);
-  a32=arg[2]? arg[2][197] : 0;
+  a32=arg[2]? arg[2][198] : 0;
   a32=(a16-a32);
   a32=(a15<=a32);
   a31=(a31*a32);
   a31=(a00-a31);
-  a32=arg[2]? arg[2][217] : 0;
+  a32=arg[2]? arg[2][218] : 0;
   a32=(a16-a32);
   a32=(a15<=a32);
   a32=(a00-a32);
   a32=(a32*a31);
-  a33=arg[2]? arg[2][213] : 0;
+  a33=arg[2]? arg[2][214] : 0;
   a33=(a16-a33);
   a33=(a15<=a33);
   a32=(a32*a33);
@@ -297,16 +298,16 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a21=casadi_fabs(a21);
   a19=(a19*a21);
   a19=casadi_fmax(a00,a19);
-  a21=arg[2]? arg[2][207] : 0;
+  a21=arg[2]? arg[2][208] : 0;
   a21=(a16-a21);
   a21=(a15<=a21);
   a21=(a00-a21);
-  a22=arg[2]? arg[2][203] : 0;
+  a22=arg[2]? arg[2][204] : 0;
   a22=(a16-a22);
   a22=(a15<=a22);
   a10=(a21*a22);
   a10=(a00-a10);
-  a33=arg[2]? arg[2][339] : 0;
+  a33=arg[2]? arg[2][340] : 0;
   a33=(a33*a21);
   a33=(a33*a22);
   a10=(a10+a33);
@@ -320,16 +321,16 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a33=casadi_fabs(a33);
   a10=(a10*a33);
   a19=casadi_fmax(a19,a10);
-  a10=arg[2]? arg[2][208] : 0;
+  a10=arg[2]? arg[2][209] : 0;
   a10=(a16-a10);
   a10=(a15<=a10);
   a10=(a00-a10);
-  a33=arg[2]? arg[2][204] : 0;
+  a33=arg[2]? arg[2][205] : 0;
   a33=(a16-a33);
   a33=(a15<=a33);
   a26=(a10*a33);
   a26=(a00-a26);
-  a22=arg[2]? arg[2][340] : 0;
+  a22=arg[2]? arg[2][341] : 0;
   a22=(a22*a10);
   a22=(a22*a33);
   a26=(a26+a22);
@@ -342,16 +343,16 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a22=casadi_fabs(a22);
   a26=(a26*a22);
   a19=casadi_fmax(a19,a26);
-  a26=arg[2]? arg[2][209] : 0;
+  a26=arg[2]? arg[2][210] : 0;
   a26=(a16-a26);
   a26=(a15<=a26);
   a26=(a00-a26);
-  a22=arg[2]? arg[2][205] : 0;
+  a22=arg[2]? arg[2][206] : 0;
   a16=(a16-a22);
   a15=(a15<=a16);
   a16=(a26*a15);
   a00=(a00-a16);
-  a16=arg[2]? arg[2][341] : 0;
+  a16=arg[2]? arg[2][342] : 0;
   a16=(a16*a26);
   a16=(a16*a15);
   a00=(a00+a16);

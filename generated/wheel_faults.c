@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * wheel_faults: motor torques the wheels deliver, which are locked (faults)
- * Produced by `python build.py` from family 'plant' (hash 4dd1f8891fc03256ab8436c72d889d2094a6519c3f88d6d2adbe0af548756161),
+ * Produced by `python build.py` from family 'plant' (hash 8d53e6815a15d36619b54099b1afdd97b7511c4e024dfa3a1b02407203d247c3),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -24,6 +24,7 @@
  *   symbolic/rotations.py
  *   symbolic/special.py
  *   symbolic/structural_cse.py
+ *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py
  * Operations: 200 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
@@ -109,49 +110,49 @@ CASADI_SYMBOL_EXPORT int wheel_faults_casadi_real_size(void) { return (int) size
 
 static const casadi_int casadi_s0[3] = {4, 1, 1};
 static const casadi_int casadi_s1[3] = {1, 1, 1};
-static const casadi_int casadi_s2[3] = {375, 1, 1};
+static const casadi_int casadi_s2[3] = {376, 1, 1};
 
-/* wheel_faults:(T_w[4],t,p[375])->(T_applied[4],locked[4]) */
+/* wheel_faults:(T_w[4],t,p[376])->(T_applied[4],locked[4]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12, a13, a14, a15, a16, a17, a18, a19;
   a00=1.;
   a01=0.;
   a02=arg[1]? arg[1][0] : 0;
-  a03=arg[2]? arg[2][198] : 0;
+  a03=arg[2]? arg[2][199] : 0;
   a03=(a02-a03);
   a03=(a01<=a03);
   a03=(a00-a03);
-  a04=arg[2]? arg[2][194] : 0;
+  a04=arg[2]? arg[2][195] : 0;
   a04=(a02-a04);
   a04=(a01<=a04);
   a03=(a03*a04);
   a03=(a00-a03);
-  a04=arg[2]? arg[2][214] : 0;
+  a04=arg[2]? arg[2][215] : 0;
   a04=(a02-a04);
   a04=(a01<=a04);
   a04=(a00-a04);
   a05=(a04*a03);
-  a06=arg[2]? arg[2][210] : 0;
+  a06=arg[2]? arg[2][211] : 0;
   a06=(a02-a06);
   a06=(a01<=a06);
   a05=(a05*a06);
   a05=(a00-a05);
   a05=(a03*a05);
   a07=arg[0]? arg[0][0] : 0;
-  a08=arg[2]? arg[2][206] : 0;
+  a08=arg[2]? arg[2][207] : 0;
   a08=(a02-a08);
   a08=(a01<=a08);
   a08=(a00-a08);
-  a09=arg[2]? arg[2][202] : 0;
+  a09=arg[2]? arg[2][203] : 0;
   a09=(a02-a09);
   a09=(a01<=a09);
   a10=(a08*a09);
   a11=(a00-a10);
   a11=(a07*a11);
-  a12=arg[2]? arg[2][124] : 0;
+  a12=arg[2]? arg[2][125] : 0;
   a10=(a00-a10);
-  a13=arg[2]? arg[2][338] : 0;
+  a13=arg[2]? arg[2][339] : 0;
   a13=(a13*a08);
   a13=(a13*a09);
   a10=(a10+a13);
@@ -165,39 +166,39 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a11=(a11+a08);
   a05=(a05*a11);
   if (res[0]!=0) res[0][0]=a05;
-  a05=arg[2]? arg[2][199] : 0;
+  a05=arg[2]? arg[2][200] : 0;
   a05=(a02-a05);
   a05=(a01<=a05);
   a05=(a00-a05);
-  a11=arg[2]? arg[2][195] : 0;
+  a11=arg[2]? arg[2][196] : 0;
   a11=(a02-a11);
   a11=(a01<=a11);
   a05=(a05*a11);
   a05=(a00-a05);
-  a11=arg[2]? arg[2][215] : 0;
+  a11=arg[2]? arg[2][216] : 0;
   a11=(a02-a11);
   a11=(a01<=a11);
   a11=(a00-a11);
   a08=(a11*a05);
-  a09=arg[2]? arg[2][211] : 0;
+  a09=arg[2]? arg[2][212] : 0;
   a09=(a02-a09);
   a09=(a01<=a09);
   a08=(a08*a09);
   a08=(a00-a08);
   a08=(a05*a08);
   a13=arg[0]? arg[0][1] : 0;
-  a07=arg[2]? arg[2][207] : 0;
+  a07=arg[2]? arg[2][208] : 0;
   a07=(a02-a07);
   a07=(a01<=a07);
   a07=(a00-a07);
-  a10=arg[2]? arg[2][203] : 0;
+  a10=arg[2]? arg[2][204] : 0;
   a10=(a02-a10);
   a10=(a01<=a10);
   a14=(a07*a10);
   a15=(a00-a14);
   a15=(a13*a15);
   a14=(a00-a14);
-  a16=arg[2]? arg[2][339] : 0;
+  a16=arg[2]? arg[2][340] : 0;
   a16=(a16*a07);
   a16=(a16*a10);
   a14=(a14+a16);
@@ -211,39 +212,39 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a15=(a15+a07);
   a08=(a08*a15);
   if (res[0]!=0) res[0][1]=a08;
-  a08=arg[2]? arg[2][200] : 0;
+  a08=arg[2]? arg[2][201] : 0;
   a08=(a02-a08);
   a08=(a01<=a08);
   a08=(a00-a08);
-  a15=arg[2]? arg[2][196] : 0;
+  a15=arg[2]? arg[2][197] : 0;
   a15=(a02-a15);
   a15=(a01<=a15);
   a08=(a08*a15);
   a08=(a00-a08);
-  a15=arg[2]? arg[2][216] : 0;
+  a15=arg[2]? arg[2][217] : 0;
   a15=(a02-a15);
   a15=(a01<=a15);
   a15=(a00-a15);
   a07=(a15*a08);
-  a10=arg[2]? arg[2][212] : 0;
+  a10=arg[2]? arg[2][213] : 0;
   a10=(a02-a10);
   a10=(a01<=a10);
   a07=(a07*a10);
   a07=(a00-a07);
   a07=(a08*a07);
   a16=arg[0]? arg[0][2] : 0;
-  a13=arg[2]? arg[2][208] : 0;
+  a13=arg[2]? arg[2][209] : 0;
   a13=(a02-a13);
   a13=(a01<=a13);
   a13=(a00-a13);
-  a14=arg[2]? arg[2][204] : 0;
+  a14=arg[2]? arg[2][205] : 0;
   a14=(a02-a14);
   a14=(a01<=a14);
   a17=(a13*a14);
   a18=(a00-a17);
   a18=(a16*a18);
   a17=(a00-a17);
-  a19=arg[2]? arg[2][340] : 0;
+  a19=arg[2]? arg[2][341] : 0;
   a19=(a19*a13);
   a19=(a19*a14);
   a17=(a17+a19);
@@ -257,39 +258,39 @@ static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw,
   a18=(a18+a13);
   a07=(a07*a18);
   if (res[0]!=0) res[0][2]=a07;
-  a07=arg[2]? arg[2][201] : 0;
+  a07=arg[2]? arg[2][202] : 0;
   a07=(a02-a07);
   a07=(a01<=a07);
   a07=(a00-a07);
-  a18=arg[2]? arg[2][197] : 0;
+  a18=arg[2]? arg[2][198] : 0;
   a18=(a02-a18);
   a18=(a01<=a18);
   a07=(a07*a18);
   a07=(a00-a07);
-  a18=arg[2]? arg[2][217] : 0;
+  a18=arg[2]? arg[2][218] : 0;
   a18=(a02-a18);
   a18=(a01<=a18);
   a18=(a00-a18);
   a13=(a18*a07);
-  a14=arg[2]? arg[2][213] : 0;
+  a14=arg[2]? arg[2][214] : 0;
   a14=(a02-a14);
   a14=(a01<=a14);
   a13=(a13*a14);
   a13=(a00-a13);
   a13=(a07*a13);
   a19=arg[0]? arg[0][3] : 0;
-  a16=arg[2]? arg[2][209] : 0;
+  a16=arg[2]? arg[2][210] : 0;
   a16=(a02-a16);
   a16=(a01<=a16);
   a16=(a00-a16);
-  a17=arg[2]? arg[2][205] : 0;
+  a17=arg[2]? arg[2][206] : 0;
   a02=(a02-a17);
   a01=(a01<=a02);
   a02=(a16*a01);
   a17=(a00-a02);
   a17=(a19*a17);
   a00=(a00-a02);
-  a02=arg[2]? arg[2][341] : 0;
+  a02=arg[2]? arg[2][342] : 0;
   a02=(a02*a16);
   a02=(a02*a01);
   a00=(a00+a02);

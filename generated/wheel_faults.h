@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * wheel_faults: motor torques the wheels deliver, which are locked (faults)
- * Produced by `python build.py` from family 'plant' (hash 4dd1f8891fc03256ab8436c72d889d2094a6519c3f88d6d2adbe0af548756161),
+ * Produced by `python build.py` from family 'plant' (hash 8d53e6815a15d36619b54099b1afdd97b7511c4e024dfa3a1b02407203d247c3),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -24,6 +24,7 @@
  *   symbolic/rotations.py
  *   symbolic/special.py
  *   symbolic/structural_cse.py
+ *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py
  * Operations: 200 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */

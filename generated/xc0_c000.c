@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * xc0_c000: initial state of c000 from the first measurement
- * Produced by `python build.py` from family 'controller_c000' (hash 251e692c1b4319e299da7a10e8fd160df204bb38f054a95ac02f06710c3a09ab),
+ * Produced by `python build.py` from family 'controller_c000' (hash bd4775af8e1580539a4276f5293513ea61d79fe0fc2ee8e4178e4571641c9442),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -25,6 +25,7 @@
  *   symbolic/rotations.py
  *   symbolic/special.py
  *   symbolic/structural_cse.py
+ *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py
  * Operations: 110 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
@@ -92,10 +93,10 @@ CASADI_SYMBOL_EXPORT int xc0_c000_casadi_int_size(void) { return (int) sizeof(ca
 CASADI_SYMBOL_EXPORT int xc0_c000_casadi_real_size(void) { return (int) sizeof(casadi_real); }
 
 static const casadi_int casadi_s0[3] = {43, 1, 1};
-static const casadi_int casadi_s1[3] = {375, 1, 1};
+static const casadi_int casadi_s1[3] = {376, 1, 1};
 static const casadi_int casadi_s2[3] = {33, 1, 1};
 
-/* xc0_c000:(meas[43],p[375],k[43])->(xc0[33]) */
+/* xc0_c000:(meas[43],p[376],k[43])->(xc0[33]) */
 static int casadi_f0(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem) {
   casadi_real a00, a01, a02, a03, a04, a05, a06, a07, a08, a09, a10, a11;
   casadi_real a12;

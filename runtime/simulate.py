@@ -218,14 +218,21 @@ class Simulation:
         return n_total, int(record_every), int(chunk)
 
     def initial_state(self, plant: dict, controller: dict | None = None) -> np.ndarray:
-        """Packed z0 from plant fields (q_c, w_c, h_w, q_t, w_t, r, v) and controller states.
+        """Packed z0 from plant fields (q_c, w_c, h_w, q_t, w_t, r, v; optionally r_T, v_T) and
+        controller states.
 
         Actuator states start at rest (empty delay line, PWPF filters at 0, thrusters off);
-        ``m_prop`` starts at 0.
+        ``m_prop`` starts at 0; the target's ECI state r_T, v_T, unless given, is the parameters'
+        Keplerian orbit at t = 0 (a run that starts at another t0 gives them).
         """
         values = {"m_prop": 0.0, **plant, **{f"xc_{k}": v for k, v in (controller or {}).items()}}
         z = np.zeros(self.nz)
         offs = self.model.offsets(self.z_layout)
+        if "r_T" in offs and not {"r_T", "v_T"} & set(values):
+            # the target's own orbit (plant.target_orbit = "propagated") starts on the Keplerian
+            # orbit of the parameters at t = 0: the generated target_orbit's ECI state
+            orbit = self.model.functions["target_orbit"](0.0, self.p)
+            values["r_T"], values["v_T"] = np.ravel(orbit[5]), np.ravel(orbit[6])
         for name, v in values.items():
             if name not in offs:
                 raise ModelError(f"initial state: unknown field {name!r}")

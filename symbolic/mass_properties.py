@@ -77,3 +77,17 @@ def chaser_mass_properties(t, m0, I0, profile_on):
     for i in range(3):
         I[i, i] = I0[i, i] * (1 + profile_on * (prof[i] / diag0[i] - 1))
     return m0 * f_m, I
+
+
+def spacecraft_inertia_with_wheels(I_body, J_s, axes, wheels_on=1):
+    """The whole spacecraft's inertia about its centre of mass [kg m^2], body axes:
+    I_body + J_s sum_i a_i a_i^T.
+
+    rpo's chaser inertia I_c (000 eq. 6's J) excludes the wheels' spin-axis inertia J_s, which
+    eq. 6 carries in the wheel momenta; the mass distribution that the gravity gradient acts on
+    (000 eq. 4, :func:`.environment.gravity_gradient_torque`) is the whole spacecraft's, rotors
+    included (Basilisk's gravity-gradient effector uses the hub plus its wheels' inertia the same
+    way).  ``axes``: the wheels' true spin axes as columns (3 x 4); ``wheels_on`` = 0 drops them
+    (the ideal actuators of 001/002/004 have no wheels).  000 prints eq. 4 with the body inertia
+    alone: the difference is J_s / I ~ 1e-3 of the torque (docs/full_plant.md)."""
+    return I_body + wheels_on * J_s * axes * axes.T

@@ -25,11 +25,12 @@ from . import actuators as act
 from . import environment as env
 from . import faults as flt
 from . import orbit as orb
+from . import target_orbit_state as tos
 from .constraints import beta_ca, beta_fov
 from .layout import NON_NEGATIVE, POSITIVE, XYZ, XYZW, Bounds, Layout, ScenarioKey
-from .mass_properties import chaser_mass_properties
+from .mass_properties import chaser_mass_properties, spacecraft_inertia_with_wheels
 from .relative_attitude import attitude_error, rate_error
-from .relative_translation import chaser_inertial_state, relative_acceleration
+from .relative_translation import chaser_inertial_state_tilted, frame_tilt_acceleration, relative_acceleration
 from .rigid_body import (
     angular_acceleration_offset,
     chaser_angular_acceleration,
@@ -122,6 +123,10 @@ def _params() -> Layout:
           presets={"full": 1})
     p.add("gravity_on", 1, "-", "orbit on (1) or free space (0, 004's model: LVLH frozen to ECI, no gravity)",
           default=1, scenario=switch("plant.gravity"), presets={"full": 1})
+    p.add("orbit_propagated", 1, "-", "target orbit: Keplerian with 000's differential J2 and drag (0, eqs. 30, "
+          "45) or the target's own orbit propagated with J2 and drag, its LVLH frame from that state (1)",
+          default=0, scenario=S("plant.target_orbit", kind="choice", choices=(("kepler", 0.0), ("propagated", 1.0))),
+          presets={"full": 1})
     p.add("actuators_ideal", 1, "-", "ideal force/torque actuators (1) or wheels and thrusters (0)", default=0,
           scenario=S("plant.actuators", kind="choice", choices=(("ideal", 1.0), ("wheels_thrusters", 0.0))),
           presets={"full": 0})
@@ -314,6 +319,10 @@ def _state() -> Layout:
     x.add("r", 3, "m", "chaser position relative to target, LVLH", XYZ)
     x.add("v", 3, "m/s", "chaser velocity relative to target, LVLH-frame derivative", XYZ)
     x.add("m_prop", 1, "kg", "propellant used")
+    # the target's own orbit (rpo's full plant, plant.target_orbit = "propagated"; with "kepler",
+    # 000's formulation, these are integrated but nothing reads them)
+    x.add("r_T", 3, "m", "target position, ECI (propagated target orbit)", XYZ)
+    x.add("v_T", 3, "m/s", "target velocity, ECI (propagated target orbit)", XYZ)
     return x
 
 
@@ -429,16 +438,54 @@ class Plant:
         u_lat = p["orbit_argp"] + o["nu"]
         return quat_mul(quat_mul(axis(2, p["orbit_raan"]), axis(0, p["orbit_inc"])), axis(2, u_lat))
 
+    def target_perturbation(self, r_eci, v_eci):
+        """The target's perturbing acceleration [m/s^2], ECI: J2 and drag (its mass, C_D, area)."""
+        p = self.p
+        return self._perturbation(r_eci, v_eci, p["target_mass"], p["target_cd"], p["target_area"])
+
+    def _perturbation(self, r_eci, v_eci, mass, cd, area):
+        """J2 (000 eq. 37 corrected) and drag (eqs. 38-44 corrected) on one body [m/s^2], ECI."""
+        p = self.p
+        a_j2 = env.j2_acceleration(p["mu"], p["j2"], p["r_earth"], r_eci)
+        rho = env.atmosphere_density(env.altitude(r_eci, p["r_earth"], p["earth_flattening"]))
+        a_drag = env.drag_acceleration(rho, cd, area, mass, r_eci, v_eci, p["omega_earth"])
+        return p["j2_on"] * a_j2 + p["drag_on"] * a_drag
+
+    def target_frame(self):
+        """The target's orbit and LVLH frame at t (the keys of :func:`.orbit.target_orbit`, plus
+        ``w_x``, ``w_x_dot``, ``q_IL`` and ``a_p``, the target's perturbing acceleration).
+
+        ``orbit_propagated`` (0 or 1, validated) picks 000's Keplerian target (Kepler's equation
+        at t; the perturbations act on r, v only through their difference, eq. 45) or the target's
+        own propagated state r_T, v_T (:mod:`.target_orbit_state`); the blend is exact for 0 and 1.
+        """
+        p, x = self.p, self.x
+        g = p["orbit_propagated"]
+        kep = self.orbit()
+        kep["q_IL"] = self.lvlh_attitude(kep)
+        kep["a_p"] = self.target_perturbation(kep["r_eci"], kep["v_eci"])
+        r_T, v_T = x["r_T"], x["v_T"]
+        a_p = self.target_perturbation(r_T, v_T)
+        a_T = -p["mu"] * r_T / norm(r_T) ** 3 + a_p
+        prop = tos.propagated_orbit(p["mu"], r_T, v_T, a_p, tos.perturbation_rate(a_p, r_T, v_T, v_T, a_T))
+        prop["q_IL"] = tos.dcm_to_quat(prop["C_IL"])
+        prop["a_p"] = a_p
+        kep["w_x"] = kep["w_x_dot"] = sp.S.Zero
+        out = {k: g * prop[k] + (1 - g) * kep[k] for k in kep}
+        out["a_T"] = a_T  # the propagated target's acceleration (its state's derivative)
+        return out
+
     def reference_frame(self, o):
         """The frame of r, v: the target's LVLH frame, or in free space (gravity_on = 0) a frame
-        fixed in ECI.  Returns (q_L/ECI, C_ECI<-L, rate n, its derivative).
+        fixed in ECI.  Returns (q_L/ECI, C_ECI<-L, its rate w_L and angular acceleration
+        w_L_dot relative to ECI, LVLH components: [w_x, 0, n], w_x = 0 for a Keplerian target).
 
         ``gravity_on`` is 0 or 1 (validated by the scenario), so the blends below are exact.
         """
         g = self.p["gravity_on"]
-        q_L = g * self.lvlh_attitude(o) + (1 - g) * vec(0, 0, 0, 1)
+        q_L = g * o["q_IL"] + (1 - g) * vec(0, 0, 0, 1)
         C_IL = g * o["C_IL"] + (1 - g) * sp.eye(3)
-        return q_L, C_IL, g * o["n"], g * o["n_dot"]
+        return q_L, C_IL, vec(g * o["w_x"], 0, g * o["n"]), vec(g * o["w_x_dot"], 0, g * o["n_dot"])
 
     def scenario_disturbance(self, kind: str, nu) -> sp.Matrix:
         """The papers' disturbance models (002 sec. 4, 004 sec. 5, 001 sec. 7) in chaser body axes.
@@ -464,8 +511,9 @@ class Plant:
     def _terms(self):
         """Every intermediate quantity of the right-hand side, by name."""
         p, x, u, w = self.p, self.x, self.u, self.w
-        o = self.orbit()
-        _q_L, C_IL, n_L, n_dot_L = self.reference_frame(o)
+        o = self.target_frame()
+        _q_L, C_IL, w_L, w_L_dot = self.reference_frame(o)
+        n_L, n_dot_L = w_L[2], w_L_dot[2]
         m_c, I_c = self.mass_properties()
         I_t = inertia_tensor(p["target_inertia"])
         # the TRUE wheel axes A + dA and thruster directions (misalignment, docs/actuators.md): every
@@ -492,11 +540,14 @@ class Plant:
         dF_thr, dtau_thr = act.thruster_wrench_misalignment(u["thr_on"], p["thruster_force"], p["thruster_misalign"])
         F_thr, tau_thr = F_thr0 + dF_thr, tau_thr0 + dtau_thr
 
-        r_c_eci, v_c_eci = chaser_inertial_state(o["r_eci"], o["v_eci"], o["C_IL"], o["n"], r, v)
+        r_c_eci, v_c_eci = chaser_inertial_state_tilted(o["r_eci"], o["v_eci"], o["C_IL"], vec(o["w_x"], 0, o["n"]),
+                                                        r, v)
         C_Ic, C_It = quat_to_dcm(q_c), quat_to_dcm(q_t)
         rc = norm(r_c_eci)
         rt = o["r"]
-        M_gg_c = p["gg_on"] * env.gravity_gradient_torque(p["mu"], rc, C_Ic.T * r_c_eci / rc, I_c)
+        # the whole spacecraft, rotors included (mass_properties.spacecraft_inertia_with_wheels)
+        I_gg = spacecraft_inertia_with_wheels(I_c, p["wheel_inertia"], A + dA, 1 - p["actuators_ideal"])
+        M_gg_c = p["gg_on"] * env.gravity_gradient_torque(p["mu"], rc, C_Ic.T * r_c_eci / rc, I_gg)
         M_gg_t = p["gg_on"] * env.gravity_gradient_torque(p["mu"], rt, C_It.T * o["r_eci"] / rt, I_t)
         m_hat = vec(0, 0, -1)  # untilted dipole, pointing to geographic south
         B_c = env.dipole_field(p["mu_mag"], r_c_eci, m_hat)
@@ -506,14 +557,8 @@ class Plant:
         M_r_c = env.random_torque(p["chaser_rand_std"], w["n_c"])
         M_r_t = env.random_torque(p["target_rand_std"], w["n_t"])
 
-        def perturbation(r_eci, v_eci, mass, cd, area):
-            a_j2 = env.j2_acceleration(p["mu"], p["j2"], p["r_earth"], r_eci)
-            rho = env.atmosphere_density(env.altitude(r_eci, p["r_earth"], p["earth_flattening"]))
-            a_drag = env.drag_acceleration(rho, cd, area, mass, r_eci, v_eci, p["omega_earth"])
-            return p["j2_on"] * a_j2 + p["drag_on"] * a_drag
-
-        a_c = perturbation(r_c_eci, v_c_eci, m_c, p["chaser_cd"], p["chaser_area"])
-        a_t = perturbation(o["r_eci"], o["v_eci"], p["target_mass"], p["target_cd"], p["target_area"])
+        a_c = self._perturbation(r_c_eci, v_c_eci, m_c, p["chaser_cd"], p["chaser_area"])
+        a_t = o["a_p"]
         a_d = o["C_IL"].T * env.relative_disturbance(a_c, a_t)
         F_dist = self.scenario_disturbance("force", o["nu"])
         tau_dist = self.scenario_disturbance("torque", o["nu"])
@@ -538,7 +583,7 @@ class Plant:
             "w_dot": w_dot, "h_w_dot": locked_wheel_momentum_rate(T_w, p["wheel_inertia"], A, locked, w_dot, dA),
             "T_c": T_c, "F_thr": F_thr, "tau_thr": tau_thr, "M_c": M_c, "M_t": M_t,
             "M_gg_c": M_gg_c, "M_gg_t": M_gg_t, "M_mag_t": M_mag_t, "a_d": a_d, "a_ctrl": a_ctrl,
-            "h_rw": h_rw, "n_L": n_L, "n_dot_L": n_dot_L, "C_IL": C_IL, "C_Ic": C_Ic,
+            "h_rw": h_rw, "n_L": n_L, "n_dot_L": n_dot_L, "w_L": w_L, "w_L_dot": w_L_dot, "C_IL": C_IL, "C_Ic": C_Ic,
             "F_ctrl": F_ctrl, "tau_ctrl": T_motor + tau_thr + u["tau_ideal"], "F_dist": F_dist, "tau_dist": tau_dist,
         }
 
@@ -555,9 +600,12 @@ class Plant:
             "w_t": target_angular_acceleration(k["I_t"], x["w_t"], k["M_t"]),
             "r": x["v"],
             "v": relative_acceleration(x["r"], x["v"], o["r"], k["n_L"], k["n_dot_L"], p["gravity_on"] * p["mu"],
-                                       k["a_ctrl"], k["a_d"]),
+                                       k["a_ctrl"], k["a_d"])
+            + frame_tilt_acceleration(x["r"], x["v"], k["w_L"][0], k["w_L_dot"][0], k["n_L"]),
             "m_prop": act.propellant_flow(u["thr_on"], p["thruster_force"], p["thruster_isp"], p["g0"])
             + act.ideal_propellant_flow(u["F_ideal"], p["thruster_isp"], p["g0"]),
+            "r_T": x["v_T"],
+            "v_T": o["a_T"],
         })
 
     def torques(self) -> dict[str, sp.Matrix]:
@@ -575,8 +623,9 @@ class Plant:
         velocity.  The target's attitude and rate are passed exactly.
         """
         x, p, w, t = self.x, self.p, self.w, self.t
-        o = self.orbit()
-        q_L, _C_IL, n_L, n_dot_L = self.reference_frame(o)
+        o = self.target_frame()
+        q_L, _C_IL, w_L, w_L_dot = self.reference_frame(o)
+        n_L, n_dot_L = w_L[2], w_L_dot[2]
         # noise and bias, with the sensor faults' windows (faults.py); then a frozen sensor repeats
         # the last value it gave (the step state's sensor hold, self.hold)
         nb = flt.sensor_noise_and_bias(t, p)

@@ -35,3 +35,25 @@ def chaser_inertial_state(r_t_eci, v_t_eci, C_IL, n, r_e, v_e):
     """
     w_L = vec(0, 0, n)
     return r_t_eci + C_IL * r_e, v_t_eci + C_IL * (v_e + w_L.cross(r_e))
+
+
+def frame_tilt_acceleration(r_e, v_e, w_x, w_x_dot, w_z):
+    """The terms that a rotation of the LVLH frame about X_L (rate ``w_x``, its derivative
+    ``w_x_dot``; a perturbed target orbit, :mod:`.target_orbit_state`) adds to eq. 30 [m/s^2].
+
+    Eq. 30 is -2 w x v_e - w_dot x r_e - w x (w x r_e) + gravity difference for w = [0, 0, n];
+    for w = [w_x, 0, w_z] the same kinematics add these terms, each with a factor w_x or
+    w_x_dot (exactly 0 for a Keplerian target, so eq. 30 keeps its value there)."""
+    x, y, z = r_e
+    _xd, yd, zd = v_e
+    return vec(
+        -w_x * w_z * z,
+        2 * w_x * zd + w_x_dot * z + w_x**2 * y,
+        -2 * w_x * yd - w_x_dot * y - w_x * w_z * x + w_x**2 * z,
+    )
+
+
+def chaser_inertial_state_tilted(r_t_eci, v_t_eci, C_IL, w_L, r_e, v_e):
+    """:func:`chaser_inertial_state` for an LVLH frame turning with w_L (LVLH components):
+    r_c = r_t + C_IL r_e;  v_c = v_t + C_IL (v_e + w_L x r_e)."""
+    return r_t_eci + C_IL * r_e, v_t_eci + C_IL * (v_e + w_L.cross(r_e))
