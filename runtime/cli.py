@@ -312,6 +312,9 @@ def validate(scenario: str, backend: str) -> int:
     echo(f"  orbit       a = {a / 1e3:.6g} km, e = {e:g}, perigee altitude {h_p:.6g} km, "
          f"i = {math.degrees(p['orbit_inc']):g} deg, period {2 * math.pi * math.sqrt(a**3 / mu) / 60:.5g} min, "
          f"LVLH rate n(0) = {inputs.frame_info['n0']:.6g} rad/s")
+    from .runner import plant_summary
+    summary = plant_summary(inputs.params, None)
+    echo(f"  plant       target orbit {summary['target_orbit']}; {summary['actuators']}")
     pl = inputs.plant
     for body, q, w in (("chaser", pl["q_c"], pl["w_c"]), ("target", pl["q_t"], pl["w_t"])):
         q_L = frames.attitude_from_eci(q, "lvlh", q_IL)
@@ -334,6 +337,15 @@ def validate(scenario: str, backend: str) -> int:
     for k in changed:
         echo(f"    {k:<18s} {_fmt(inputs.params[k]):>28s} {units[k]:<8s} (default {_fmt(defaults[k])})")
     return 0
+
+
+def _preset_word(f: dict) -> str:
+    """The full preset's value of a switch or choice parameter, as a scenario writes it."""
+    v = float(f["presets"]["full"][0])
+    sk = f["scenario"]
+    if sk.get("kind") == "choice":
+        return next((f'"{name}"' for name, val in sk.get("choices", {}).items() if float(val) == v), f"{v:g}")
+    return "true" if v == 1.0 else "false"
 
 
 def _vec(v, fmt: str) -> str:
@@ -410,6 +422,13 @@ def info(backend: str) -> int:
         echo("single calls     " + ("in place (fast-call extension)" if not fastcall.why_not
                                     else f"ctypes ({fastcall.why_not[0]})"))
     echo(f"quaternions      {m.get('quaternion_convention', '?')}")
+    # the two plants: a scenario's own values, or the full preset over them (--plant full)
+    switches = [f for f in m["layouts"]["p"] if f.get("presets", {}).get("full") and f["size"] == 1
+                and f.get("scenario", {}).get("kind") in ("switch", "choice")]
+    echo("plants           paper (default): the scenario's own values; full (--plant full): " + ", ".join(
+        f"{f['scenario']['key']} = {_preset_word(f)}" for f in switches) + "; target orbit of the defaults: "
+        + ("propagated" if float(next(f for f in m["layouts"]["p"] if f["name"] == "orbit_propagated")["default"][0])
+           else "kepler"))
     echo("controllers      " + ", ".join(f"{k} (gains {v['gains']})" for k, v in sorted(m["controllers"].items())))
     echo("\nfunctions:")
     for name, f in sorted(m["functions"].items()):

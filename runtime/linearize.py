@@ -565,15 +565,22 @@ def linearize_scenario(path: str | Path, model: Model | None = None, controller:
 def central_differences(model: Model, lin: Linearization, p: np.ndarray, k: np.ndarray, h: float = 1e-6,
                         w: np.ndarray | None = None) -> np.ndarray:
     """Central differences of the compiled ``step_<ctrl>`` in the reduced coordinates of ``lin``
-    (step h * max(1, |z_j|) per coordinate): a check of the AD Jacobian, and of where the point sits
-    on a discontinuity (a sign law on its switching surface) or a kink (|s| at s = 0)."""
+    (step h * max(1, |z_j|) per coordinate, and h * max(1, |z_field|) for the plant's vectors,
+    |z_field| the norm of the field: their components are a frame's, and a component near 0 of a
+    large vector, such as the z velocity of an orbit, would otherwise get a step whose effect on the
+    next state drowns in that state's round-off): a check of the AD Jacobian, and of where the point
+    sits on a discontinuity (a sign law on its switching surface) or a kink (|s| at s = 0)."""
     step = model.function(model.manifest["controllers"][lin.controller]["step"])
     c = lin.coords
     w = np.zeros(model.layout_size("w")) if w is None else w
     scale = np.ones(c.n)
+    plant_fields = {f["name"] for f in model.layouts["x"] if f["size"] > 1}
     for name, zs, xs in c.blocks:
         if name not in QUATERNIONS:
-            scale[xs] = np.maximum(1.0, np.abs(lin.z[zs]))
+            if name in plant_fields:
+                scale[xs] = max(1.0, float(np.linalg.norm(lin.z[zs])))
+            else:
+                scale[xs] = np.maximum(1.0, np.abs(lin.z[zs]))
     zn0 = step(lin.z, lin.t, p, k, w)[0]
     J = np.zeros((c.n, c.n))
     for j in range(c.n):

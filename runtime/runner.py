@@ -157,6 +157,7 @@ def _execute_run(scenario: str | Path | Scenario, out_dir: str | Path | None, mo
     if gains:
         overrides["gains"] = {k: np.ravel(np.asarray(v, float)).tolist() for k, v in gains.items()}
     extra = {"scenario": sc.name, "scenario_meta": sc.meta.model_dump(), "overrides": overrides,
+             "plant": plant_summary(inputs.params, plant),
              "inputs": inputs.to_json(), "z0": z0, "verdict": metrics["verdict"], **(extra_meta or {})}
     if stopped_by is not None:
         extra["interrupted"] = {"signal": interrupts.signal_name(stopped_by), "step": int(result.steps_done),
@@ -173,6 +174,24 @@ def _execute_run(scenario: str | Path | Scenario, out_dir: str | Path | None, mo
                                       f"the results so far were written to {out}")
     return RunOutcome(result=result, out_dir=out, metrics=metrics, inputs=inputs, scenario=sc, model=model,
                       write_time=timings["write"], timings=timings)
+
+
+#: plant_summary's words for the two target-orbit models
+PROPAGATED = "propagated (the target's own orbit with J2 and drag, its LVLH frame)"
+KEPLER = "kepler (000's Keplerian target; J2 and drag as chaser-minus-target differences, eqs. 30, 45)"
+
+
+def plant_summary(params: Mapping[str, Any], plant: str | None) -> dict[str, str]:
+    """Which plant a run flew (``run.json``'s ``plant``, ``rpo validate``): the --plant choice and
+    the model choices a reader most needs, from the run's parameters."""
+    def on(name: str) -> bool:
+        return float(np.ravel(params[name])[0]) == 1.0
+
+    return {
+        "selected": plant or "paper",
+        "target_orbit": (PROPAGATED if on("orbit_propagated") else KEPLER),
+        "actuators": "ideal force and torque" if on("actuators_ideal") else "reaction wheels and PWPF thrusters",
+    }
 
 
 def output_spec(sc: Scenario, *, formats: Iterable[str] | None = None, figure_format: str | None = None,

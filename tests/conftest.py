@@ -62,3 +62,12 @@ def quiet_params(**over):
 
 
 ZERO_GAINS = dict(kp_att=0, kd_att=0, kp_pos=0, kd_pos=0)
+
+
+def target_state(model, p=None) -> dict:
+    """r_T, v_T [m, m/s, ECI]: the target's state on the Keplerian orbit of the parameters ``p``
+    (a packed vector, a dict of overrides, or None for the defaults) at t = 0: the plant's
+    propagated-orbit states, for tests that pack a plant state by hand."""
+    pv = model.vector("p", p or {}) if p is None or isinstance(p, dict) else np.asarray(p, float)
+    o = model.functions["target_orbit"](0.0, pv)
+    return {"r_T": np.ravel(o[5]).copy(), "v_T": np.ravel(o[6]).copy()}

@@ -15,7 +15,7 @@ from scipy.spatial.transform import Rotation
 from rpo.runtime.scenario.initial_state import _wheel_momentum
 
 import basilisk_map as bmap
-from conftest import ZERO_GAINS, quiet_params
+from conftest import ZERO_GAINS, quiet_params, target_state
 
 RNG = np.random.default_rng(20261201)
 QS = [q / np.linalg.norm(q) for q in RNG.normal(size=(200, 4))]
@@ -125,7 +125,8 @@ def test_wheel_momenta_match_rpo_s_generated_wheel_speeds(model):
     w = np.radians([3.0, -2.0, 4.0])
     q = QS[0]
     Om = np.array([1000.0, -500.0, 300.0, 2000.0]) * bmap.RPM
-    plant = {"q_c": q, "w_c": w, "q_t": QS[1], "w_t": np.zeros(3), "r": np.array([60.0, 0, 25]), "v": np.zeros(3)}
+    plant = {"q_c": q, "w_c": w, "q_t": QS[1], "w_t": np.zeros(3), "r": np.array([60.0, 0, 25]), "v": np.zeros(3),
+             **target_state(model, sim.p)}
     h_rpo = _wheel_momentum(model, sim.p, plant, Om)
     p = model.vector("p", quiet_params())
     J = float(p[model.offsets("p")["wheel_inertia"]][0])

@@ -27,6 +27,8 @@ from rpo.runtime import compiled
 from rpo.runtime.errors import ModelError
 from rpo.symbolic import codegen, functions
 
+from conftest import target_state
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -400,8 +402,11 @@ def test_casadi_fallback_is_explicit_warned_and_equal(model):
     rng = np.random.default_rng(0)
     p, k = model.vector("p"), model.vector("k_baseline")
     z = np.zeros(model.layout_size("z_baseline"))
-    z[3] = z[14] = 1
-    z[18:24] = [60, 0, 25, 3, -0.5, 5]
+    oz = model.offsets("z_baseline")
+    z[oz["q_c"].stop - 1] = z[oz["q_t"].stop - 1] = 1
+    z[oz["r"]], z[oz["v"]] = [60, 0, 25], [3, -0.5, 5]
+    ts = target_state(model)
+    z[oz["r_T"]], z[oz["v_T"]] = ts["r_T"], ts["v_T"]
     w = rng.normal(size=model.layout_size("w"))
     a, b = model.step_baseline(z, 1.0, p, k, w), fb.step_baseline(z, 1.0, p, k, w)
     for x, y in zip(a, b, strict=True):

@@ -15,6 +15,8 @@ from rpo.symbolic import rotations as rot
 from rpo.symbolic.controllers import c004 as c
 from rpo.symbolic.layout import Layout
 
+from conftest import target_state
+
 rng = np.random.default_rng(4)
 M = sp.Matrix
 
@@ -390,7 +392,7 @@ def test_paper_model_eqs_13_14_19_20_agree_with_the_free_space_plant(model):
     for _ in range(4):
         st = {"q_c": rand_quat(), "w_c": rng.normal(size=3) * 0.05, "q_t": rand_quat(),
               "w_t": rng.normal(size=3) * 0.05, "r": rng.normal(size=3) * 30, "v": rng.normal(size=3) * 0.5}
-        x = model.vector("x", {**st, "h_w": np.zeros(4), "m_prop": 0.0})
+        x = model.vector("x", {**st, "h_w": np.zeros(4), "m_prop": 0.0, **target_state(model, p)})
         F, tau = rng.normal(size=3) * 5, rng.normal(size=3)
         u = np.zeros(model.layout_size("u"))
         u[ou["F_ideal"]], u[ou["tau_ideal"]] = F, tau

@@ -61,6 +61,15 @@ class Inputs:
         x[o["r"]] = g.normal(0, 100, 3)
         x[o["v"]] = g.normal(0, 2, 3)
         x[o["m_prop"]] = g.uniform(0, 1)
+        # the target's ECI state: a random low orbit (radius 6.7-7.5e6 m, speed about circular,
+        # a few degrees of flight-path angle)
+        r_hat = g.normal(size=3)
+        r_hat /= np.linalg.norm(r_hat)
+        t_hat = np.cross(r_hat, g.normal(size=3))
+        t_hat /= np.linalg.norm(t_hat)
+        r = g.uniform(6.7e6, 7.5e6)
+        x[o["r_T"]] = r * r_hat
+        x[o["v_T"]] = np.sqrt(3.986004418e14 / r) * (g.uniform(0.95, 1.1) * t_hat + g.normal(0, 0.05) * r_hat)
         return x
 
     def hold(self):
@@ -75,7 +84,7 @@ class Inputs:
         o = m.offsets("p")
         for f in m.layouts["p"]:
             s = o[f["name"]]
-            if f["name"].endswith("_on") or f["name"] in ("actuators_ideal", "fdir_allocation"):
+            if f["name"].endswith("_on") or f["name"] in ("actuators_ideal", "fdir_allocation", "orbit_propagated"):
                 p[s] = g.integers(0, 2, f["size"])
             elif f["name"].startswith("fault_") and f["name"].endswith("_start"):
                 # fault windows open about half of the time t in [0, 400) s the tests draw

@@ -181,43 +181,45 @@ def test_run_batch_rejects_mixed_dt(lane_model):
 
 def test_single_call_out_and_shape_errors(lane_model):
     f = lane_model.plant_rhs
+    nx = lane_model.layout_size("x")
     x = _points(lane_model, f, 1, np.random.default_rng(3))
     args = [a[0] for a in x]
     ref = f(*args)[0]
     out = np.empty(f.out_sizes[0])
     assert f(*args, out=out) is out and bits_equal(out, ref)
     assert bits_equal(f(*args, out=(out,))[0], ref)
-    with pytest.raises(ValueError, match=r"plant_rhs: input x must have shape \(25,\)"):
+    with pytest.raises(ValueError, match=rf"plant_rhs: input x must have shape \({nx},\)"):
         f(args[0][:3], *args[1:])
     with pytest.raises(TypeError, match="plant_rhs takes 5 inputs"):
         f(*args[:4])
     with pytest.raises(ValueError, match=r"out for xdot|out for"):
         f(*args, out=np.empty(3))
     jac = lane_model.plant_jac
-    A = np.empty((25, 25), order="F")
-    B = np.empty((25, jac.out_shapes[1][1]), order="F")
+    A = np.empty((nx, nx), order="F")
+    B = np.empty((nx, jac.out_shapes[1][1]), order="F")
     jac(*args, out=(A, B))
     A_ref, B_ref = jac(*args)
     assert bits_equal(A, A_ref) and bits_equal(B, B_ref)
     with pytest.raises(ValueError, match="Fortran order"):
-        jac(*args, out=(np.empty((25, 25)), B))
+        jac(*args, out=(np.empty((nx, nx)), B))
 
 
 def test_batch_shapes_broadcast_and_errors(lane_model):
     f = lane_model.plant_rhs
+    nx = lane_model.layout_size("x")
     pts = _points(lane_model, f, 5, np.random.default_rng(4))
     shared = [pts[0], pts[1][0], 0.25, pts[3][0], pts[4][0]]
     (X,) = f.batch(*shared)
     for i in range(5):
         assert bits_equal(X[i], f(pts[0][i], pts[1][0], 0.25, pts[3][0], pts[4][0])[0])
-    out = np.empty((5, 25))
+    out = np.empty((5, nx))
     assert f.batch(*shared, out=out) is out and bits_equal(out, X)
     with pytest.raises(ValueError, match=r"input u must have shape \(N, \d+\) \(one per point\)"):
         f.batch(pts[0], pts[1][:, :2], 0.0, pts[3][0], pts[4][0])
     with pytest.raises(ValueError, match="has 4 points, an earlier input 5"):
         f.batch(pts[0], pts[1][:4], 0.0, pts[3][0], pts[4][0])
     J = lane_model.plant_jac.batch(*shared)
-    assert J[0].shape == (5, 25, 25)
+    assert J[0].shape == (5, nx, nx)
     assert bits_equal(J[0][2], lane_model.plant_jac(pts[0][2], pts[1][0], 0.25, pts[3][0], pts[4][0])[0])
 
 

@@ -18,6 +18,8 @@ from rpo.runtime import linearize as lz
 from rpo.runtime.scenario import load_scenario
 from rpo.runtime.simulate import Simulation
 
+from conftest import target_state
+
 ROOT = Path(__file__).resolve().parents[1]
 III = ROOT / "scenarios" / "000_scenario_III.toml"
 RNG = np.random.default_rng(20261201)
@@ -130,9 +132,9 @@ def _off_goal(model, controller, sim, z0):
                                                       ("000_scenario_III.toml", "c000")])
 def test_ad_jacobian_matches_central_differences(scenario, controller):
     """AD of the serialised step against central differences of the compiled C step, in the same
-    reduced coordinates.  Step h = 1e-6 max(1, |z_j|): truncation ~ h^2 |f'''| ~ 1e-12 (relative)
-    and round-off ~ 1e-16 |z_next| / h ~ 1e-10 |z_next| (measured: 3e-10 to 3e-8 of 1 + |A|); the tolerance
-    1e-6 (1 + |A|) leaves a factor 20 or more
+    reduced coordinates.  Step h = 1e-6 max(1, |z_j|) (the field's norm for the plant's vectors):
+    truncation ~ h^2 |f'''| ~ 1e-12 (relative) and round-off ~ 1e-16 |z_next| / h ~ 1e-10 |z_next|
+    (measured: 3e-10 to 3e-8 of 1 + |A|); the tolerance 1e-6 (1 + |A|) leaves a factor 20 or more
     and is still 1e-3 of the smallest loop gain that matters (~1e-3 per step)."""
     model, sim, z0 = _setup(scenario, controller)
     z = _off_goal(model, controller, sim, z0)
@@ -147,7 +149,8 @@ def test_ad_jacobian_matches_central_differences(scenario, controller):
 def test_plant_jacobians_match_plant_jac(model):
     q_c, q_t = _random_quats(2)
     x = model.vector("x", {"q_c": q_c, "w_c": [0.01, -0.02, 0.005], "h_w": [0.1, -0.05, 0.0, 0.02], "q_t": q_t,
-                           "w_t": [0.1, 0.01, 0.05], "r": [5, 1, 0], "v": [0, 0.1, 0], "m_prop": 0.5})
+                           "w_t": [0.1, 0.01, 0.05], "r": [5, 1, 0], "v": [0, 0.1, 0], "m_prop": 0.5,
+                           **target_state(model)})
     u = RNG.normal(size=model.layout_size("u")) * 0.1
     p = model.vector("p")
     pj = lz.plant_jacobians(model, x, u, 3.0, p)

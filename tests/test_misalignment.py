@@ -20,7 +20,7 @@ from rpo.runtime.errors import ScenarioError
 from rpo.runtime.scenario import loads_scenario
 from rpo.runtime.simulate import Simulation
 
-from conftest import quiet_params
+from conftest import quiet_params, target_state
 
 RNG = np.random.default_rng(20240612)
 DEG = math.pi / 180
@@ -58,6 +58,8 @@ class Plant:
         x = np.zeros(model.layout_size("x"))
         x[self.xo["q_c"]] = x[self.xo["q_t"]] = [0, 0, 0, 1]
         x[self.xo["r"]] = [100.0, 0.0, 0.0]
+        ts = target_state(model, self.p)
+        x[self.xo["r_T"]], x[self.xo["v_T"]] = ts["r_T"], ts["v_T"]
         self.x = x
         self.w = np.zeros(model.layout_size("w"))
 

@@ -13,7 +13,7 @@ from scipy.spatial.transform import Rotation
 
 from rpo.runtime.simulate import Simulation
 
-from conftest import quiet_params
+from conftest import quiet_params, target_state
 
 FREE = quiet_params(gravity_on=0, actuators_ideal=1, force_max=0.5, torque_max=0.05)
 
@@ -21,7 +21,7 @@ FREE = quiet_params(gravity_on=0, actuators_ideal=1, force_max=0.5, torque_max=0
 def _x(model, **fields):
     """A full plant state: the given fields, everything else zero."""
     base = {"q_c": [0, 0, 0, 1], "w_c": [0, 0, 0], "h_w": np.zeros(4), "q_t": [0, 0, 0, 1], "w_t": [0, 0, 0],
-            "r": [0, 0, 0], "v": [0, 0, 0], "m_prop": 0.0}
+            "r": [0, 0, 0], "v": [0, 0, 0], "m_prop": 0.0, **target_state(model)}
     return model.vector("x", {**base, **fields})
 
 

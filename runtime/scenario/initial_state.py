@@ -26,7 +26,7 @@ if TYPE_CHECKING:
 class RunInputs:
     """Everything a run needs, in SI: ``params`` (all p fields), ``gains``, the initial ``plant``
     state for :meth:`Simulation.initial_state` (attitudes relative to ECI, rates relative to ECI
-    in body axes, r and v in LVLH), and the run settings."""
+    in body axes, r and v in LVLH, the target's ECI state r_T, v_T), and the run settings."""
 
     params: dict[str, np.ndarray]
     gains: dict[str, np.ndarray]
@@ -79,6 +79,10 @@ def run_inputs(sc: Scenario, model: Model) -> RunInputs:
     q_t, w_t = body(sc.target)
     plant = {"q_c": q_c, "w_c": w_c, "q_t": q_t, "w_t": w_t,
              "r": np.array(sc.relative.position, float), "v": np.array(sc.relative.velocity, float)}
+    if "r_T" in model.offsets("x"):
+        # the target's own orbit (plant.target_orbit = "propagated") starts on the Keplerian orbit
+        # of the elements at t = 0
+        plant["r_T"], plant["v_T"] = np.ravel(_r_eci).copy(), np.ravel(_v_eci).copy()
     if sc.chaser.wheel_momentum is not None:
         plant["h_w"] = np.array(sc.chaser.wheel_momentum, float)
     else:
