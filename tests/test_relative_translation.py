@@ -205,8 +205,11 @@ def truth_perturbed(times, elements, r0, v0, accel):
     def f(_t, s):
         return np.concatenate([s[3:6], accel(s[0:6], "target"), s[9:12], accel(s[6:12], "chaser")])
 
+    # max_step: the density table's rows join with small jumps (environment.atmosphere_density);
+    # DOP853's error control steps over them unless its steps are short (with its default steps the
+    # reference itself is 8e-4 m off over an orbit with drag; 5 s: converged to 1e-8 m)
     sol = solve_ivp(f, (0, times[-1]), np.concatenate([rv_t, r_c, v_c]), method="DOP853",
-                    rtol=1e-13, atol=1e-9, t_eval=times).y.T
+                    rtol=1e-13, atol=1e-9, t_eval=times, max_step=5.0).y.T
     return np.array([lvlh_basis(s[0:3], s[3:6])[0] @ (s[6:9] - s[0:3]) for s in sol]), w_L
 
 
