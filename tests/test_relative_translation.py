@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+import pytest
 from scipy.integrate import solve_ivp
 
 from rpo.runtime.simulate import Simulation
@@ -270,6 +271,7 @@ def test_propagated_target_matches_two_j2_orbits_001(model, capsys):
     assert err < 1e-3
 
 
+@pytest.mark.slow  # 14 s: the reference evaluates the density model in Python at every DOP853 stage
 def test_propagated_target_matches_two_orbits_with_j2_and_drag(model, capsys):
     """Drag on both bodies (their own C_D, area and mass: a differential drag) and J2."""
     drag = _drag_accel(model)
