@@ -68,6 +68,20 @@ def test_info_and_validate():
     assert res.returncode == 0, res.stderr
     assert "valid" in res.stdout and PAPER["meta"]["name"] in res.stdout
     assert f"perigee altitude {PAPER['orbit']['perigee_altitude'] / 1e3:g} km" in res.stdout
+    # which target orbit a run flies: the scenario's own (000: Keplerian) unless --plant full
+    assert "plant       target orbit kepler" in res.stdout
+    info = rpo("info").stdout
+    assert 'full (--plant full): ' in info and 'plant.target_orbit = "propagated"' in info
+
+
+def test_run_json_names_the_plant(tmp_path):
+    for plant, orbit in (("paper", "kepler"), ("full", "propagated")):
+        out = tmp_path / plant
+        res = rpo("run", III, "--duration", "0.5", "--plant", plant, "--no-plots", "--out", out, cwd=tmp_path)
+        assert res.returncode == 0, res.stderr
+        meta = json.loads((out / "run.json").read_text())
+        assert meta["plant"]["selected"] == plant and meta["plant"]["target_orbit"].startswith(orbit)
+        assert meta["inputs"]["params"]["orbit_propagated"] == (1.0 if plant == "full" else 0.0)
 
 
 def test_runtime_never_imports_sympy():
