@@ -2,8 +2,9 @@
 
 A C harness (tests/csrc/lane_math_harness.c) evaluates every function over an input array, fed
 RPO_LANES consecutive elements per vector.  It is compiled for RPO_LANES = 1, 2, 4, 8, at -O2 and
-at -O3 -march=native (when the compiler accepts it); every build must give the same bits.  No C
-compiler is a failure, not a skip.
+at -O3 -march=native (when the compiler accepts it), and in the long run also for AVX2 and AVX-512
+where this CPU runs them; every build must give the same bits.  No C compiler is a failure, not a
+skip.
 """
 
 from __future__ import annotations
@@ -52,12 +53,33 @@ def _accepts(cc: str, flag: str) -> bool:
     return r.returncode == 0
 
 
+#: instruction-set flags of the slow builds -> the CPU feature their code needs to run
+FEATURE_OF = {"-mavx2": "avx2", "-mavx512f": "avx512f"}
+
+
+@functools.cache
+def _cpu_runs(cc: str, flag: str) -> bool:
+    """This CPU executes code built with ``flag`` (an AVX-512 build dies with SIGILL on an AVX2-only
+    host): GCC's __builtin_cpu_supports, compiled and run once; False where the probe cannot be
+    built (another architecture, where the flag is not accepted either)."""
+    feature = FEATURE_OF.get(flag)
+    if feature is None:
+        return True
+    with tempfile.TemporaryDirectory() as d:
+        exe = Path(d) / "probe"
+        src = f'int main(void) {{ __builtin_cpu_init(); return __builtin_cpu_supports("{feature}") ? 0 : 1; }}\n'
+        r = subprocess.run([cc, "-x", "c", "-o", str(exe), "-"], input=src, capture_output=True, text=True)
+        return r.returncode == 0 and subprocess.run([str(exe)]).returncode == 0
+
+
 def _flag_sets(cc: str, slow: bool) -> list[list[str]]:
     sets = [["-O2"]]
     if _accepts(cc, "-march=native"):
         sets.append(["-O3", "-march=native"])
     if slow:
-        sets += [["-O3"], ["-O2", "-mavx2"], ["-O3", "-mavx512f"], ["-O2", "-march=native"]]
+        sets += [["-O3"], ["-O2", "-march=native"]]
+        # the explicit vector units this CPU can run (the machines here have AVX2, some AVX-512 too)
+        sets += [fs for fs in (["-O2", "-mavx2"], ["-O3", "-mavx512f"]) if _cpu_runs(cc, fs[1])]
         sets = [s for s in sets if all(_accepts(cc, f) for f in s)]
     return sets
 
@@ -442,3 +464,17 @@ def test_accuracy_against_mpmath_many(builds, tmp_path):
     print({k: (round(v[0], 3), v[1], v[2]) for k, v in res.items()})
     bad = {k: v for k, v in res.items() if not v[0] <= ULP_BOUND[k]}
     assert not bad, bad
+
+
+def test_cpu_probe_agrees_with_the_kernel():
+    """The probe that picks the long run's AVX2 / AVX-512 builds says what /proc/cpuinfo says
+    (where the kernel lists x86 flags), so that a build this CPU can run is never left out."""
+    info = Path("/proc/cpuinfo")
+    text = info.read_text() if info.exists() else ""
+    line = next((ln for ln in text.splitlines() if ln.startswith("flags")), None)
+    if line is None:  # not x86 Linux: the flags are not accepted, the probe says False
+        assert not any(_cpu_runs(_compiler(), f) and not _accepts(_compiler(), f) for f in FEATURE_OF)
+        return
+    flags = set(line.split(":", 1)[1].split())
+    for flag, feature in FEATURE_OF.items():
+        assert _cpu_runs(_compiler(), flag) == (feature in flags), flag
