@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_c000: controller half of a step of c000: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_c000' (hash bd4775af8e1580539a4276f5293513ea61d79fe0fc2ee8e4178e4571641c9442),
+ * Produced by `python build.py` from family 'controller_c000' (hash c9bd1998edd857dd72eb239ba47aed8985eb645ecf716ebef49f14888f740da4),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

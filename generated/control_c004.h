@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_c004: controller half of a step of c004: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_c004' (hash 40eb665dff71dc99c2ef05bc6ab58e3a355fd95765148ad4abeae9a61ee1c9f1),
+ * Produced by `python build.py` from family 'controller_c004' (hash 68228de645c1065e69cb2fd19126e541a9f09184d0ddee00b629fa6b23fcf53b),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_baseline: control law of baseline
- * Produced by `python build.py` from family 'controller_baseline' (hash e2770bb1f87b673e15e6a1698584c03da31ac39c422ad77ab1f27690b7d010dd),
+ * Produced by `python build.py` from family 'controller_baseline' (hash 3e5c185a5e5adf80f3cbfae8692039c28e180e41d29b1faaf38b4bb3cb53fcaf),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c001: control law of c001
- * Produced by `python build.py` from family 'controller_c001' (hash 57588fa93d21866fd4378c62ed9b58b846faaa6a3738bec065785b990a663bca),
+ * Produced by `python build.py` from family 'controller_c001' (hash b59cb835e4e341ba4dd3bb6ca51e199aad6ccd6033e5e415810dabea5e1ec82c),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

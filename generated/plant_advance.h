@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * plant_advance: plant half of a step: actuators, delay line, PWPF, RK4 of plant_rhs over dt
- * Produced by `python build.py` from family 'plant' (hash 8d53e6815a15d36619b54099b1afdd97b7511c4e024dfa3a1b02407203d247c3),
+ * Produced by `python build.py` from family 'plant' (hash a6711df286759bd09d103a20ce281daabfa15adb3119908ea50a0607c399560a),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c000: one closed-loop step (plant + c000 + actuators), RK4 over dt: measure, control_c000, plant_advance
- * Produced by `python build.py` from family 'controller_c000' (hash bd4775af8e1580539a4276f5293513ea61d79fe0fc2ee8e4178e4571641c9442),
+ * Produced by `python build.py` from family 'controller_c000' (hash c9bd1998edd857dd72eb239ba47aed8985eb645ecf716ebef49f14888f740da4),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c001: one closed-loop step (plant + c001 + actuators), RK4 over dt: measure, control_c001, plant_advance
- * Produced by `python build.py` from family 'controller_c001' (hash 57588fa93d21866fd4378c62ed9b58b846faaa6a3738bec065785b990a663bca),
+ * Produced by `python build.py` from family 'controller_c001' (hash b59cb835e4e341ba4dd3bb6ca51e199aad6ccd6033e5e415810dabea5e1ec82c),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

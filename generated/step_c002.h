@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c002: one closed-loop step (plant + c002 + actuators), RK4 over dt: measure, control_c002, plant_advance
- * Produced by `python build.py` from family 'controller_c002' (hash bcda5a75fb82aa47ac0632bad6cfcd7bb6849073883b19efbbfa7bb725281231),
+ * Produced by `python build.py` from family 'controller_c002' (hash c014139a3f1daf690dea2a525a5ffb1364b25db52e0b7e4305c9afbd7e89b8c6),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

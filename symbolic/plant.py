@@ -30,7 +30,7 @@ from .constraints import beta_ca, beta_fov
 from .layout import NON_NEGATIVE, POSITIVE, XYZ, XYZW, Bounds, Layout, ScenarioKey
 from .mass_properties import chaser_mass_properties, spacecraft_inertia_with_wheels
 from .relative_attitude import attitude_error, rate_error
-from .relative_translation import chaser_inertial_state_tilted, frame_tilt_acceleration, relative_acceleration
+from .relative_translation import chaser_inertial_state, frame_tilt_acceleration, relative_acceleration
 from .rigid_body import (
     angular_acceleration_offset,
     chaser_angular_acceleration,
@@ -540,8 +540,7 @@ class Plant:
         dF_thr, dtau_thr = act.thruster_wrench_misalignment(u["thr_on"], p["thruster_force"], p["thruster_misalign"])
         F_thr, tau_thr = F_thr0 + dF_thr, tau_thr0 + dtau_thr
 
-        r_c_eci, v_c_eci = chaser_inertial_state_tilted(o["r_eci"], o["v_eci"], o["C_IL"], vec(o["w_x"], 0, o["n"]),
-                                                        r, v)
+        r_c_eci, v_c_eci = chaser_inertial_state(o["r_eci"], o["v_eci"], o["C_IL"], vec(o["w_x"], 0, o["n"]), r, v)
         C_Ic, C_It = quat_to_dcm(q_c), quat_to_dcm(q_t)
         rc = norm(r_c_eci)
         rt = o["r"]

@@ -28,12 +28,13 @@ def relative_acceleration(r_e, v_e, r_t, n, n_dot, mu, a_control, a_disturbance)
     ) + a_control + a_disturbance
 
 
-def chaser_inertial_state(r_t_eci, v_t_eci, C_IL, n, r_e, v_e):
+def chaser_inertial_state(r_t_eci, v_t_eci, C_IL, w_L, r_e, v_e):
     """Chaser ECI position and velocity from the target's and the LVLH relative state.
 
-    r_c = r_t + C_IL r_e;  v_c = v_t + C_IL (v_e + omega_L x r_e), omega_L = [0, 0, n] in LVLH.
+    r_c = r_t + C_IL r_e;  v_c = v_t + C_IL (v_e + w_L x r_e), with w_L the LVLH frame's rate
+    relative to ECI in LVLH components: [0, 0, n] for a Keplerian target, [w_x, 0, n] for a
+    perturbed one (:mod:`.target_orbit_state`).
     """
-    w_L = vec(0, 0, n)
     return r_t_eci + C_IL * r_e, v_t_eci + C_IL * (v_e + w_L.cross(r_e))
 
 
@@ -52,8 +53,3 @@ def frame_tilt_acceleration(r_e, v_e, w_x, w_x_dot, w_z):
         -2 * w_x * yd - w_x_dot * y - w_x * w_z * x + w_x**2 * z,
     )
 
-
-def chaser_inertial_state_tilted(r_t_eci, v_t_eci, C_IL, w_L, r_e, v_e):
-    """:func:`chaser_inertial_state` for an LVLH frame turning with w_L (LVLH components):
-    r_c = r_t + C_IL r_e;  v_c = v_t + C_IL (v_e + w_L x r_e)."""
-    return r_t_eci + C_IL * r_e, v_t_eci + C_IL * (v_e + w_L.cross(r_e))
