@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_c002: controller half of a step of c002: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_c002' (hash c014139a3f1daf690dea2a525a5ffb1364b25db52e0b7e4305c9afbd7e89b8c6),
+ * Produced by `python build.py` from family 'controller_c002' (hash 95e60489da8c643dba30ac6e9e6e189e26515626ccf4eeae4dd7b6737d5af4f6),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -24,6 +24,7 @@
  *   symbolic/rigid_body.py
  *   symbolic/rotations.py
  *   symbolic/special.py
+ *   symbolic/specialisation.py
  *   symbolic/structural_cse.py
  *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * ideal_actuators: ideal actuators: per-axis saturated force and torque
- * Produced by `python build.py` from family 'plant' (hash a6711df286759bd09d103a20ce281daabfa15adb3119908ea50a0607c399560a),
+ * Produced by `python build.py` from family 'plant' (hash 1093c7d426af2ed0fc26cc31b72b1e954ce6ea274a99e2fcb61c8a34de40a6f8),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -23,6 +23,7 @@
  *   symbolic/rigid_body.py
  *   symbolic/rotations.py
  *   symbolic/special.py
+ *   symbolic/specialisation.py
  *   symbolic/structural_cse.py
  *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_baseline: control law of baseline
- * Produced by `python build.py` from family 'controller_baseline' (hash 3e5c185a5e5adf80f3cbfae8692039c28e180e41d29b1faaf38b4bb3cb53fcaf),
+ * Produced by `python build.py` from family 'controller_baseline' (hash 0db03e3a18dbe5fbd588c8c2aa8899265574cffdb6cb261e5f7c7d8eb857206d),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -24,6 +24,7 @@
  *   symbolic/rigid_body.py
  *   symbolic/rotations.py
  *   symbolic/special.py
+ *   symbolic/specialisation.py
  *   symbolic/structural_cse.py
  *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c004: control law of c004
- * Produced by `python build.py` from family 'controller_c004' (hash 68228de645c1065e69cb2fd19126e541a9f09184d0ddee00b629fa6b23fcf53b),
+ * Produced by `python build.py` from family 'controller_c004' (hash 08474732503193163e780532947b622990b7c1784e330e818d4f55aed7e7e682),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -24,6 +24,7 @@
  *   symbolic/rigid_body.py
  *   symbolic/rotations.py
  *   symbolic/special.py
+ *   symbolic/specialisation.py
  *   symbolic/structural_cse.py
  *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py

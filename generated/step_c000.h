@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c000: one closed-loop step (plant + c000 + actuators), RK4 over dt: measure, control_c000, plant_advance
- * Produced by `python build.py` from family 'controller_c000' (hash c9bd1998edd857dd72eb239ba47aed8985eb645ecf716ebef49f14888f740da4),
+ * Produced by `python build.py` from family 'controller_c000' (hash 5524a634b6152b3568ba2ccb71d93f40ab333245615025e235e71f447006e706),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -24,6 +24,7 @@
  *   symbolic/rigid_body.py
  *   symbolic/rotations.py
  *   symbolic/special.py
+ *   symbolic/specialisation.py
  *   symbolic/structural_cse.py
  *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c001: one closed-loop step (plant + c001 + actuators), RK4 over dt: measure, control_c001, plant_advance
- * Produced by `python build.py` from family 'controller_c001' (hash b59cb835e4e341ba4dd3bb6ca51e199aad6ccd6033e5e415810dabea5e1ec82c),
+ * Produced by `python build.py` from family 'controller_c001' (hash 93490631844a85e2b0260ba6cfbb7ce54759e3a9ad4e3d13d7b6c8fc9ce001b1),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -24,6 +24,7 @@
  *   symbolic/rigid_body.py
  *   symbolic/rotations.py
  *   symbolic/special.py
+ *   symbolic/specialisation.py
  *   symbolic/structural_cse.py
  *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c002: one closed-loop step (plant + c002 + actuators), RK4 over dt: measure, control_c002, plant_advance
- * Produced by `python build.py` from family 'controller_c002' (hash c014139a3f1daf690dea2a525a5ffb1364b25db52e0b7e4305c9afbd7e89b8c6),
+ * Produced by `python build.py` from family 'controller_c002' (hash 95e60489da8c643dba30ac6e9e6e189e26515626ccf4eeae4dd7b6737d5af4f6),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -24,6 +24,7 @@
  *   symbolic/rigid_body.py
  *   symbolic/rotations.py
  *   symbolic/special.py
+ *   symbolic/specialisation.py
  *   symbolic/structural_cse.py
  *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py
@@ -56,8 +57,24 @@ extern "C" {
 #endif
 
 int measure(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int measure_kepler(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
 int control_c002(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
 int plant_advance(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int plant_advance_kepler_nodist(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+int plant_advance_kepler(const casadi_real** arg, casadi_real** res, casadi_int* iw, casadi_real* w, int mem);
+
+static const casadi_int step_c002_z0_0[1] = {19};  /* measure_kepler: these entries of p are 0 */
+static const casadi_int step_c002_n0[2] = {43, 13};  /* sizes of measure's results */
+static const casadi_int step_c002_z1_0[43] = {19, 23, 24, 25, 26, 27, 28, 29, 30, 31, 35, 36, 37, 38, 39, 40, 44, 45, 46, 47, 48, 49, 50, 51, 52, 53, 54, 55, 56, 57, 58, 62, 63, 64, 65, 66, 67, 71, 72, 73, 74, 75, 76};  /* plant_advance_kepler_nodist: these entries of p are 0 */
+static const casadi_int step_c002_z1_1[1] = {19};  /* plant_advance_kepler: these entries of p are 0 */
+static const casadi_int step_c002_n1[2] = {79, 83};  /* sizes of plant_advance's results */
+
+/* 1 when the n entries idx of x are all 0 (a specialised callee applies) */
+static int step_c002_all_zero(const casadi_real* x, const casadi_int* idx, casadi_int n) {
+  casadi_int i;
+  for (i = 0; i < n; ++i) if (x[idx[i]] != 0) return 0;
+  return 1;
+}
 
 static const casadi_int step_c002_s0[3] = {107, 1, 1};
 static const casadi_int step_c002_s1[3] = {1, 1, 1};
@@ -89,7 +106,12 @@ CASADI_SYMBOL_EXPORT int step_c002(const casadi_real** arg, casadi_real** res, c
   a[4] = arg[4];
   r[0] = w + 0;
   r[1] = w + 43;
-  if (measure(a, r, iw, w + 283, 0)) return 1;
+  /* or the first specialised copy whose entries step_c002_z0_<j> of p are all 0 */
+  if (step_c002_all_zero(arg[2], step_c002_z0_0, 1)) {
+    if (measure_kepler(a, r, iw, w + 283, 0)) return 1;
+  } else {
+    if (measure(a, r, iw, w + 283, 0)) return 1;
+  }
   /* (cmd, xc_next, diag) = control_c002(meas, z+92, t, p, k) */
   a[0] = w + 0;
   a[1] = arg[0] + 92;
@@ -108,7 +130,14 @@ CASADI_SYMBOL_EXPORT int step_c002(const casadi_real** arg, casadi_real** res, c
   a[4] = w + 56;
   r[0] = w + 121;
   r[1] = w + 200;
-  if (plant_advance(a, r, iw, w + 283, 0)) return 1;
+  /* or the first specialised copy whose entries step_c002_z1_<j> of p are all 0 */
+  if (step_c002_all_zero(arg[2], step_c002_z1_0, 43)) {
+    if (plant_advance_kepler_nodist(a, r, iw, w + 283, 0)) return 1;
+  } else if (step_c002_all_zero(arg[2], step_c002_z1_1, 1)) {
+    if (plant_advance_kepler(a, r, iw, w + 283, 0)) return 1;
+  } else {
+    if (plant_advance(a, r, iw, w + 283, 0)) return 1;
+  }
   /* z_next = [zp_next, hold_next, xc_next] */
   if (res[0]) {
     for (i = 0; i < 79; ++i) res[0][0 + i] = w[121 + i];

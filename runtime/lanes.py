@@ -24,7 +24,7 @@ from __future__ import annotations
 import re
 
 #: Bump when the translation changes: it is part of the lane objects' cache key.
-LANES_VERSION = 1
+LANES_VERSION = 2
 
 
 class LaneError(ValueError):
@@ -151,12 +151,74 @@ _RE_PUBLIC = re.compile(r"^CASADI_SYMBOL_EXPORT int ([A-Za-z_]\w*)\(const casadi
 _RE_WORK = re.compile(r"^\s*if \(sz_w\) \*sz_w = (\d+)\*sizeof\(casadi_real\);$")
 
 
-def _public_body(lines: list[str], kernels: set[str], where: str) -> tuple[list[str], list[str]]:
+_RE_TABLE = re.compile(r"^static const casadi_int (\w+_(?:z\d+_\d+|n\d+))\[(\d+)\] = \{([\d, ]+)\};(  /\*.*\*/)?$")
+_RE_VARIANT = re.compile(r"^(?:\} else )?if \((\w+)_all_zero\((arg\[\d+\]), (\w+_z(\d+)_\d+), (\d+)\)\) \{$")
+_RE_CALL = re.compile(r"^if \(([A-Za-z_]\w*)\(a, r, iw, w \+ (\d+), 0\)\) return 1;$")
+#: rpo_lanes.h's bounds on a dispatched call's results
+DISPATCH_MAX_RES, DISPATCH_MAX_ENTRIES = 8, 512
+
+
+def _dispatch(lines: list[str], i: int, tables: dict[str, list[int]], where: str) -> tuple[int, list[str], list[str]]:
+    """The lane form of a call with specialised variants (c_composition's ``if (<f>_all_zero(...))
+    { call } else if ... else { call }`` block starting at line ``i``): one ``rpo_dispatch``, which
+    chooses per lane.  Returns (the index after the block, the lines, the callees)."""
+    alts: list[tuple[str, str, int]] = []  # (callee, zero table, entries)
+    on = glue = k = None
+    work = None
+    general = None
+    j = i
+    while True:
+        s = lines[j].strip()
+        if m := _RE_VARIANT.match(s):
+            glue, on, table, k, n = m.group(1), m.group(2), m.group(3), m.group(4), int(m.group(5))
+            if tables.get(table) is None or len(tables[table]) != n:
+                raise LaneError(f"{where}: {table} is not a table of {n} entries")
+            c = _RE_CALL.match(lines[j + 1].strip())
+            if not c:
+                raise LaneError(f"{where}: no call after {s!r}")
+            alts.append((c.group(1), table, n))
+            work = c.group(2)
+            j += 2
+        elif s == "} else {":
+            c = _RE_CALL.match(lines[j + 1].strip())
+            if not c or lines[j + 2].strip() != "}" or c.group(2) != work:
+                raise LaneError(f"{where}: the general call of a dispatch is not '{{ call }}' at {s!r}")
+            general = c.group(1)
+            j += 3
+            break
+        else:
+            raise LaneError(f"{where}: no lane form for the line {s!r} in a dispatch")
+    sizes = tables.get(f"{glue}_n{k}")
+    if sizes is None or not alts or general is None:
+        raise LaneError(f"{where}: a dispatch without its result sizes {glue}_n{k} or its general call")
+    if len(sizes) > DISPATCH_MAX_RES or sum(sizes) > DISPATCH_MAX_ENTRIES:
+        raise LaneError(f"{where}: a dispatched call's results ({sizes}) exceed rpo_lanes.h's bounds")
+    fns = [a for a, _t, _n in alts] + [general]
+    out = ["  {",
+           f"    static const rpo_lane_fn fns[{len(fns)}] = {{{', '.join(f + '_lanes' for f in fns)}}};",
+           f"    static const long long* const zero[{len(alts)}] = {{{', '.join(t for _f, t, _n in alts)}}};",
+           f"    static const long long n_zero[{len(alts)}] = {{{', '.join(str(n) for _f, _t, n in alts)}}};",
+           f"    if (rpo_dispatch({len(fns)}, fns, zero, n_zero, {on}, a, r, {len(sizes)}, {glue}_n{k}, iw, "
+           f"w + {work})) return 1;",
+           "  }"]
+    return j, out, fns
+
+
+def _public_body(lines: list[str], kernels: set[str], where: str,
+                 tables: dict[str, list[int]] | None = None) -> tuple[list[str], list[str]]:
     """Translate a public function's body: a call of one kernel, or the glue of a composed step."""
     out = []
     callees = []
-    for line in lines:
+    i = 0
+    while i < len(lines):
+        line = lines[i]
+        i += 1
         s = line.strip()
+        if _RE_VARIANT.match(s) and not s.startswith("}"):
+            i, block, fns = _dispatch(lines, i - 1, tables or {}, where)
+            out.extend(block)
+            callees.extend(fns)
+            continue
         if not s or s.startswith("/*") or s == "(void) mem;":
             out.append(line.rstrip())
             continue
@@ -197,9 +259,18 @@ def lane_source(name: str, text: str) -> tuple[str, list[str]]:
     callees: list[str] = []
     sz_w = None
     decls: list[str] = []
+    tables: dict[str, list[int]] = {}
     i = 0
     while i < len(lines):
         line = lines[i]
+        if mt := _RE_TABLE.match(line):
+            vals = [int(v) for v in mt.group(3).split(", ")]
+            if len(vals) != int(mt.group(2)):
+                raise LaneError(f"{name}: table {mt.group(1)} does not hold {mt.group(2)} entries")
+            tables[mt.group(1)] = vals
+            out.append(f"static const long long {mt.group(1)}[{len(vals)}] = {{{mt.group(3)}}};")
+            i += 1
+            continue
         m, m2 = _RE_KERNEL.match(line), _RE_PUBLIC.match(line)
         if m or m2:
             j = i + 1
@@ -216,7 +287,7 @@ def lane_source(name: str, text: str) -> tuple[str, list[str]]:
                 public = m2.group(1)
                 out.append(f"RPO_EXPORT int {public}_lanes(const rpo_v** arg, rpo_v** res, long long* iw, rpo_v* w, "
                            "int mem) {")
-                body_out, callees = _public_body(body, kernels, f"{name} ({public})")
+                body_out, callees = _public_body(body, kernels, f"{name} ({public})", tables)
                 out.extend(body_out)
             out.append("}")
             out.append("")
@@ -227,7 +298,7 @@ def lane_source(name: str, text: str) -> tuple[str, list[str]]:
         i += 1
     if public is None or sz_w is None:
         raise LaneError(f"{name}: no CasADi public function or work size found")
-    for c in callees:
+    for c in dict.fromkeys(callees):
         decls.append(f"int {c}_lanes(const rpo_v** arg, rpo_v** res, long long* iw, rpo_v* w, int mem);")
     out[4:4] = decls + ([""] if decls else [])
     out.append(f"RPO_EXPORT long long {public}_lanes_work(void) {{ return {sz_w}; }}")

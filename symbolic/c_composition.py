@@ -64,11 +64,18 @@ class Callee:
 @dataclass(frozen=True)
 class Call:
     """``callee(args...) -> results...``; each argument and result is ``(vector, offset)`` where the
-    vector is an input, an output or a buffer name."""
+    vector is an input, an output or a buffer name.
+
+    ``variants``: specialised copies of the callee (same signature), each with the entries of the
+    input ``on`` it requires to be 0 (:mod:`rpo.symbolic.specialisation`): the glue calls the
+    first whose entries are all 0, else ``callee``.  The lane form (``rpo.runtime.lanes``) makes
+    the same choice per lane."""
 
     callee: Callee
     args: Sequence[tuple[str, int]]
     results: Sequence[str]
+    variants: Sequence[tuple[Callee, Sequence[int]]] = ()
+    on: str = "p"
 
 
 def _check(name: str, in_size: dict[str, int], size: dict[str, int],
@@ -79,6 +86,11 @@ def _check(name: str, in_size: dict[str, int], size: dict[str, int],
     written: set[str] = set()
     for c in calls:
         ce = c.callee
+        for v, idx in c.variants:
+            if (v.in_sizes, v.out_sizes) != (ce.in_sizes, ce.out_sizes):
+                raise ValueError(f"{name}: {v.name} is a variant of {ce.name} with another signature")
+            if c.on not in in_size or not idx or min(idx) < 0 or max(idx) >= in_size[c.on]:
+                raise ValueError(f"{name}: {v.name} tests entries {list(idx)[:3]}... of {c.on}, outside the input")
         if len(c.args) != len(ce.in_sizes) or len(c.results) != len(ce.out_sizes):
             raise ValueError(f"{name}: {ce.name} takes {len(ce.in_sizes)} inputs and gives {len(ce.out_sizes)} "
                              f"outputs; the call passes {len(c.args)} and takes {len(c.results)}")
@@ -115,10 +127,11 @@ def composed_c(name: str, inputs: Sequence[tuple[str, int]], outputs: Sequence[t
         offsets[b] = o
         o += n
     n_buf = o
-    max_arg = max(c.callee.sz_arg for c in calls)
-    max_res = max(c.callee.sz_res for c in calls)
-    sz_iw = max(c.callee.sz_iw for c in calls)
-    sz_w = n_buf + max(c.callee.sz_w for c in calls)
+    every = [ce for c in calls for ce in (c.callee, *(v for v, _ in c.variants))]
+    max_arg = max(ce.sz_arg for ce in every)
+    max_res = max(ce.sz_res for ce in every)
+    sz_iw = max(ce.sz_iw for ce in every)
+    sz_w = n_buf + max(ce.sz_w for ce in every)
     out_size = {o_name: sum(size[b] for b in parts) for o_name, parts in outputs}
 
     def ptr(vec: str, off: int) -> str:
@@ -128,9 +141,26 @@ def composed_c(name: str, inputs: Sequence[tuple[str, int]], outputs: Sequence[t
         return f"w + {offsets[vec] + off}"
 
     lines = []
-    for c in {c.callee.name: c for c in calls}.values():
-        lines.append(f"int {c.callee.name}(const casadi_real** arg, casadi_real** res, casadi_int* iw, "
+    for ce in {ce.name: ce for ce in every}.values():
+        lines.append(f"int {ce.name}(const casadi_real** arg, casadi_real** res, casadi_int* iw, "
                      "casadi_real* w, int mem);")
+    tables = []
+    for k, c in enumerate(c for c in calls if c.variants):
+        for j, (v, idx) in enumerate(c.variants):
+            tables.append(f"static const casadi_int {name}_z{k}_{j}[{len(idx)}] = {{{', '.join(map(str, idx))}}};"
+                          f"  /* {v.name}: these entries of {c.on} are 0 */")
+        tables.append(f"static const casadi_int {name}_n{k}[{len(c.results)}] = "
+                      f"{{{', '.join(str(n) for n in c.callee.out_sizes)}}};  /* sizes of {c.callee.name}'s results */")
+    if tables:
+        lines.append("")
+        lines.extend(tables)
+        lines.append("")
+        lines.append(f"/* 1 when the n entries idx of x are all 0 (a specialised callee applies) */\n"
+                     f"static int {name}_all_zero(const casadi_real* x, const casadi_int* idx, casadi_int n) {{\n"
+                     "  casadi_int i;\n"
+                     "  for (i = 0; i < n; ++i) if (x[idx[i]] != 0) return 0;\n"
+                     "  return 1;\n"
+                     "}")
     decls = "\n".join(lines)
     body = []
     body.append(f"  const casadi_real* a[{max_arg}];")
@@ -139,6 +169,7 @@ def composed_c(name: str, inputs: Sequence[tuple[str, int]], outputs: Sequence[t
     for i, (n_name, n) in enumerate(inputs):
         if n:  # an empty input may be NULL (CasADi passes NULL for 0x1): it is never read
             body.append(f"  if (!arg[{i}]) return 1;  /* {n_name} */")
+    k_var = 0
     for c in calls:
         args = ", ".join(f"{v}{'+' + str(o) if o else ''}" for v, o in c.args)
         res = ", ".join(c.results)
@@ -147,7 +178,19 @@ def composed_c(name: str, inputs: Sequence[tuple[str, int]], outputs: Sequence[t
             body.append(f"  a[{i}] = {ptr(v, off)};")
         for i, b in enumerate(c.results):
             body.append(f"  r[{i}] = {ptr(b, 0)};")
-        body.append(f"  if ({c.callee.name}(a, r, iw, w + {n_buf}, 0)) return 1;")
+        call = f"if ({{}}(a, r, iw, w + {n_buf}, 0)) return 1;"
+        if not c.variants:
+            body.append("  " + call.format(c.callee.name))
+            continue
+        body.append(f"  /* or the first specialised copy whose entries {name}_z{k_var}_<j> of {c.on} are all 0 */")
+        on = ptr(c.on, 0)
+        for j, (v, idx) in enumerate(c.variants):
+            body.append(f"  {'} else ' if j else ''}if ({name}_all_zero({on}, {name}_z{k_var}_{j}, {len(idx)})) {{")
+            body.append("    " + call.format(v.name))
+        body.append("  } else {")
+        body.append("    " + call.format(c.callee.name))
+        body.append("  }")
+        k_var += 1
     for k, (o_name, parts) in enumerate(outputs):
         body.append(f"  /* {o_name} = [{', '.join(parts)}] */")
         body.append(f"  if (res[{k}]) {{")

@@ -20,6 +20,7 @@ from pathlib import Path
 from types import SimpleNamespace
 
 from .codegen import Family, FamilyOutput, Generated, ModelDefinitionError
+from .specialisation import VARIANTS, specialised, zero_indices
 
 # Heavy imports (SymPy, CasADi, the model) happen inside the builders: listing the families and
 # hashing their sources must not import them, so that a build with nothing to do takes well under 1 s.
@@ -151,13 +152,24 @@ def _build_plant(_resolve) -> FamilyOutput:
                                    [ca.densify(ca.jacobian(xdot, xs)), ca.densify(ca.jacobian(xdot, us))],
                                    ["x", "u", "t", "p", "w"], ["dfdx", "dfdu"])
     funcs = [Generated(_lean(cas[name]), *_SIGNATURES[name]) for name in _SIGNATURES]
-    funcs.append(Generated(casadi_plant_advance(cas, P), ["zp", None, "p", "w", None], ["zp", None],
+    advance = casadi_plant_advance(cas, P)
+    funcs.append(Generated(advance, ["zp", None, "p", "w", None], ["zp", None],
                            "plant half of a step: actuators, delay line, PWPF, RK4 of plant_rhs over dt"))
+    general = {g.fn.name(): g for g in funcs}
+    variants: dict[str, list[dict]] = {}
+    for base, vs in VARIANTS.items():
+        g = general[base]
+        for v in vs:
+            name = f"{base}_{v.suffix}"
+            fn = specialised(g.fn, list(g.fn.name_in()).index("p"), zero_indices(P.p, v), name)
+            funcs.append(Generated(fn, g.inputs, g.outputs, f"{base} specialised: {v.doc}"))
+            variants.setdefault(base, []).append({"function": name, "zero": list(v.zero)})
     layouts = {name: lay.describe() for name, lay in
                (("p", P.p), ("x", P.x), ("u", P.u), ("w", P.w), ("meas", P.meas), ("env", P.env), ("hold", P.hold),
                 ("zp", cl.state_layout(P)))}
     return FamilyOutput(funcs, layouts, {"delay_slots": cl.DELAY_SLOTS,
-                                         "quaternion_convention": QUATERNION_CONVENTION})
+                                         "quaternion_convention": QUATERNION_CONVENTION,
+                                         "specialised": variants})
 
 
 def _lean(fn):
@@ -246,15 +258,21 @@ def composed_step(cas: dict, P, ctrl) -> Generated:
                                                        ca.vertcat(meas, cmd, y_plant, diag)],
                      ["z", "t", "p", "k", "w"], ["z_next", "y"])
     n_meas, n_diag, n_yp = P.meas.size, ctrl.diag.size, advance.size1_out(1)
+
+    def variants(base: str) -> list:
+        return [(Callee.of(cas[f"{base}_{v.suffix}"]), zero_indices(P.p, v)) for v in VARIANTS[base]]
+
     c_code = composed_c(
         f"step_{name}", [("z", nzp + nh + nc), ("t", 1), ("p", P.p.size), ("k", ctrl.k.size), ("w", P.w.size)],
         [("z_next", ["zp_next", "hold_next", "xc_next"]), ("y", ["meas", "cmd", "y_plant", "diag"])],
         [("meas", n_meas), ("hold_next", nh), ("cmd", 9), ("xc_next", nc), ("diag", n_diag), ("zp_next", nzp),
          ("y_plant", n_yp)],
-        [Call(Callee.of(measure), [("z", 0), ("z", nzp), ("t", 0), ("p", 0), ("w", 0)], ["meas", "hold_next"]),
+        [Call(Callee.of(measure), [("z", 0), ("z", nzp), ("t", 0), ("p", 0), ("w", 0)], ["meas", "hold_next"],
+              variants=variants("measure")),
          Call(Callee.of(control), [("meas", 0), ("z", nzp + nh), ("t", 0), ("p", 0), ("k", 0)],
               ["cmd", "xc_next", "diag"]),
-         Call(Callee.of(advance), [("z", 0), ("t", 0), ("p", 0), ("w", 0), ("cmd", 0)], ["zp_next", "y_plant"])])
+         Call(Callee.of(advance), [("z", 0), ("t", 0), ("p", 0), ("w", 0), ("cmd", 0)], ["zp_next", "y_plant"],
+              variants=variants("plant_advance"))])
     ops = sum(int(f.n_instructions()) for f in (measure, control, advance))
     zlay, ylay, klay = f"z_{name}", f"y_{name}", f"k_{name}"
     return Generated(fn, [zlay, None, "p", klay, "w"], [zlay, ylay],
@@ -272,7 +290,7 @@ def _controller_family(name: str) -> Family:
         ctrl = load_controller(name)
         cas = {n: sympy_function(pc.name, pc.inputs, pc.outputs)
                for n, pc in cl.controller_pieces(P, ctrl).items()}
-        for piece in ("measure", "plant_advance"):
+        for piece in ("measure", "plant_advance", *(f"{b}_{v.suffix}" for b, vs in VARIANTS.items() for v in vs)):
             cas[piece] = resolve(piece)
         cas[f"control_{name}"] = casadi_control(cas, P, ctrl)
         klay, xlay, dlay, zlay, ylay = (f"{pre}_{name}" for pre in ("k", "xc", "diag", "z", "y"))

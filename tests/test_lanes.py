@@ -85,7 +85,8 @@ def test_sin_cos_pairs_are_fused():
     assert "a3=rpo_cos(a0);" in src  # a0 was reassigned: a different value, not fused
 
 
-@pytest.mark.parametrize("name", ["plant_rhs", "plant_jac", "measure", "plant_advance", "env_outputs",
+@pytest.mark.parametrize("name", ["plant_rhs", "plant_jac", "measure", "measure_kepler", "plant_advance",
+                                  "plant_advance_kepler", "plant_advance_kepler_nodist", "env_outputs",
                                   "control_c000", "step_c000", "law_baseline", "step_baseline", "target_orbit",
                                   "kepler", "wheel_alloc", "thruster_alloc", "pwpf", "pwpf_filter"])
 def test_batch_equals_single_calls_bitwise(lane_model, name):
