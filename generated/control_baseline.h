@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_baseline: controller half of a step of baseline: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_baseline' (hash 0db03e3a18dbe5fbd588c8c2aa8899265574cffdb6cb261e5f7c7d8eb857206d),
+ * Produced by `python build.py` from family 'controller_baseline' (hash d6d79cd8291cf98ad2de567c4d291187ebd4fd14445e9c282312cafa564e215e),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

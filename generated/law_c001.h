@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c001: control law of c001
- * Produced by `python build.py` from family 'controller_c001' (hash 93490631844a85e2b0260ba6cfbb7ce54759e3a9ad4e3d13d7b6c8fc9ce001b1),
+ * Produced by `python build.py` from family 'controller_c001' (hash 24309caaf7209a75443898511a064a8660a9bf9b08c8b350a825dd5909b12137),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

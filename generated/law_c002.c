@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c002: control law of c002
- * Produced by `python build.py` from family 'controller_c002' (hash 95e60489da8c643dba30ac6e9e6e189e26515626ccf4eeae4dd7b6737d5af4f6),
+ * Produced by `python build.py` from family 'controller_c002' (hash 7d22187d001eea498ca89b9c636a232e0c04490392f830a3cadc44ec1c133c39),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

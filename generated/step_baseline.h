@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_baseline: one closed-loop step (plant + baseline + actuators), RK4 over dt: measure, control_baseline, plant_advance
- * Produced by `python build.py` from family 'controller_baseline' (hash 0db03e3a18dbe5fbd588c8c2aa8899265574cffdb6cb261e5f7c7d8eb857206d),
+ * Produced by `python build.py` from family 'controller_baseline' (hash d6d79cd8291cf98ad2de567c4d291187ebd4fd14445e9c282312cafa564e215e),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -28,7 +28,7 @@
  *   symbolic/structural_cse.py
  *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py
- * Operations: 32844 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 28285 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c000: one closed-loop step (plant + c000 + actuators), RK4 over dt: measure, control_c000, plant_advance
- * Produced by `python build.py` from family 'controller_c000' (hash 5524a634b6152b3568ba2ccb71d93f40ab333245615025e235e71f447006e706),
+ * Produced by `python build.py` from family 'controller_c000' (hash 312f04cb2cc02f78515d066eec4a86c0587a0329b382718708035321f91241ac),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -28,7 +28,7 @@
  *   symbolic/structural_cse.py
  *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py
- * Operations: 33865 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 29029 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {
@@ -207,7 +207,7 @@ CASADI_SYMBOL_EXPORT int step_c000_work(casadi_int *sz_arg, casadi_int* sz_res, 
   if (sz_arg) *sz_arg = 5;
   if (sz_res) *sz_res = 2;
   if (sz_iw) *sz_iw = 0;
-  if (sz_w) *sz_w = 1713;
+  if (sz_w) *sz_w = 1502;
   return 0;
 }
 
@@ -216,7 +216,7 @@ CASADI_SYMBOL_EXPORT int step_c000_work_bytes(casadi_int *sz_arg, casadi_int* sz
   if (sz_arg) *sz_arg = 5*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 2*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
-  if (sz_w) *sz_w = 1713*sizeof(casadi_real);
+  if (sz_w) *sz_w = 1502*sizeof(casadi_real);
   return 0;
 }
 

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c000: one closed-loop step (plant + c000 + actuators), RK4 over dt: measure, control_c000, plant_advance
- * Produced by `python build.py` from family 'controller_c000' (hash 5524a634b6152b3568ba2ccb71d93f40ab333245615025e235e71f447006e706),
+ * Produced by `python build.py` from family 'controller_c000' (hash 312f04cb2cc02f78515d066eec4a86c0587a0329b382718708035321f91241ac),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -28,7 +28,7 @@
  *   symbolic/structural_cse.py
  *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py
- * Operations: 33865 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 29029 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c001: one closed-loop step (plant + c001 + actuators), RK4 over dt: measure, control_c001, plant_advance
- * Produced by `python build.py` from family 'controller_c001' (hash 93490631844a85e2b0260ba6cfbb7ce54759e3a9ad4e3d13d7b6c8fc9ce001b1),
+ * Produced by `python build.py` from family 'controller_c001' (hash 24309caaf7209a75443898511a064a8660a9bf9b08c8b350a825dd5909b12137),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -28,7 +28,7 @@
  *   symbolic/structural_cse.py
  *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py
- * Operations: 37783 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 30886 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {
@@ -207,7 +207,7 @@ CASADI_SYMBOL_EXPORT int step_c001_work(casadi_int *sz_arg, casadi_int* sz_res, 
   if (sz_arg) *sz_arg = 5;
   if (sz_res) *sz_res = 2;
   if (sz_iw) *sz_iw = 0;
-  if (sz_w) *sz_w = 1666;
+  if (sz_w) *sz_w = 1455;
   return 0;
 }
 
@@ -216,7 +216,7 @@ CASADI_SYMBOL_EXPORT int step_c001_work_bytes(casadi_int *sz_arg, casadi_int* sz
   if (sz_arg) *sz_arg = 5*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 2*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
-  if (sz_w) *sz_w = 1666*sizeof(casadi_real);
+  if (sz_w) *sz_w = 1455*sizeof(casadi_real);
   return 0;
 }
 

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c004: one closed-loop step (plant + c004 + actuators), RK4 over dt: measure, control_c004, plant_advance
- * Produced by `python build.py` from family 'controller_c004' (hash 08474732503193163e780532947b622990b7c1784e330e818d4f55aed7e7e682),
+ * Produced by `python build.py` from family 'controller_c004' (hash c17b804cb502a9dea1dd17cf419d0daba7523be47769310ca7080b4e8f014c62),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -28,7 +28,7 @@
  *   symbolic/structural_cse.py
  *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py
- * Operations: 34593 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 29159 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {
@@ -207,7 +207,7 @@ CASADI_SYMBOL_EXPORT int step_c004_work(casadi_int *sz_arg, casadi_int* sz_res, 
   if (sz_arg) *sz_arg = 5;
   if (sz_res) *sz_res = 2;
   if (sz_iw) *sz_iw = 0;
-  if (sz_w) *sz_w = 1663;
+  if (sz_w) *sz_w = 1452;
   return 0;
 }
 
@@ -216,7 +216,7 @@ CASADI_SYMBOL_EXPORT int step_c004_work_bytes(casadi_int *sz_arg, casadi_int* sz
   if (sz_arg) *sz_arg = 5*sizeof(const casadi_real*);
   if (sz_res) *sz_res = 2*sizeof(casadi_real*);
   if (sz_iw) *sz_iw = 0*sizeof(casadi_int);
-  if (sz_w) *sz_w = 1663*sizeof(casadi_real);
+  if (sz_w) *sz_w = 1452*sizeof(casadi_real);
   return 0;
 }
 

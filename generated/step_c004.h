@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c004: one closed-loop step (plant + c004 + actuators), RK4 over dt: measure, control_c004, plant_advance
- * Produced by `python build.py` from family 'controller_c004' (hash 08474732503193163e780532947b622990b7c1784e330e818d4f55aed7e7e682),
+ * Produced by `python build.py` from family 'controller_c004' (hash c17b804cb502a9dea1dd17cf419d0daba7523be47769310ca7080b4e8f014c62),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
@@ -28,7 +28,7 @@
  *   symbolic/structural_cse.py
  *   symbolic/target_orbit_state.py
  *   symbolic/to_casadi.py
- * Operations: 34593 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 29159 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * target_orbit: target orbit at t (000 eqs. 31-36, corrected LVLH rate)
- * Produced by `python build.py` from family 'plant' (hash 1093c7d426af2ed0fc26cc31b72b1e954ce6ea274a99e2fcb61c8a34de40a6f8),
+ * Produced by `python build.py` from family 'plant' (hash 2526ffa6687261ea18bdbba89fa194fefd85de6a369edb1a125335d3738c1fa1),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

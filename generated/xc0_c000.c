@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * xc0_c000: initial state of c000 from the first measurement
- * Produced by `python build.py` from family 'controller_c000' (hash 5524a634b6152b3568ba2ccb71d93f40ab333245615025e235e71f447006e706),
+ * Produced by `python build.py` from family 'controller_c000' (hash 312f04cb2cc02f78515d066eec4a86c0587a0329b382718708035321f91241ac),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

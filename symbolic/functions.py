@@ -200,7 +200,9 @@ def _expanded(name: str, inputs: list, outputs: list, in_names: list[str], out_n
     syms = [ca.SX.sym(n, f.size1_in(i)) for i, n in enumerate(in_names)]
     outs = f(*syms)
     outs = outs if isinstance(outs, (list, tuple)) else [outs]
-    return _lean(ca.Function(name, syms, [ca.cse(o) for o in outs], in_names, out_names))
+    # one elimination over all outputs: per output, a subexpression two outputs share (the
+    # environment outputs and the first RK4 stage at (x, t)) would be computed twice
+    return _lean(ca.Function(name, syms, ca.cse(list(outs)), in_names, out_names))
 
 
 def casadi_plant_advance(cas: dict, P):
