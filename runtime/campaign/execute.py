@@ -184,8 +184,12 @@ def applied(model: Any, pre: Any, nominal: tuple[np.ndarray, np.ndarray] | None)
     for what, vec, layout, base in (("p", pre.sim.p, "p", None if nominal is None else nominal[0]),
                                     ("k", pre.sim.k, ctrl, None if nominal is None else nominal[1])):
         offs = model.offsets(layout)
-        out[what] = {f: vec[sl].tolist() for f, sl in offs.items()
-                     if base is None or not np.array_equal(vec[sl], base[sl])}
+        if base is None:
+            out[what] = {f: vec[sl].tolist() for f, sl in offs.items()}
+            continue
+        # a field differs where any entry differs (NaN differs from everything, as array_equal has it)
+        differs = (vec != base).tolist()
+        out[what] = {f: vec[sl].tolist() for f, sl in offs.items() if any(differs[sl])}
     return out
 
 
