@@ -105,13 +105,16 @@ def run_seed_of(resolved: dict, case: int) -> int:
     return run_seed(int(resolved["seed"]), int(case))
 
 
-def prepare_case(camp: Campaign, model: Any, case: int) -> tuple[dict, dict[str, Any], Any]:
+def prepare_case(camp: Campaign, model: Any, case: int,
+                 draws: dict[str, Any] | None = None) -> tuple[dict, dict[str, Any], Any]:
     """(the row so far, the draw columns, the pre-flight or the refusal text) of one case: its
-    draws, its scenario validated as `rpo run` would, and the pre-flight checks."""
+    draws (``camp.draws(case)`` unless given), its scenario validated as `rpo run` would, and the
+    pre-flight checks."""
     from ..scenario import validate_scenario
     from ..scenario.preflight import preflight
 
-    draws = camp.draws(case)
+    if draws is None:
+        draws = camp.draws(case)
     cols: dict[str, Any] = {}
     for d in camp.dispersions:
         cols.update(d.columns(draws[d.key]))
@@ -128,8 +131,8 @@ def prepare_case(camp: Campaign, model: Any, case: int) -> tuple[dict, dict[str,
 def _fly(camp: Campaign, model: Any, cases: list[int], folder: Path) -> list[dict[str, Any]]:
     rows: dict[int, dict] = {}
     ready: list[tuple[int, Any]] = []
-    for case in cases:
-        row, _draws, pre = prepare_case(camp, model, case)
+    for case, draws in zip(cases, camp.draws_many(cases), strict=True):
+        row, _draws, pre = prepare_case(camp, model, case, draws)
         rows[case] = row
         if isinstance(pre, str):
             row.update(status="invalid", message=pre.removeprefix(f"{camp.case_source(case)}: "),
