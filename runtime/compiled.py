@@ -28,6 +28,7 @@ import ctypes
 import gzip
 import hashlib
 import json
+import math
 import os
 import platform
 import shlex
@@ -615,6 +616,11 @@ def prune_cache(gen_dir: Path | None = None, cache: Path | None = None, dry_run:
 # --------------------------------------------------------------------------- calling
 
 
+#: (id of the library, function name) -> (the library, the manifest entry it was checked against,
+#: its work sizes): a clone (one per simulation: a campaign makes one per run) is not checked again
+_CHECKED: dict[tuple[int, str], tuple[ctypes.CDLL, dict, tuple[int, ...]]] = {}
+
+
 class CompiledFunction:
     """A generated function called through ctypes with preallocated buffers.
 
@@ -633,19 +639,24 @@ class CompiledFunction:
         self.desc = desc
         self._lib = lib
         self.c_function = getattr(lib, name)
-        self.c_function.restype = ctypes.c_int
-        self.c_function.argtypes = [ctypes.POINTER(_DOUBLE_P), ctypes.POINTER(_DOUBLE_P), _INT_P, _DOUBLE_P,
-                                    ctypes.c_int]
-        self._check_signature()
-        sz = [ctypes.c_longlong() for _ in range(4)]
-        getattr(lib, f"{name}_work")(*[ctypes.byref(s) for s in sz])
-        self.sz_arg, self.sz_res, self.sz_iw, self.sz_w = (s.value for s in sz)
+        checked = _CHECKED.get((id(lib), name))
+        if checked is None or checked[0] is not lib or checked[1] is not desc:
+            self.c_function.restype = ctypes.c_int
+            self.c_function.argtypes = [ctypes.POINTER(_DOUBLE_P), ctypes.POINTER(_DOUBLE_P), _INT_P, _DOUBLE_P,
+                                        ctypes.c_int]
+            self._check_signature()
+            sz = [ctypes.c_longlong() for _ in range(4)]
+            getattr(lib, f"{name}_work")(*[ctypes.byref(s) for s in sz])
+            checked = _CHECKED[(id(lib), name)] = (lib, desc, tuple(s.value for s in sz))
+        # a clone (another instance of a function already checked against this manifest entry):
+        # the same library, the same signature and work sizes
+        self.sz_arg, self.sz_res, self.sz_iw, self.sz_w = checked[2]
         self.in_names = [i["name"] for i in desc["inputs"]]
         self.out_names = [o["name"] for o in desc["outputs"]]
         self.in_shapes = [tuple(i["shape"]) for i in desc["inputs"]]
         self.out_shapes = [tuple(o["shape"]) for o in desc["outputs"]]
-        self.in_sizes = [int(np.prod(s)) for s in self.in_shapes]
-        self.out_sizes = [int(np.prod(s)) for s in self.out_shapes]
+        self.in_sizes = [math.prod(s) for s in self.in_shapes]
+        self.out_sizes = [math.prod(s) for s in self.out_shapes]
         self.inputs = [np.zeros(n) for n in self.in_sizes]
         self.outputs = [np.zeros(n) for n in self.out_sizes]
         self.iw = np.zeros(max(self.sz_iw, 1), dtype=np.int64)
@@ -895,6 +906,7 @@ class Model:
         #: layout name -> (field -> (offset, size), packed defaults, fields without a default, size)
         self._packing: dict[str, tuple[dict[str, tuple[int, int]], np.ndarray, list[str], int]] = {}
         self._slices: dict[str, dict[str, slice]] = {}
+        self._orders: dict[str, list[tuple[int, str, int]]] = {}
         self._columns: dict[tuple, Any] = {}
         self._bad_defaults: dict[str, list[str]] = {}
         for f in functions.values():
@@ -965,6 +977,13 @@ class Model:
             info = self._packing[name] = (offs, base, missing, i)
         return info
 
+    def _order(self, name: str) -> list[tuple[int, str, int]]:
+        """(offset, field, size) of a layout, sorted by offset then name (made once)."""
+        order = self._orders.get(name)
+        if order is None:
+            order = self._orders[name] = sorted((a, k, n) for k, (a, n) in self._pack(name)[0].items())
+        return order
+
     def offsets(self, name: str) -> dict[str, slice]:
         """{field: slice} of a layout (a new dict each call; the slices are made once per layout:
         a campaign asks for them a dozen times per run)."""
@@ -1006,10 +1025,14 @@ class Model:
             if f not in values:
                 raise ModelError(f"{name}.{f} has no default and was not given")
         out = base.copy()
-        given = sorted((offs[k][0], k) for k in values if k in offs)
-        for a, k in given:
-            n = offs[k][1]
-            v = np.atleast_1d(np.asarray(values[k], float)).ravel()
+        if 4 * len(values) < len(offs):
+            given = sorted((offs[k][0], k, offs[k][1]) for k in values if k in offs)
+        else:  # most of the fields (a run's parameters): the layout's own order, the same sequence
+            given = [f for f in self._order(name) if f[1] in values]
+        for a, k, n in given:
+            v = values[k]
+            if type(v) is not np.ndarray or v.dtype != np.float64 or v.ndim != 1:  # else as it is: no copy
+                v = np.atleast_1d(np.asarray(v, float)).ravel()
             if v.size != n:
                 raise ModelError(f"{name}.{k} needs {n} values, got {v.size}")
             out[a:a + n] = v

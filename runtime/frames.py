@@ -90,7 +90,14 @@ def quat_multiply(a: ArrayLike, b: ArrayLike) -> np.ndarray:
     a, b = _q(a), _q(b)
     av, aw = a[..., :3], a[..., 3:]
     bv, bw = b[..., :3], b[..., 3:]
-    v = aw * bv + bw * av + np.cross(av, bv)
+    if a.ndim == 1 and b.ndim == 1:
+        # np.cross of two 3-vectors, its products and differences in its order (the same bits),
+        # without its axis handling (most of the time of one product)
+        (a0, a1, a2), (b0, b1, b2) = av.tolist(), bv.tolist()
+        cross = np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
+    else:
+        cross = np.cross(av, bv)
+    v = aw * bv + bw * av + cross
     w = aw * bw - np.sum(av * bv, axis=-1, keepdims=True)
     return np.concatenate([v, w], axis=-1)
 

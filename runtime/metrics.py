@@ -218,9 +218,24 @@ def time_fraction(t: ArrayLike, flag: ArrayLike) -> float | None:
 def unit_columns(columns: Mapping[str, Any], prefix: str) -> list[tuple[str, np.ndarray]]:
     """``[(unit, column)]`` of the columns ``<prefix>_<digits>`` (``wheel_applied_1``,
     ``thr_on_07``), in unit order."""
-    found = [(k[len(prefix) + 1:], k) for k in columns
-             if k.startswith(prefix + "_") and k[len(prefix) + 1:].isdigit()]
-    return [(u, np.asarray(columns[k], float)) for u, k in sorted(found, key=lambda x: int(x[0]))]
+    return [(u, np.asarray(columns[k], float)) for u, k in _unit_labels(tuple(columns), prefix)]
+
+
+#: (the columns' labels, prefix) -> [(unit, label)]: a campaign's runs all have the same labels
+_UNIT_LABELS: dict[tuple[tuple[str, ...], str], list[tuple[str, str]]] = {}
+
+
+def _unit_labels(labels: tuple[str, ...], prefix: str) -> list[tuple[str, str]]:
+    key = (labels, prefix)
+    hit = _UNIT_LABELS.get(key)
+    if hit is None:
+        found = [(k[len(prefix) + 1:], k) for k in labels
+                 if k.startswith(prefix + "_") and k[len(prefix) + 1:].isdigit()]
+        hit = sorted(found, key=lambda x: int(x[0]))
+        if len(_UNIT_LABELS) >= 64:  # a bounded memo (runs with other labels: another model, a test)
+            _UNIT_LABELS.clear()
+        _UNIT_LABELS[key] = hit
+    return hit
 
 
 def param(params: Mapping[str, Any] | None, name: str) -> float | None:

@@ -24,8 +24,8 @@ import pytest
 from scipy import stats
 from scipy.spatial.transform import Rotation
 
-from rpo.runtime.campaign import loads_campaign, run_campaign, start_folder, storage
-from rpo.runtime.campaign.sampling import Design, run_seed
+from rpo.runtime.campaign import load_campaign, loads_campaign, run_campaign, start_folder, storage
+from rpo.runtime.campaign.sampling import Design, run_seed, run_seeds, seed_words
 from rpo.runtime.errors import CampaignError
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -243,6 +243,28 @@ def test_seeds_streams_and_designs(model):
     s = Design("sobol", 3, 64, camp.dispersions)
     U = np.array([s.uniforms(c)["relative.position"] for c in range(64)])
     assert all((U[:, j] < 0.5).sum() == 32 for j in range(3))
+
+
+def test_batch_draws_are_the_single_draws(model, tmp_path):
+    # a batch of runs takes its uniforms from one array computation of SeedSequence's hash
+    # (sampling.seed_words): the same words as numpy's SeedSequence, the same draws as one case alone
+    rng = np.random.default_rng(4)
+    for seed in (0, 1, 3000, 2**32, 2**63 - 1, 2**70 + 9):
+        keys = [(int(rng.integers(0, 2**63)) * 2 + 1, int(c)) for c in (0, 1, 2**32 - 1, 2**32, 12345)]
+        keys += [(5, 0), (0x6E6F697365, 3), (2**40, 7, 1)]
+        for n in (1, 3, 17):
+            got = seed_words(seed, keys, n)
+            for k, row in zip(keys, got, strict=True):
+                assert np.array_equal(row, np.random.SeedSequence(seed, spawn_key=k).generate_state(n, np.uint64))
+    assert run_seeds(11, [0, 5, 2**33]) == [run_seed(11, c) for c in (0, 5, 2**33)]
+    path = ROOT / "scenarios" / "campaigns" / "000_III_mc.toml"
+    for sampling in ("random", "lhs"):
+        text = path.read_text().replace('sampling = "random"', f'sampling = "{sampling}"')
+        (tmp_path / "c.toml").write_text(text.replace('extends = "../', f'extends = "{path.parents[1]}/'))
+        camp = load_campaign(tmp_path / "c.toml", model.manifest, runs=40)
+        cases = [0, 3, 17, 39]
+        for c, many in zip(cases, camp.draws_many(cases), strict=True):
+            assert json.dumps(many) == json.dumps(camp.draws(c))
 
 
 def test_same_summary_bytes_in_process_pool_and_dask(model, tmp_path):

@@ -87,6 +87,7 @@ class Dispersion:
     unit: str = ""
     size: int = 1
     _frozen: Any = field(default=None, repr=False)
+    _aux: Any = field(default=None, repr=False, compare=False)
 
     # -- checks ------------------------------------------------------------------------------
 
@@ -270,14 +271,18 @@ class Dispersion:
         u = np.asarray(u, float)
         if self.dist == "normal":
             mean, std, lo, hi = self._frozen
+            if self._aux is None:  # the truncated components and the zero-spread ones (fixed)
+                self._aux = ([int(i) for i in np.flatnonzero(np.isfinite(lo) | np.isfinite(hi))], std == 0.0)
+            truncated, zero = self._aux
             z = special.ndtri(u[: self.size])  # the normal ppf, without scipy.stats' overhead
             out = mean + std * z
-            for i in np.flatnonzero(np.isfinite(lo) | np.isfinite(hi)):  # truncated components
+            for i in truncated:
                 if std[i] > 0:
                     x = mean[i] + std[i] * _truncated_normal_ppf(u[i], (lo[i] - mean[i]) / std[i],
                                                                  (hi[i] - mean[i]) / std[i])
                     out[i] = min(max(x, lo[i]), hi[i])  # the last ulp of rounding, not a clip of the draw
-            out[std == 0.0] = mean[std == 0.0]
+            if zero.any():
+                out[zero] = mean[zero]
             return self._shape(out)
         if self.dist == "uniform":
             lo, hi = self._frozen
@@ -312,7 +317,7 @@ class Dispersion:
         return self._shape(x)
 
     def _shape(self, arr: np.ndarray) -> Any:
-        vals = [float(v) for v in arr]
+        vals = np.asarray(arr, float).tolist()  # Python floats of the same values
         return vals if isinstance(self.nominal, list) else vals[0]
 
     # -- summary columns ---------------------------------------------------------------------

@@ -105,13 +105,16 @@ def run_seed_of(resolved: dict, case: int) -> int:
     return run_seed(int(resolved["seed"]), int(case))
 
 
-def prepare_case(camp: Campaign, model: Any, case: int) -> tuple[dict, dict[str, Any], Any]:
+def prepare_case(camp: Campaign, model: Any, case: int,
+                 draws: dict[str, Any] | None = None) -> tuple[dict, dict[str, Any], Any]:
     """(the row so far, the draw columns, the pre-flight or the refusal text) of one case: its
-    draws, its scenario validated as `rpo run` would, and the pre-flight checks."""
+    draws (``camp.draws(case)`` unless given), its scenario validated as `rpo run` would, and the
+    pre-flight checks."""
     from ..scenario import validate_scenario
     from ..scenario.preflight import preflight
 
-    draws = camp.draws(case)
+    if draws is None:
+        draws = camp.draws(case)
     cols: dict[str, Any] = {}
     for d in camp.dispersions:
         cols.update(d.columns(draws[d.key]))
@@ -128,8 +131,8 @@ def prepare_case(camp: Campaign, model: Any, case: int) -> tuple[dict, dict[str,
 def _fly(camp: Campaign, model: Any, cases: list[int], folder: Path) -> list[dict[str, Any]]:
     rows: dict[int, dict] = {}
     ready: list[tuple[int, Any]] = []
-    for case in cases:
-        row, _draws, pre = prepare_case(camp, model, case)
+    for case, draws in zip(cases, camp.draws_many(cases), strict=True):
+        row, _draws, pre = prepare_case(camp, model, case, draws)
         rows[case] = row
         if isinstance(pre, str):
             row.update(status="invalid", message=pre.removeprefix(f"{camp.case_source(case)}: "),
@@ -184,8 +187,12 @@ def applied(model: Any, pre: Any, nominal: tuple[np.ndarray, np.ndarray] | None)
     for what, vec, layout, base in (("p", pre.sim.p, "p", None if nominal is None else nominal[0]),
                                     ("k", pre.sim.k, ctrl, None if nominal is None else nominal[1])):
         offs = model.offsets(layout)
-        out[what] = {f: vec[sl].tolist() for f, sl in offs.items()
-                     if base is None or not np.array_equal(vec[sl], base[sl])}
+        if base is None:
+            out[what] = {f: vec[sl].tolist() for f, sl in offs.items()}
+            continue
+        # a field differs where any entry differs (NaN differs from everything, as array_equal has it)
+        differs = (vec != base).tolist()
+        out[what] = {f: vec[sl].tolist() for f, sl in offs.items() if any(differs[sl])}
     return out
 
 

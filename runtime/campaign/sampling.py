@@ -59,6 +59,82 @@ def _uniforms(seed: int, stream: int, case: int, n: int) -> np.ndarray:
     return ((words >> np.uint64(11)).astype(np.float64) + 0.5) * 2.0**-53
 
 
+# SeedSequence's constants (numpy/random/bit_generator.pyx): its hash of the entropy into a pool of
+# four 32-bit words and of the pool into the output words
+_POOL = 4
+_INIT_A, _MULT_A, _INIT_B, _MULT_B = 0x43B0D7E5, 0x931E8875, 0x8B51F9DD, 0x58F38DED
+_MIX_L, _MIX_R = np.uint32(0xCA01F9DD), np.uint32(0x4973F715)
+_M32 = 0xFFFFFFFF
+_SHIFT = np.uint32(16)
+
+
+def _words32(n: int) -> list[int]:
+    """An integer's 32-bit words, least significant first (SeedSequence's coercion of an int)."""
+    out = [n & _M32]
+    n >>= 32
+    while n:
+        out.append(n & _M32)
+        n >>= 32
+    return out
+
+
+def _hash_consts(init: int, mult: int, n: int) -> np.ndarray:
+    """The hash constant before each of n hash steps and after the last: init * mult**i mod 2**32."""
+    out, h = [], init
+    for _ in range(n + 1):
+        out.append(h)
+        h = (h * mult) & _M32
+    return np.array(out, np.uint32)
+
+
+def seed_words(seed: int, spawn_keys: Sequence[tuple[int, ...]], n: int) -> np.ndarray:
+    """``SeedSequence(seed, spawn_key=k).generate_state(n, np.uint64)`` for every (non-empty) key
+    ``k``, as one (len(spawn_keys), n) array: the same algorithm on arrays of the keys, bit for bit
+    (tests/test_campaign.py compares it with numpy's), a batch of runs' words at once instead of
+    one SeedSequence object per key and run."""
+    run = _words32(int(seed))
+    run = run + [0] * (_POOL - len(run))  # a spawned sequence pads its entropy to the pool size
+    ent = [run + [w for x in k for w in _words32(int(x))] for k in spawn_keys]
+    out = np.empty((len(ent), n), np.uint64)
+    groups: dict[int, list[int]] = {}
+    for i, e in enumerate(ent):
+        groups.setdefault(len(e), []).append(i)
+    n32 = 2 * n
+    hb = _hash_consts(_INIT_B, _MULT_B, n32)
+    for length, rows in groups.items():
+        E = np.array([ent[i] for i in rows], np.uint32).reshape(len(rows), length)
+        ha = _hash_consts(_INIT_A, _MULT_A, _POOL * _POOL + (length - _POOL) * _POOL)
+        step = iter(range(ha.size - 1))
+
+        def hashmix(v: np.ndarray) -> np.ndarray:
+            i = next(step)  # noqa: B023 (the group's own constants, used before the next group)
+            v = (v ^ ha[i]) * ha[i + 1]  # noqa: B023
+            return v ^ (v >> _SHIFT)
+
+        def mix(x: np.ndarray, y: np.ndarray) -> np.ndarray:
+            r: np.ndarray = _MIX_L * x - _MIX_R * y
+            return r ^ (r >> _SHIFT)
+
+        pool = [hashmix(E[:, i]) for i in range(_POOL)]
+        for src in range(_POOL):
+            for dst in range(_POOL):
+                if src != dst:
+                    pool[dst] = mix(pool[dst], hashmix(pool[src]))
+        for src in range(_POOL, length):
+            for dst in range(_POOL):
+                pool[dst] = mix(pool[dst], hashmix(E[:, src]))
+        v = np.stack(pool, axis=1)[:, np.arange(n32) % _POOL]
+        v = (v ^ hb[:n32]) * hb[1:]
+        v ^= v >> _SHIFT
+        out[rows] = np.ascontiguousarray(v).astype("<u4").view("<u8").astype(np.uint64)
+    return out
+
+
+def run_seeds(seed: int, cases: Sequence[int]) -> list[int]:
+    """:func:`run_seed` of each case, at once."""
+    return [int(w) for w in seed_words(seed, [(NOISE_STREAM, int(c)) for c in cases], 1)[:, 0]]
+
+
 def _clip(u: np.ndarray) -> np.ndarray:
     return np.clip(u, U_MIN, 1.0 - U_MIN)
 
@@ -103,3 +179,17 @@ class Design:
         if self._table is None:
             self._table = self._build()
         return {d.key: self._table[d.key][case] for d in self.dispersions}
+
+    def uniforms_many(self, cases: Sequence[int]) -> list[dict[str, np.ndarray]]:
+        """:meth:`uniforms` of each of ``cases`` (the same values; a random design's words for all
+        the cases and keys at once)."""
+        if self.sampling != "random" or not self.dispersions or not cases:
+            return [self.uniforms(c) for c in cases]
+        for case in cases:
+            if not 0 <= case < self.runs:
+                raise IndexError(f"case {case} is not in this campaign (0 .. {self.runs - 1})")
+        dims = max(d.dims for d in self.dispersions)
+        keys = [(self._ids[d.key], int(c)) for c in cases for d in self.dispersions]
+        u = ((seed_words(self.seed, keys, dims) >> np.uint64(11)).astype(np.float64) + 0.5) * 2.0**-53
+        nd = len(self.dispersions)
+        return [{d.key: u[i * nd + j, : d.dims] for j, d in enumerate(self.dispersions)} for i in range(len(cases))]

@@ -44,6 +44,7 @@ import copy
 import hashlib
 import json
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Annotated, Any, Literal
@@ -162,6 +163,10 @@ class Campaign:
         """key -> the value drawn for run ``case`` (in the key's unit, as a scenario holds it)."""
         u = self.design.uniforms(case)
         return {d.key: d.value(u[d.key]) for d in self.dispersions}
+
+    def draws_many(self, cases: Sequence[int]) -> list[dict[str, Any]]:
+        """:meth:`draws` of each of ``cases`` (the same values; the uniforms made at once)."""
+        return [{d.key: d.value(u[d.key]) for d in self.dispersions} for u in self.design.uniforms_many(cases)]
 
     def case_data(self, case: int, draws: dict[str, Any] | None = None, share: bool = False) -> dict[str, Any]:
         """The scenario table of run ``case``: the base with its draws and its noise seed.  A deep

@@ -145,10 +145,12 @@ def write_history(folder: Path, case: int, t: np.ndarray, columns: Mapping[str, 
             "rpo.units": json.dumps({"t": "s", **{n: units.get(n, "") for n in columns}}, sort_keys=True)})
     # one float32 block, column-major, so that each column is a contiguous slice (the record's
     # columns are strided views of the run's state and output arrays)
-    block = np.empty((len(columns), len(t)), np.float32)
+    n = len(t)
+    block = np.empty((len(columns), n), np.float32)
     for i, v in enumerate(columns.values()):
         block[i] = v
-    arrays = [pa.array(np.asarray(t, np.float64))] + [pa.array(row) for row in block]
+    flat = pa.array(block.reshape(-1))  # one Arrow array, each column a slice of it (the same file bytes)
+    arrays = [pa.array(np.asarray(t, np.float64))] + [flat.slice(i * n, n) for i in range(len(columns))]
     table = pa.Table.from_arrays(arrays, schema=schema.with_metadata(
         {**schema.metadata, b"rpo.case": json.dumps(dict(meta), sort_keys=True).encode()}))
     sink = pa.BufferOutputStream()

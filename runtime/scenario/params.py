@@ -170,21 +170,26 @@ class ScenarioParam:
         """None if ``value`` (as typed in a scenario) is admissible, else why not: ONE message with the
         allowed values, for a wrong type, a wrong length, nan or inf, or a value out of bounds.
         Kinds ``number`` and ``reciprocal`` (``inertia``: see :meth:`check_moments`)."""
-        iv = self.scenario_interval()
-        rng = "" if iv is None else f" {iv.text(self.unit)}"
-        unit = f" ({self.unit})" if iv is None and self.unit not in ("", "-") else ""
         items = value if isinstance(value, list) else [value]
         if (self.size == 1) == isinstance(value, list) or not all(_is_number(x) for x in items):
-            return f"must be {self.value_text()}{rng}{unit}"
+            return f"must be {self.value_text()}{self._allowed_text()}"
         if len(items) != self.size:
             return f"must have {self.size} values, got {len(items)}"
         if not finite(items):
-            return f"must be {'a finite number' if self.size == 1 else 'finite numbers'}{rng}{unit}"
+            return f"must be {'a finite number' if self.size == 1 else 'finite numbers'}{self._allowed_text()}"
         if not self.in_bounds(value):
+            iv = self.scenario_interval()
             assert iv is not None
             bad = next(float(x) for x in items if not self.in_bounds(float(x)))
             return iv.refusal(bad, self.unit)
         return None
+
+    def _allowed_text(self) -> str:
+        """`` in [0, 180] deg`` (the bounds), or `` (deg)`` (the unit of an unbounded value)."""
+        iv = self.scenario_interval()
+        if iv is not None:
+            return f" {iv.text(self.unit)}"
+        return f" ({self.unit})" if self.unit not in ("", "-") else ""
 
     def check_moments(self, moments: Sequence[float]) -> str | None:
         """For kind ``inertia``: None if the principal moments [kg m^2] are within the bounds."""
@@ -204,6 +209,8 @@ class ScenarioParam:
         items = value if isinstance(value, list) else [value]
         if self.kind == "reciprocal" and not all(float(v) > 0 for v in items):
             return False
+        if not isinstance(value, list):  # one number: to_si gives a float (np.ravel of it: the same)
+            return self.bounds.contains(float(self.to_si(value)))
         si = np.ravel(self.to_si(value))
         return all(self.bounds.contains(float(v)) for v in si)
 
@@ -253,10 +260,17 @@ def scenario_params(manifest: dict, layout: str = "p") -> list[ScenarioParam]:
 
 def param(manifest: dict, name: str) -> ScenarioParam:
     """The scenario entry of p field ``name`` (for messages naming its key and unit)."""
+    hit = _cached(manifest, ("param", name), lambda: _find_param(manifest, name))
+    if hit is None:
+        raise KeyError(f"the manifest's layout p has no field {name} with a scenario key: run `python build.py`")
+    return hit
+
+
+def _find_param(manifest: dict, name: str) -> ScenarioParam | None:
     for f in manifest["layouts"]["p"]:
         if f["name"] == name and "scenario" in f:
             return ScenarioParam.from_manifest(f)
-    raise KeyError(f"the manifest's layout p has no field {name} with a scenario key: run `python build.py`")
+    return None
 
 
 def manifest_defaults(manifest: dict, layout: str, copy: bool = True) -> dict[str, np.ndarray]:
@@ -284,6 +298,14 @@ def _is_number(x: Any) -> bool:
 def gain_bounds(entry: dict) -> Interval | None:
     """The bounds a controller module declared for one gain (SI, the gain's unit), if any."""
     return Interval.from_manifest(entry.get("bounds"))
+
+
+def layout_fields(manifest: dict, layout: str) -> dict[str, tuple[dict, Interval | None]]:
+    """field name -> (its manifest entry, its bounds (SI) or None), in layout order (parsed once
+    inside :func:`unchanging`; a read-only mapping for the validators)."""
+    fields = manifest["layouts"][layout]
+    return _cached(manifest, ("fields", layout),
+                   lambda: {f["name"]: (f, Interval.from_manifest(f.get("bounds"))) for f in fields})
 
 
 def finite(values: Sequence[float]) -> bool:

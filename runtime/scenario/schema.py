@@ -41,9 +41,10 @@ from .messages import field_error, first_error, unknown_key
 from .params import (
     Interval,
     ScenarioParam,
+    _cached,
     finite,
     frozen_cache,
-    gain_bounds,
+    layout_fields,
     manifest_defaults,
     param,
     scenario_params,
@@ -382,7 +383,7 @@ class Scenario(_Section):
             raise field_error(key("orbit_a"), self.get(key("orbit_a")),
                               f"give either perigee_altitude or {key('orbit_a').rsplit('.', 1)[-1]}, not both")
         self._check_faults(manifest)
-        p: dict[str, Any] = {k: float(v[0]) if v.size == 1 else v for k, v in self.params(manifest).items()}
+        p = _ParamValues(self.param_overrides(manifest), manifest_defaults(manifest, "p", copy=False))
         sim = self.simulation
 
         # orbit: the perigee must be above the surface
@@ -446,13 +447,13 @@ class Scenario(_Section):
             fault_params(self.faults, defaults)
         except FaultConflict as exc:
             raise field_error(f"faults[{exc.index}]", self.faults[exc.index].kind, exc.message) from None
-        fields = {f["name"]: f for f in manifest["layouts"]["p"]}
+        fields = layout_fields(manifest, "p")
         for n, f in enumerate(self.faults):  # the values against the ranges of the parameters they set
             for name, values in fault_params([f], defaults).items():
-                b = Interval.from_manifest(fields[name].get("bounds"))
+                entry, b = fields[name]
                 if b is not None and not all(b.contains(v) for v in values):
                     where = "time" if name.endswith(("_start", "_end")) else "value"
-                    scale, unit = fault_value_unit(f, fields[name]["unit"]) if where == "value" else (1.0, "s")
+                    scale, unit = fault_value_unit(f, entry["unit"]) if where == "value" else (1.0, "s")
                     shown = Interval(None if b.lo is None else b.lo / scale, None if b.hi is None else b.hi / scale,
                                      b.lo_open, b.hi_open)
                     raise field_error(f"faults[{n}].{where}", getattr(f, where),
@@ -476,12 +477,13 @@ class Scenario(_Section):
             if name not in ctrls:
                 raise field_error(f"controller.{name}", table,
                                   f"unknown controller; available: {', '.join(sorted(ctrls))}")
-            layout = {f["name"]: f for f in manifest["layouts"][ctrls[name]["gains"]]}
+            layout = layout_fields(manifest, ctrls[name]["gains"])
             for k, value in table.items():
-                path = f"controller.{name}.{k}"
                 if k not in layout:
-                    raise field_error(path, value, unknown_key(k, list(layout)))
-                size, unit = layout[k]["size"], layout[k]["unit"]
+                    raise field_error(f"controller.{name}.{k}", value, unknown_key(k, list(layout)))
+                entry, bounds = layout[k]
+                path = f"controller.{name}.{k}"
+                size, unit = entry["size"], entry["unit"]
                 items = value if isinstance(value, list) else [value]
                 numeric = all(isinstance(x, (int, float)) and not isinstance(x, bool) for x in items)
                 if (size == 1) == isinstance(value, list) or not numeric:
@@ -489,9 +491,8 @@ class Scenario(_Section):
                     raise field_error(path, value, f"must be {want} ({unit})")
                 if len(items) != size:
                     raise field_error(path, value, f"must have {size} values, got {len(items)}")
-                bounds = gain_bounds(layout[k])
-                rng = f" {bounds.text(unit)}" if bounds is not None else f" ({unit})"
                 if not finite(items):
+                    rng = f" {bounds.text(unit)}" if bounds is not None else f" ({unit})"
                     raise field_error(path, value, f"must be {'a finite number' if size == 1 else 'finite numbers'}"
                                                    f"{rng}")
                 bad = [float(x) for x in items if bounds is not None and not bounds.contains(float(x))]
@@ -502,7 +503,7 @@ class Scenario(_Section):
         """The rates a fixed step must resolve (``per_step`` bounds: |value| * dt <= limit), for the
         parameters this scenario sets and the gains of the controller it flies."""
         rate = f"simulation.rate = {1.0 / dt:g} Hz"
-        for prm in scenario_params(manifest):
+        for prm in _per_step_params(manifest):  # the others have no such limit
             v = self.get(prm.key)
             limit = None if prm.bounds is None else prm.bounds.step_limit(dt)
             if v is None or limit is None or prm.bounds is None:
@@ -512,10 +513,10 @@ class Scenario(_Section):
                 raise field_error(prm.key, v, f"|value| must be <= {prm.bounds.per_step:g} / dt = "
                                               f"{limit / prm.scale:g} {prm.unit} at {rate} (the step must resolve it)")
         ctrl = self.simulation.controller
-        fields = manifest["layouts"][manifest["controllers"][ctrl]["gains"]]
-        gains = self.gains(manifest)
-        for f in fields:
-            b = gain_bounds(f)
+        fields = [(f, b) for f, b in layout_fields(manifest, manifest["controllers"][ctrl]["gains"]).values()
+                  if b is not None and b.per_step is not None]
+        gains = self.gains(manifest) if fields else {}
+        for f, b in fields:
             limit = None if b is None else b.step_limit(dt)
             if b is None or limit is None or f["name"] not in gains:
                 continue
@@ -611,6 +612,25 @@ class Scenario(_Section):
         :func:`~rpo.runtime.scenario.initial_state.run_inputs`)."""
         from .initial_state import run_inputs
         return run_inputs(self, model)
+
+
+class _ParamValues:
+    """``p[name]``: a parameter of :meth:`Scenario.params` (the scenario's value, else the default)
+    as a float when it has one entry, else its array; read on demand (the cross-field checks read a
+    few of the ~200)."""
+
+    def __init__(self, overrides: dict[str, Any], defaults: dict[str, np.ndarray]):
+        self._overrides, self._defaults = overrides, defaults
+
+    def __getitem__(self, name: str) -> Any:
+        v = np.atleast_1d(np.asarray(self._overrides[name] if name in self._overrides else self._defaults[name], float))
+        return float(v[0]) if v.size == 1 else v
+
+
+def _per_step_params(manifest: dict) -> list[ScenarioParam]:
+    """The parameters with a ``per_step`` bound, in layout order (once per unchanging manifest)."""
+    return _cached(manifest, ("per_step", "p"), lambda: [
+        prm for prm in scenario_params(manifest) if prm.bounds is not None and prm.bounds.per_step is not None])
 
 
 def apply_preset(data: dict, manifest: dict, preset: str) -> None:
