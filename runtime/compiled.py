@@ -38,11 +38,12 @@ import sys
 import tempfile
 import time
 import warnings
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator, Mapping
 from concurrent.futures import ThreadPoolExecutor, as_completed
 from contextlib import contextmanager
 from importlib import resources
 from pathlib import Path
+from types import MappingProxyType
 from typing import Any
 
 import numpy as np
@@ -1006,12 +1007,14 @@ class Model:
             self._columns[key] = [f["unit"] for f in self.layouts[name] for _ in range(f["size"])]
         return list(self._columns[key])
 
-    def field_labels(self, *names: str) -> dict[str, list[str]]:
-        """Field -> its column labels over the layouts ``names`` (new lists; made once per selection)."""
+    def field_labels(self, *names: str) -> Mapping[str, tuple[str, ...]]:
+        """Field -> its column labels over the layouts ``names`` (read-only, made once per selection:
+        every run's result shares it)."""
         key = ("fields", *names)
         if key not in self._columns:
-            self._columns[key] = {f["name"]: list(f["labels"]) for n in names for f in self.layouts[n]}
-        return {k: list(v) for k, v in self._columns[key].items()}
+            self._columns[key] = MappingProxyType({f["name"]: tuple(f["labels"]) for n in names
+                                                   for f in self.layouts[n]})
+        return self._columns[key]
 
     def defaults(self, name: str) -> dict[str, np.ndarray]:
         return {f["name"]: np.array(f["default"], float) for f in self.layouts[name] if "default" in f}

@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import ctypes
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -93,7 +93,7 @@ class RunResult:
     divergence: Divergence | None = None
     meta: dict = field(default_factory=dict)
     #: layout field name -> its column labels, state fields first (the model's layouts)
-    field_labels: dict[str, list[str]] = field(default_factory=dict)
+    field_labels: Mapping[str, Sequence[str]] = field(default_factory=dict)
 
     @property
     def ok(self) -> bool:
@@ -545,7 +545,7 @@ class Simulation:
         return Divergence(label=self.model.labels(self.y_layout)[e], value=float(y_bad[e]), bound=float("inf"),
                           where="output", **common)
 
-    def _field_labels(self) -> dict[str, list[str]]:
+    def _field_labels(self) -> Mapping[str, Sequence[str]]:
         """Layout field -> column labels, state fields then outputs (for :class:`RunResult` access)."""
         return self.model.field_labels(self.z_layout, self.y_layout)
 

@@ -546,3 +546,31 @@ def test_rotation_draws_agree_with_scipy_rotation():
         ref = (Rotation.from_quat(q0) * Rotation.from_rotvec(phi)).as_quat()
         got = quat_multiply(q0, _rotvec_quat(phi))
         assert np.allclose(got * np.sign(got @ ref), ref, rtol=0, atol=1e-15)
+
+
+def test_manifest_lines_are_fsynced_off_the_critical_path_and_errors_surface(tmp_path, monkeypatch):
+    """The Syncer writes whole lines at once (a reader sees them before any fsync), fsyncs them on
+    its thread, and an fsync that fails (a full or failing disk) is raised by close, not lost."""
+    synced: list[int] = []
+    real = os.fsync
+
+    def fsync(fd):
+        synced.append(fd)
+        real(fd)
+
+    monkeypatch.setattr(os, "fsync", fsync)
+    s = storage.Syncer(tmp_path)
+    s.append([{"case": 0, "status": "ok"}, {"case": 1, "status": "ok"}])
+    s.append([])  # nothing to write: no fsync
+    s.close()
+    assert sorted(storage.read_rows(tmp_path)) == [0, 1] and len(synced) == 1
+
+    def failing(fd):
+        raise OSError(28, "No space left on device")
+
+    monkeypatch.setattr(os, "fsync", failing)
+    s = storage.Syncer(tmp_path)
+    s.append([{"case": 2, "status": "ok"}])
+    with pytest.raises(OSError, match="No space"):
+        s.close()
+    assert 2 in storage.read_rows(tmp_path)  # the line itself was written

@@ -6,7 +6,7 @@ scenario and makes its pre-flight (an invalid draw is recorded, not flown), flie
 together with the lockstep runner (:meth:`Simulation.run_batch`: K runs per SIMD step, each
 bit-identical to the same run alone), computes each run's metrics and verdict from its in-memory
 record, writes its history and returns the rows.  The parent appends the rows to
-``manifest.jsonl`` (fsynced) as batches come back, in whatever order, and at the end writes
+``manifest.jsonl`` (fsynced off the critical path) as batches come back, in whatever order, and at the end writes
 ``summary.parquet`` sorted by case: the same bytes with 1 worker, N workers or Dask.
 
 Executors: ``workers == 1`` flies in this process; otherwise the standard library's
@@ -286,24 +286,29 @@ def fly_cases(camp: Campaign, model: Any, folder: Path, cases: Sequence[int], *,
     size = batch or camp.settings.batch or BLOCKS_PER_BATCH * (lanes.width if lanes is not None else 8)
     tasks = batches(list(cases), size)
 
+    if not tasks:
+        return None
+    syncer = storage.Syncer(folder)
+
     def record(rows: list[dict]) -> None:
-        storage.append_rows(folder, rows)
+        syncer.append(rows)
         if on_rows:
             on_rows(rows)
 
-    if not tasks:
-        return None
-    with interrupts.stop_request() as stop:
-        if dask is None and workers <= 1:
-            for t in tasks:
-                record(fly_batch(resolved, key, t, str(folder), model=model))
-                if stop.requested():
-                    break
-        elif dask is None:
-            _warm(camp, model)
-            _pool(resolved, key, tasks, folder, workers, record, stop)
-        else:
-            _dask(resolved, key, tasks, folder, workers, dask, record, stop)
+    try:
+        with interrupts.stop_request() as stop:
+            if dask is None and workers <= 1:
+                for t in tasks:
+                    record(fly_batch(resolved, key, t, str(folder), model=model))
+                    if stop.requested():
+                        break
+            elif dask is None:
+                _warm(camp, model)
+                _pool(resolved, key, tasks, folder, workers, record, stop)
+            else:
+                _dask(resolved, key, tasks, folder, workers, dask, record, stop)
+    finally:
+        syncer.close()  # every line on disk before the summary is written or the command returns
     return stop.signum
 
 
