@@ -985,6 +985,19 @@ class Model:
             order = self._orders[name] = sorted((a, k, n) for k, (a, n) in self._pack(name)[0].items())
         return order
 
+    def _contiguous(self, name: str) -> bool:
+        """Whether the fields of a layout, in :meth:`_order`, tile it without gaps or overlaps."""
+        key = ("contiguous", name)
+        hit = self._columns.get(key)
+        if hit is None:
+            at = 0
+            hit = True
+            for a, _k, n in self._order(name):
+                hit = hit and a == at
+                at = a + n
+            hit = self._columns[key] = hit and at == self._pack(name)[3]
+        return bool(hit)
+
     def offsets(self, name: str) -> dict[str, slice]:
         """{field: slice} of a layout (a new dict each call; the slices are made once per layout:
         a campaign asks for them a dozen times per run)."""
@@ -1027,6 +1040,13 @@ class Model:
         for f in no_default:
             if f not in values:
                 raise ModelError(f"{name}.{f} has no default and was not given")
+        order = self._order(name)
+        if len(values) == len(order) and self._contiguous(name):
+            # every field given (a run's parameters): one concatenation in the layout's order
+            given_all = [values.get(k) for _a, k, _n in order]
+            vals = [v for v in given_all if type(v) is np.ndarray and v.dtype == np.float64 and v.ndim == 1]
+            if len(vals) == len(order) and [v.size for v in vals] == [n for _a, _k, n in order]:
+                return np.concatenate(vals) if vals else base.copy()
         out = base.copy()
         if 4 * len(values) < len(offs):
             given = sorted((offs[k][0], k, offs[k][1]) for k in values if k in offs)

@@ -326,7 +326,8 @@ def chatter(t: np.ndarray, u: np.ndarray, deadband: float = 0.0) -> tuple[float,
 
 def compute_metrics(t: ArrayLike, columns: Mapping[str, np.ndarray], thresholds: Mapping[str, float] | None = None, *,
                     goal: ArrayLike | None = None, error_times: Iterable[float] = (),
-                    params: Mapping[str, Any] | None = None, per_unit: bool = True) -> dict[str, Any]:
+                    params: Mapping[str, Any] | None = None, per_unit: bool = True,
+                    signals: tuple[dict, dict, dict] | None = None) -> dict[str, Any]:
     """All metrics of one run (see the module docstring); ``goal`` is the goal position [m] used
     when the controller logs no ``ctrl_pos_err``; ``error_times`` adds ``errors_at``; ``params``
     (the run's parameters by name, SI) give the actuator limits of the per-unit use;
@@ -336,7 +337,8 @@ def compute_metrics(t: ArrayLike, columns: Mapping[str, np.ndarray], thresholds:
     t = np.asarray(t, float)
     m: dict = {k: None for k in UNITS}
     unavailable: dict[str, str] = {}
-    sig, _comp, sources = error_signals(columns, goal)
+    # ``signals``: error_signals(columns, goal) when the caller has them already (a campaign's row)
+    sig, _comp, sources = error_signals(columns, goal) if signals is None else signals
     # the run's end (the last state); error values are taken at the last sample where they are
     # finite (the controller's outputs have no row for the final state)
     m["t_end_s"] = float(t[-1]) if len(t) else None

@@ -42,6 +42,7 @@ the key (:class:`DispersionError`).
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -315,6 +316,26 @@ class Dispersion:
         elif mode == "scale":
             x = nominal * x
         return self._shape(x)
+
+    def values(self, us: Sequence[np.ndarray]) -> list[Any]:
+        """:meth:`value` of each draw's uniforms in ``us`` (the same values: the element-wise normal
+        and uniform maps are applied to all the draws at once, the rest one draw at a time)."""
+        if self.dist not in ("normal", "uniform") or len(us) < 2:
+            return [self.value(u) for u in us]
+        U = np.array([np.asarray(u, float)[: self.size] for u in us])
+        if self.dist == "uniform":
+            lo, hi = self._frozen
+            return [self._shape(row) for row in lo + (hi - lo) * U]
+        mean, std, lo, hi = self._frozen
+        if self._aux is None:
+            self._aux = ([int(i) for i in np.flatnonzero(np.isfinite(lo) | np.isfinite(hi))], std == 0.0)
+        truncated, zero = self._aux
+        if truncated:  # the truncated inverse CDF is scalar code: one draw at a time
+            return [self.value(u) for u in us]
+        out = mean + std * special.ndtri(U)
+        if zero.any():
+            out[:, zero] = mean[zero]
+        return [self._shape(row) for row in out]
 
     def _shape(self, arr: np.ndarray) -> Any:
         vals = np.asarray(arr, float).tolist()  # Python floats of the same values

@@ -212,7 +212,8 @@ def run_row(camp: Campaign, model: Any, inputs: Any, res: Any) -> tuple[dict[str
     cols = {lbl: res.z[:, i] for i, lbl in enumerate(res.z_labels)}
     cols.update({lbl: res.y[:, i] for i, lbl in enumerate(res.y_labels)})
     goal = np.ravel(inputs.gains["r_goal"]) if "r_goal" in inputs.gains else None
-    met = compute_metrics(res.t, cols, goal=goal, params=inputs.params, per_unit=False)
+    signals = error_signals(cols, goal)
+    met = compute_metrics(res.t, cols, goal=goal, params=inputs.params, per_unit=False, signals=signals)
     ver = verdict(met, res.t, cols, inputs.params, res.divergence)
     goals = ver["goals"]
     att, pos = goals["att"]["reached"], goals["pos"]["reached"]
@@ -225,15 +226,19 @@ def run_row(camp: Campaign, model: Any, inputs: Any, res: Any) -> tuple[dict[str
                "failed": bool(diverged or violated or att is False or pos is False)}
     metrics = {k: _finite_or_none(met.get(k)) for k in UNITS}
     sel = _selection(camp, model, inputs.controller)
-    units = dict(zip(res.z_labels, res.z_units, strict=True)) | dict(zip(res.y_labels, res.y_units, strict=True))
+    ukey = (inputs.controller, model.manifest["manifest_hash"])
+    units = _UNITS.get(ukey)
+    if units is None:  # the record's column units: the same for every run of a controller and model
+        units = _UNITS[ukey] = (dict(zip(res.z_labels, res.z_units, strict=True))
+                                | dict(zip(res.y_labels, res.y_units, strict=True))
+                                | {"err_att_rad": "rad", "err_pos_m": "m", "h_w_norm": "N m s"})
     hist = {lbl: cols[lbl] for lbl in sel.labels}
-    sig, _, _ = error_signals(cols, goal)
+    sig = signals[0]
     n = res.t.size
     hist["err_att_rad"] = sig.get("att", np.full(n, np.nan))
     hist["err_pos_m"] = sig.get("pos", np.full(n, np.nan))
     hw = [cols[f"h_w_{i}"] for i in range(1, 5) if f"h_w_{i}" in cols]
     hist["h_w_norm"] = np.linalg.norm(np.column_stack(hw), axis=1) if hw else np.full(n, np.nan)
-    units.update({"err_att_rad": "rad", "err_pos_m": "m", "h_w_norm": "N m s"})
     assert all(d in hist for d in DERIVED)
     row = {"status": "diverged" if diverged else "ok", "message": res.divergence.message() if diverged else "",
            "outcome": outcome, "metrics": metrics, "verdict": ver["line"]}
@@ -241,6 +246,7 @@ def run_row(camp: Campaign, model: Any, inputs: Any, res: Any) -> tuple[dict[str
 
 
 _SELECTIONS: dict[tuple, Any] = {}
+_UNITS: dict[tuple, dict[str, str]] = {}
 
 
 def _selection(camp: Campaign, model: Any, controller: str) -> Any:

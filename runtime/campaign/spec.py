@@ -166,7 +166,9 @@ class Campaign:
 
     def draws_many(self, cases: Sequence[int]) -> list[dict[str, Any]]:
         """:meth:`draws` of each of ``cases`` (the same values; the uniforms made at once)."""
-        return [{d.key: d.value(u[d.key]) for d in self.dispersions} for u in self.design.uniforms_many(cases)]
+        us = self.design.uniforms_many(cases)
+        by_key = {d.key: d.values([u[d.key] for u in us]) for d in self.dispersions}
+        return [{d.key: by_key[d.key][i] for d in self.dispersions} for i in range(len(us))]
 
     def case_data(self, case: int, draws: dict[str, Any] | None = None, share: bool = False) -> dict[str, Any]:
         """The scenario table of run ``case``: the base with its draws and its noise seed.  A deep

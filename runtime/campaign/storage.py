@@ -191,8 +191,11 @@ def write_history(folder: Path, case: int, t: np.ndarray, columns: Mapping[str, 
     block = np.empty((len(columns), n), np.float32)
     for i, v in enumerate(columns.values()):
         block[i] = v
-    flat = pa.array(block.reshape(-1))  # one Arrow array, each column a slice of it (the same file bytes)
-    arrays = [pa.array(np.asarray(t, np.float64))] + [flat.slice(i * n, n) for i in range(len(columns))]
+    # one Arrow array, each column a slice of it (the same file bytes); typed, because pyarrow's
+    # type inference from an untyped NumPy array took 0.65 ms of a run's 5 ms of Python
+    flat = pa.array(block.reshape(-1), type=pa.float32())
+    arrays = [pa.array(np.asarray(t, np.float64), type=pa.float64())] + [flat.slice(i * n, n)
+                                                                         for i in range(len(columns))]
     table = pa.Table.from_arrays(arrays, schema=schema.with_metadata(
         {**schema.metadata, b"rpo.case": json.dumps(dict(meta), sort_keys=True).encode()}))
     sink = pa.BufferOutputStream()

@@ -56,7 +56,7 @@ def run_inputs(sc: Scenario, model: Model) -> RunInputs:
     """Inputs of :class:`~rpo.runtime.simulate.Simulation` for ``model``: all parameters in SI,
     the gains, and the plant's initial state with attitudes relative to ECI."""
     manifest = model.manifest
-    params = sc.params(manifest)
+    params = sc.params(manifest, copy=False)  # read here; RunInputs gets copies
     gains = sc.gains(manifest)
     try:
         p = model.vector("p", params)

@@ -348,10 +348,12 @@ class Scenario(_Section):
             out.update(fault_params(self.faults, manifest_defaults(manifest, "p", copy=False)))
         return out
 
-    def params(self, manifest: dict | None = None) -> dict[str, np.ndarray]:
-        """Every parameter (defaults overridden by the scenario), by p-field name, SI."""
+    def params(self, manifest: dict | None = None, copy: bool = True) -> dict[str, np.ndarray]:
+        """Every parameter (defaults overridden by the scenario), by p-field name, SI.  ``copy=False``:
+        the defaults' own read-only arrays where the scenario sets nothing (for a caller that copies
+        or only reads them: :func:`~.initial_state.run_inputs`)."""
         manifest = manifest or self._manifest
-        p = manifest_defaults(manifest, "p")
+        p = manifest_defaults(manifest, "p") if copy else dict(manifest_defaults(manifest, "p", copy=False))
         for k, v in self.param_overrides(manifest).items():
             p[k] = np.atleast_1d(np.asarray(v, float))
         return p
