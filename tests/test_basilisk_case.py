@@ -1,4 +1,7 @@
-"""benchmarks/basilisk_case.py: Basilisk's side of the speed comparison (optional extra ``bench``).
+"""benchmarks/basilisk_case.py: Basilisk's side of the speed comparison (extras ``bench``, ``xcheck``).
+
+Marker ``xcheck``: it runs in .ci/run's Basilisk step (which installs it) and fails, never skips,
+without Basilisk; the default run deselects it.
 
 A 1 s run of the case: J2 is on and the translation matches an RK4 of point mass + J2 from the
 same state; the hub's rate is the gravity-gradient torque's (the wheel command is in the null space
@@ -13,10 +16,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-pytest.importorskip("Basilisk")
-
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 import basilisk_case  # noqa: E402
+
+pytestmark = pytest.mark.xcheck
 
 
 def _acc(r, mu, j2, r_e):
