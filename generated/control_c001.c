@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_c001: controller half of a step of c001: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_c001' (hash 24309caaf7209a75443898511a064a8660a9bf9b08c8b350a825dd5909b12137),
+ * Produced by `python build.py` from family 'controller_c001' (hash 72fab3d75429c7304e448e3e6249455ee900894ce4806824470ab95a334e8aa4),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_c002: controller half of a step of c002: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_c002' (hash 7d22187d001eea498ca89b9c636a232e0c04490392f830a3cadc44ec1c133c39),
+ * Produced by `python build.py` from family 'controller_c002' (hash 5730f72dd13c2e801cfbd6541d8e6f793502350b9ae5fc16a9b3149f16aa6e6a),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

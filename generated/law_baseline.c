@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_baseline: control law of baseline
- * Produced by `python build.py` from family 'controller_baseline' (hash d6d79cd8291cf98ad2de567c4d291187ebd4fd14445e9c282312cafa564e215e),
+ * Produced by `python build.py` from family 'controller_baseline' (hash a42bd3e38caf3024db00fa1cd00cfc5db6fa0551b3cad5d347f0946537aee378),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c004: control law of c004
- * Produced by `python build.py` from family 'controller_c004' (hash c17b804cb502a9dea1dd17cf419d0daba7523be47769310ca7080b4e8f014c62),
+ * Produced by `python build.py` from family 'controller_c004' (hash d55af476846d80a07a0a0444fb33a6a10b6715d19b2db526f7c23b6478400935),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * pwpf: PWPF Schmitt trigger
- * Produced by `python build.py` from family 'plant' (hash 2526ffa6687261ea18bdbba89fa194fefd85de6a369edb1a125335d3738c1fa1),
+ * Produced by `python build.py` from family 'plant' (hash a427543463aa4443e3bf44c459ef34488df868e2ef2cb229db8224b8e2c90335),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c000: one closed-loop step (plant + c000 + actuators), RK4 over dt: measure, control_c000, plant_advance
- * Produced by `python build.py` from family 'controller_c000' (hash 312f04cb2cc02f78515d066eec4a86c0587a0329b382718708035321f91241ac),
+ * Produced by `python build.py` from family 'controller_c000' (hash 2acef4cd0275cee3fc3592fdd6b34217d7a9aa8390473a7545b3f2a4e5a31029),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py

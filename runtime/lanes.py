@@ -154,8 +154,6 @@ _RE_WORK = re.compile(r"^\s*if \(sz_w\) \*sz_w = (\d+)\*sizeof\(casadi_real\);$"
 _RE_TABLE = re.compile(r"^static const casadi_int (\w+_(?:z\d+_\d+|n\d+))\[(\d+)\] = \{([\d, ]+)\};(  /\*.*\*/)?$")
 _RE_VARIANT = re.compile(r"^(?:\} else )?if \((\w+)_all_zero\((arg\[\d+\]), (\w+_z(\d+)_\d+), (\d+)\)\) \{$")
 _RE_CALL = re.compile(r"^if \(([A-Za-z_]\w*)\(a, r, iw, w \+ (\d+), 0\)\) return 1;$")
-#: rpo_lanes.h's bounds on a dispatched call's results
-DISPATCH_MAX_RES, DISPATCH_MAX_ENTRIES = 8, 512
 
 
 def _dispatch(lines: list[str], i: int, tables: dict[str, list[int]], where: str) -> tuple[int, list[str], list[str]]:
@@ -191,10 +189,11 @@ def _dispatch(lines: list[str], i: int, tables: dict[str, list[int]], where: str
     sizes = tables.get(f"{glue}_n{k}")
     if sizes is None or not alts or general is None:
         raise LaneError(f"{where}: a dispatch without its result sizes {glue}_n{k} or its general call")
-    if len(sizes) > DISPATCH_MAX_RES or sum(sizes) > DISPATCH_MAX_ENTRIES:
-        raise LaneError(f"{where}: a dispatched call's results ({sizes}) exceed rpo_lanes.h's bounds")
     fns = [a for a, _t, _n in alts] + [general]
     out = ["  {",
+           # rpo_lanes.h's scratch bounds, checked by the compiler against the header itself
+           f"    _Static_assert({len(sizes)} <= RPO_DISPATCH_MAX_RES && {sum(sizes)} <= RPO_DISPATCH_MAX_ENTRIES, "
+           f"\"{glue}: a dispatched call's results exceed rpo_lanes.h's scratch\");",
            f"    static const rpo_lane_fn fns[{len(fns)}] = {{{', '.join(f + '_lanes' for f in fns)}}};",
            f"    static const long long* const zero[{len(alts)}] = {{{', '.join(t for _f, t, _n in alts)}}};",
            f"    static const long long n_zero[{len(alts)}] = {{{', '.join(str(n) for _f, _t, n in alts)}}};",

@@ -20,7 +20,7 @@ from pathlib import Path
 from types import SimpleNamespace
 
 from .codegen import Family, FamilyOutput, Generated, ModelDefinitionError
-from .specialisation import VARIANTS, specialised, zero_indices
+from .specialisation import VARIANTS, specialised, zero_fields, zero_indices
 
 # Heavy imports (SymPy, CasADi, the model) happen inside the builders: listing the families and
 # hashing their sources must not import them, so that a build with nothing to do takes well under 1 s.
@@ -163,7 +163,7 @@ def _build_plant(_resolve) -> FamilyOutput:
             name = f"{base}_{v.suffix}"
             fn = specialised(g.fn, list(g.fn.name_in()).index("p"), zero_indices(P.p, v), name)
             funcs.append(Generated(fn, g.inputs, g.outputs, f"{base} specialised: {v.doc}"))
-            variants.setdefault(base, []).append({"function": name, "zero": list(v.zero)})
+            variants.setdefault(base, []).append({"function": name, "zero": zero_fields(P.p, v)})
     layouts = {name: lay.describe() for name, lay in
                (("p", P.p), ("x", P.x), ("u", P.u), ("w", P.w), ("meas", P.meas), ("env", P.env), ("hold", P.hold),
                 ("zp", cl.state_layout(P)))}

@@ -27,18 +27,16 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-#: The amplitude terms of the scenario disturbance (its frequencies only matter through them).
-DISTURBANCE_AMPLITUDES = tuple(f"dist_{q}_{name}" for q in ("force", "torque")
-                               for name in ("c0", "a1", "b1", "a2", "b2", "s_nu", "c_nu"))
-
 
 @dataclass(frozen=True)
 class Variant:
-    """``<function>_<suffix>``: the function with these p fields (every entry of each) set to 0."""
+    """``<function>_<suffix>``: the function with the entries of these p fields set to 0: the
+    switches ``zero``, and with ``no_disturbance`` every amplitude of the scenario disturbance."""
 
     suffix: str
     zero: tuple[str, ...]
     doc: str
+    no_disturbance: bool = False
 
 
 _KEPLER = Variant("kepler", ("orbit_propagated",), "Keplerian target orbit (orbit_propagated 0)")
@@ -49,18 +47,29 @@ _KEPLER = Variant("kepler", ("orbit_propagated",), "Keplerian target orbit (orbi
 VARIANTS = {
     "measure": (_KEPLER,),
     "plant_advance": (
-        Variant("kepler_nodist", ("orbit_propagated", *DISTURBANCE_AMPLITUDES),
-                "Keplerian target orbit, no scenario disturbance (orbit_propagated and every dist_* amplitude 0)"),
+        Variant("kepler_nodist", ("orbit_propagated",),
+                "Keplerian target orbit, no scenario disturbance (orbit_propagated and every dist_* amplitude 0)",
+                no_disturbance=True),
         _KEPLER,
     ),
 }
 
 
+def zero_fields(p_layout, variant: Variant) -> list[str]:
+    """The p fields (of a :class:`.layout.Layout`) that ``variant`` requires to be 0.  The
+    disturbance amplitudes are read off the layout (:meth:`.plant.Plant.scenario_disturbance`'s
+    ``dist_*`` fields other than its frequencies, in rad/s), so a term added there is covered."""
+    out = list(variant.zero)
+    if variant.no_disturbance:
+        out += [f.name for f in p_layout.fields if f.name.startswith("dist_") and f.unit != "rad/s"]
+    return out
+
+
 def zero_indices(p_layout, variant: Variant) -> list[int]:
-    """The entries of p (a :class:`.layout.Layout`) that ``variant`` requires to be 0, ascending."""
+    """The entries of p that ``variant`` requires to be 0, ascending."""
     offs = p_layout.offsets()
     out: list[int] = []
-    for f in variant.zero:
+    for f in zero_fields(p_layout, variant):
         start, stop = offs[f]
         out.extend(range(start, stop))
     return sorted(out)

@@ -272,9 +272,7 @@ class Dispersion:
         u = np.asarray(u, float)
         if self.dist == "normal":
             mean, std, lo, hi = self._frozen
-            if self._aux is None:  # the truncated components and the zero-spread ones (fixed)
-                self._aux = ([int(i) for i in np.flatnonzero(np.isfinite(lo) | np.isfinite(hi))], std == 0.0)
-            truncated, zero = self._aux
+            truncated, zero = self._normal_parts()
             z = special.ndtri(u[: self.size])  # the normal ppf, without scipy.stats' overhead
             out = mean + std * z
             for i in truncated:
@@ -317,6 +315,13 @@ class Dispersion:
             x = nominal * x
         return self._shape(x)
 
+    def _normal_parts(self) -> tuple[list[int], np.ndarray]:
+        """A normal's truncated components and its zero-spread mask (made once)."""
+        if self._aux is None:
+            _mean, std, lo, hi = self._frozen
+            self._aux = ([int(i) for i in np.flatnonzero(np.isfinite(lo) | np.isfinite(hi))], std == 0.0)
+        return self._aux
+
     def values(self, us: Sequence[np.ndarray]) -> list[Any]:
         """:meth:`value` of each draw's uniforms in ``us`` (the same values: the element-wise normal
         and uniform maps are applied to all the draws at once, the rest one draw at a time)."""
@@ -326,10 +331,8 @@ class Dispersion:
         if self.dist == "uniform":
             lo, hi = self._frozen
             return [self._shape(row) for row in lo + (hi - lo) * U]
-        mean, std, lo, hi = self._frozen
-        if self._aux is None:
-            self._aux = ([int(i) for i in np.flatnonzero(np.isfinite(lo) | np.isfinite(hi))], std == 0.0)
-        truncated, zero = self._aux
+        mean, std, _lo, _hi = self._frozen
+        truncated, zero = self._normal_parts()
         if truncated:  # the truncated inverse CDF is scalar code: one draw at a time
             return [self.value(u) for u in us]
         out = mean + std * special.ndtri(U)

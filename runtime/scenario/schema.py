@@ -519,8 +519,8 @@ class Scenario(_Section):
                   if b is not None and b.per_step is not None]
         gains = self.gains(manifest) if fields else {}
         for f, b in fields:
-            limit = None if b is None else b.step_limit(dt)
-            if b is None or limit is None or f["name"] not in gains:
+            limit = b.step_limit(dt)
+            if limit is None or f["name"] not in gains:
                 continue
             g = np.abs(np.ravel(gains[f["name"]]))
             if g.max() > limit * (1 + 1e-12):
