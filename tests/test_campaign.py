@@ -116,7 +116,7 @@ def _final_states(folder: Path, runs: int) -> np.ndarray:
     rows = storage.read_rows(folder)
     X = []
     for c in range(runs):
-        cols, _, _ = storage.read_history(folder, c)
+        cols, _, _ = storage.read_history(folder, c, rows)
         X.append([cols[k][-1] for k in ("r_x", "r_y", "r_z", "v_x", "v_y", "v_z")])
         assert rows[c]["status"] == "ok"
     return np.array(X, float)
@@ -312,7 +312,7 @@ def test_sigkill_at_any_moment_then_resume_gives_the_same_summary(model, tmp_pat
 
     def histories(folder: Path) -> int:
         d = folder / storage.HISTORIES
-        return len(list(d.glob("case_*.parquet"))) if d.is_dir() else 0
+        return len(list(d.glob(storage.HISTORY_GLOB))) if d.is_dir() else 0
 
     # the moments: as soon as the folder exists (before any run), once a history is written (its
     # line maybe not), and twice in the middle of the campaign (after 8 and 40 lines)
@@ -332,6 +332,7 @@ def test_sigkill_at_any_moment_then_resume_gives_the_same_summary(model, tmp_pat
         assert res.returncode == 0, res.stderr
         assert (folder / storage.SUMMARY).read_bytes() == want, (name, done)
         assert not list(folder.rglob(".*.tmp"))
+        _assert_same_histories(folder, ref)
     # SIGINT (and SIGTERM): the command stops dispatching, keeps what came back, writes the summary
     # of the runs so far and exits 130 (143) naming resume; resume then gives the same summary
     for sig, code in ((signal.SIGINT, 130), (signal.SIGTERM, 143)):
@@ -357,6 +358,44 @@ def test_sigkill_at_any_moment_then_resume_gives_the_same_summary(model, tmp_pat
     assert res.returncode == 0, res.stderr
     assert (folder / storage.SUMMARY).read_bytes() == want
     assert (folder / storage.MANIFEST).read_bytes() == raw
+
+
+def _assert_same_histories(folder: Path, ref: Path) -> None:
+    """Every case of ``ref`` has the same history in ``folder`` (values and types), and ``folder``
+    holds no history file that no manifest line names."""
+    rows, ref_rows = storage.read_rows(folder), storage.read_rows(ref)
+    named = {r["history"] for r in rows.values() if "history" in r}
+    assert {p.name for p in (folder / storage.HISTORIES).glob(storage.HISTORY_GLOB)} == named
+    got = dict(storage.read_histories(folder, sorted(rows), rows))
+    want = dict(storage.read_histories(ref, sorted(ref_rows), ref_rows))
+    assert got.keys() == want.keys()
+    for c, w in want.items():
+        g = got[c]
+        assert (g is None) == (w is None), c
+        if w is not None:
+            assert list(g) == list(w) and all(g[k].dtype == w[k].dtype and np.array_equal(g[k], w[k]) for k in w), c
+
+
+def test_a_batch_lost_before_its_lines_is_flown_again_and_its_file_removed(model, tmp_path):
+    # a kill after a batch's history file was renamed into place but before its lines: its runs are
+    # not done; resume flies them (here in other batches) and removes the file no line names
+    text = CW_CAMPAIGN.replace("runs = 256", "runs = 12").replace("duration = 1500.0", "duration = 200.0")
+    camp = loads_campaign(text, "lost.toml", model.manifest)
+    ref = start_folder(camp, model, tmp_path / "ref")
+    run_campaign(camp, model, ref, workers=1, batch=4)
+    assert len(list((ref / storage.HISTORIES).glob(storage.HISTORY_GLOB))) == 3
+    folder = start_folder(camp, model, tmp_path / "mc")
+    run_campaign(camp, model, folder, workers=1, batch=4)
+    raw = (folder / storage.MANIFEST).read_bytes().splitlines(keepends=True)
+    lost = [json.loads(x) for x in raw[-4:]]
+    (folder / storage.MANIFEST).write_bytes(b"".join(raw[:-4]))
+    orphan = folder / storage.HISTORIES / lost[0]["history"]
+    assert orphan.exists() and {r["history"] for r in lost} == {orphan.name}
+    out = run_campaign(camp, model, folder, workers=1, batch=3)  # resume: the 4 lost runs, in 2 batches
+    assert out.flown_now == 4 and out.counts["ok"] == 12
+    assert not orphan.exists()
+    assert (folder / storage.SUMMARY).read_bytes() == (ref / storage.SUMMARY).read_bytes()
+    _assert_same_histories(folder, ref)
 
 
 def test_resume_refuses_a_changed_campaign_or_model(model, tmp_path):
@@ -405,7 +444,7 @@ std = 3.0
         if r["status"] == "invalid":
             # a refused draw: told why, never clipped (the drawn value is kept as drawn) nor flown
             assert mass < 0.01 and "chaser.mass" in r["message"], r["message"]
-            assert not storage.history_path(folder, r["case"]).exists()
+            assert "history" not in r and not storage.legacy_history_path(folder, r["case"]).exists()
         else:
             assert mass >= 0.01
         if r["status"] == "diverged":

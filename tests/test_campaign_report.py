@@ -16,6 +16,7 @@ import pytest
 from scipy import stats as sps
 
 from rpo.runtime.campaign import report as R
+from rpo.runtime.campaign import storage
 
 UNITS = {
     "draw.relative.position[0]": "m", "draw.relative.position[1]": "m", "draw.relative.position[2]": "m",
@@ -25,7 +26,8 @@ UNITS = {
 DURATION = 120.0
 
 
-def build_campaign(path: Path, requested: int, statuses: dict[int, str], seed: int = 0) -> dict:
+def build_campaign(path: Path, requested: int, statuses: dict[int, str], seed: int = 0,
+                   legacy: bool = False) -> dict:
     """Write resolved.json, summary.parquet and histories/ for the cases of ``statuses`` (case ->
     status; the cases not in it are "not done").  Returns the columns written (NumPy, NaN = null)."""
     rng = np.random.default_rng(seed)
@@ -102,17 +104,29 @@ def build_campaign(path: Path, requested: int, statuses: dict[int, str], seed: i
                 "command": "rpo mc run synth.toml", "ignored": {"x": 1}}
     (path / "resolved.json").write_text(json.dumps(resolved))
     # histories of the flown cases: the errors decay from a per-run start; a diverged run stops at t_end
+    # (legacy=True: one file per case and no manifest, as rpo wrote them before batch files)
     t_full = np.arange(0.0, DURATION + 1.0)
+    runs = []
     for i in np.flatnonzero(flown):
         t = t_full[t_full <= t_end[i]]
         e0 = 1.0 + rng.random()
-        h = {"t": pa.array(t),
-             "err_att_rad": pa.array((0.1 * e0 * np.exp(-t / 20.0)).astype(np.float32)),
-             "err_pos_m": pa.array((5.0 * e0 * np.exp(-t / 30.0)).astype(np.float32)),
-             "h_w_norm": pa.array((0.2 * e0 * (1 - np.exp(-t / 10.0))).astype(np.float32)),
-             "m_prop": pa.array(np.linspace(0.0, prop[i], t.size).astype(np.float32)),
-             "r_x": pa.array(np.zeros(t.size, np.float32))}
-        pq.write_table(pa.table(h), R.history_path(path, int(cases[i])))
+        h = {"err_att_rad": 0.1 * e0 * np.exp(-t / 20.0), "err_pos_m": 5.0 * e0 * np.exp(-t / 30.0),
+             "h_w_norm": 0.2 * e0 * (1 - np.exp(-t / 10.0)), "m_prop": np.linspace(0.0, prop[i], t.size),
+             "r_x": np.zeros(t.size)}
+        if legacy:
+            table = {"t": pa.array(t), **{k: pa.array(v.astype(np.float32)) for k, v in h.items()}}
+            pq.write_table(pa.table(table), storage.legacy_history_path(path, int(cases[i])))
+        else:
+            runs.append(storage.History(int(cases[i]), t, h, {"case": int(cases[i]), "status": str(st[i])}))
+    # as the campaign writes them: a file per batch of (here) 16 flown runs, named in each run's line
+    rows = [{"case": int(c), "seed": 0, "status": str(s)} for c, s in zip(cases, st, strict=True)]
+    for b in range(0, len(runs), 16):
+        name = storage.write_histories(path, runs[b:b + 16], {"err_pos_m": "m"})
+        for r in rows:
+            if r["case"] in {h.case for h in runs[b:b + 16]}:
+                r["history"] = name
+    if not legacy:
+        storage.append_rows(path, rows)
     return {"case": cases, "status": st, "pos": pos, "mass": mass, "pos_err": pos_err, "att_err": att_err,
             "prop": prop, "att_set": att_set, "pos_set": pos_set, "t_end": t_end, "failed": failed,
             "constraint": constraint, "flown": flown, "ok": ok, "div": div}
@@ -308,6 +322,24 @@ def test_summary_table_and_case_history(campaign):
     assert full["t"].size == int(DURATION) + 1 and full["err_att_rad"].dtype == np.float32
     with pytest.raises(FileNotFoundError, match="case 3 has no history"):
         R.case_history(path, 3)  # invalid: never flown
+
+
+def test_batch_files_read_as_the_per_case_files_of_older_folders(campaign, tmp_path):
+    """The same synthetic campaign written with one history file per batch (named in the manifest)
+    and with one file per case (older folders, no manifest): every case's history and the whole
+    report are the same."""
+    path, data, _, text = campaign
+    old = tmp_path / "legacy"
+    build_campaign(old, 150, STATUSES, legacy=True)
+    assert not (old / storage.MANIFEST).exists() and not list((old / "histories").glob(storage.HISTORY_GLOB))
+    assert len(list((path / "histories").glob(storage.HISTORY_GLOB))) == math.ceil(data["flown"].sum() / 16)
+    for case in data["case"][data["flown"]]:
+        a, b = R.case_history(path, int(case)), R.case_history(old, int(case))
+        assert list(a) == list(b) == ["t", "err_att_rad", "err_pos_m", "h_w_norm", "m_prop", "r_x"]
+        for k in a:
+            assert a[k].dtype == b[k].dtype and np.array_equal(a[k], b[k]), (case, k)
+    again = R.write_report(old, out=tmp_path / "legacy_report").read_text()
+    assert again.replace(str(old), str(path)) == text  # the folder's path is in the report's heading
 
 
 def test_small_complete_campaign_not_enough_runs(tmp_path):

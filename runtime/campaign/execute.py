@@ -5,9 +5,10 @@ machine's lanes).  A batch is one task: :func:`fly_batch` draws its cases, valid
 scenario and makes its pre-flight (an invalid draw is recorded, not flown), flies the valid ones
 together with the lockstep runner (:meth:`Simulation.run_batch`: K runs per SIMD step, each
 bit-identical to the same run alone), computes each run's metrics and verdict from its in-memory
-record, writes its history and returns the rows.  The parent appends the rows to
-``manifest.jsonl`` (fsynced off the critical path) as batches come back, in whatever order, and at the end writes
-``summary.parquet`` sorted by case: the same bytes with 1 worker, N workers or Dask.
+record, writes their histories (one file a batch) and returns the rows.  The parent appends the
+rows to ``manifest.jsonl`` (fsynced off the critical path) as batches come back, in whatever
+order, and at the end writes ``summary.parquet`` sorted by case: the same bytes with 1 worker, N
+workers or Dask.
 
 Executors: ``workers == 1`` flies in this process; otherwise the standard library's
 :class:`~concurrent.futures.ProcessPoolExecutor` with ``workers`` processes (default: every core
@@ -146,6 +147,8 @@ def _fly(camp: Campaign, model: Any, cases: list[int], folder: Path) -> list[dic
     nominal = _nominal_vectors(camp, model)
     for case, pre in ready:
         rows[case]["applied"] = applied(model, pre, nominal)
+    histories: dict[int, storage.History] = {}
+    units: dict[str, str] = {}
     for group in by_dt.values():
         first = group[0][1]
         results = first.sim.run_batch(np.array([pre.z0 for _, pre in group]), first.inputs.duration,
@@ -154,7 +157,14 @@ def _fly(camp: Campaign, model: Any, cases: list[int], folder: Path) -> list[dic
                                       gains=np.array([pre.sim.k for _, pre in group]),
                                       record_every=first.inputs.record_every)
         for (case, pre), res in zip(group, results, strict=True):
-            rows[case].update(_finish(camp, model, case, pre, res, folder))
+            row, hist, units = run_row(camp, model, pre.inputs, res)
+            rows[case].update(row)
+            histories[case] = storage.History(case, res.t, hist, {"case": case, "seed": pre.inputs.seed,
+                                                                  "status": row["status"]})
+    if histories:  # the batch's histories in one file, in case order, before its rows are returned
+        name = storage.write_histories(folder, [histories[c] for c in cases if c in histories], units)
+        for c in histories:
+            rows[c]["history"] = name
     return [rows[c] for c in cases]
 
 
@@ -194,14 +204,6 @@ def applied(model: Any, pre: Any, nominal: tuple[np.ndarray, np.ndarray] | None)
         differs = (vec != base).tolist()
         out[what] = {f: vec[sl].tolist() for f, sl in offs.items() if any(differs[sl])}
     return out
-
-
-def _finish(camp: Campaign, model: Any, case: int, pre: Any, res: Any, folder: Path) -> dict[str, Any]:
-    """Metrics, verdict, outcome flags and the history of one flown run (the history written)."""
-    row, hist, units = run_row(camp, model, pre.inputs, res)
-    storage.write_history(folder, case, res.t, hist, units,
-                          {"case": case, "seed": pre.inputs.seed, "status": row["status"]})
-    return row
 
 
 def run_row(camp: Campaign, model: Any, inputs: Any, res: Any) -> tuple[dict[str, Any], dict[str, np.ndarray],
@@ -461,6 +463,8 @@ def run_campaign(camp: Campaign, model: Any, folder: Path, *, cases: Iterable[in
                          batch=batch, on_rows=on_rows)
     rows = storage.read_rows(folder)
     _check_histories(folder, rows)
+    if stopped is None:  # every batch came back: a history file no row names is a killed batch's
+        storage.remove_orphans(folder, rows)
     storage.write_summary(folder, storage.read_resolved(folder), rows)
     missing = [c for c in range(camp.runs) if c not in rows]
     return CampaignOutcome(folder=folder, runs=camp.runs, flown_now=len(todo), counts=counts(rows),
@@ -468,12 +472,23 @@ def run_campaign(camp: Campaign, model: Any, folder: Path, *, cases: Iterable[in
 
 
 def _check_histories(folder: Path, rows: dict[int, dict]) -> None:
-    """A flown run whose history is not in the folder (a remote worker that does not share it) is
-    an error, flown again by resume."""
-    lost = [c for c, r in rows.items() if r["status"] in ("ok", "diverged") and not storage.history_ok(folder, c)]
+    """A flown run whose history file is not whole in the folder (a remote worker that does not
+    share it, a machine crash before the page cache reached the disk) is an error, flown again by
+    resume.  Each file is checked once, for all of its runs."""
+    whole: dict[Path, bool] = {}
+    lost = []
+    for c, r in rows.items():
+        if r["status"] in ("ok", "diverged"):
+            path = storage.history_path(folder, c, r)
+            if path not in whole:
+                whole[path] = storage.history_ok(path)
+            if not whole[path]:
+                lost.append(c)
     if lost:
         fixed = [{**rows[c], "status": "error", "message": "its history is missing or cut short in the campaign "
                   "folder (Dask workers must share the folder's filesystem)"} for c in lost]
+        for r in fixed:
+            r.pop("history", None)
         storage.append_rows(folder, fixed)
         rows.update({r["case"]: r for r in fixed})
 

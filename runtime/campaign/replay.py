@@ -122,8 +122,8 @@ def compare(folder: Path, camp: Campaign, model: Any, case: int, result: Any, in
         w = stored.get("metrics", {}).get(k)
         if not (v == w or (v is None and w is None)):
             out.append(f"metric {k}: {w!r} in the campaign, {v!r} alone")
-    if storage.history_ok(folder, case):
-        cols, _, _ = storage.read_history(folder, case)
+    if storage.history_ok(storage.history_path(folder, case, stored)):
+        cols, _, _ = storage.read_history(folder, case, rows)
         for k, v in hist.items():
             a = np.asarray(v, np.float32)
             b = cols.get(k)

@@ -7,8 +7,9 @@ Reads what the campaign runner writes (pyarrow and NumPy only; no pandas):
   ``diverged``, ``invalid``, ``error``), ``message``, the ``draw.*`` columns, the outcome flags
   (bool, nullable) and the metrics (float, NaN = unavailable); units in the schema metadata
   ``rpo.units``;
-* ``histories/case_NNNNNN.parquet``  the time histories of the flown cases (``t`` [s],
-  ``err_att_rad``, ``err_pos_m``, ``h_w_norm``...).
+* ``histories/batch_*.parquet``  the time histories of the flown cases, one file a batch (``case``,
+  ``t`` [s], ``err_att_rad``, ``err_pos_m``, ``h_w_norm``...), each case's file named by its line
+  in ``manifest.jsonl`` (folders of older versions: ``histories/case_NNNNNN.parquet``).
 
 :func:`write_report` writes the report; :func:`summary_table` and :func:`case_history` give the
 columns as NumPy arrays.  Conventions of the report (also in ``docs/campaigns.md``):
@@ -40,7 +41,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 
 from . import stats as S
-from .storage import history_path
+from .storage import history_path, read_histories, read_rows
 
 STATUSES = ("ok", "diverged", "invalid", "error")
 FLOWN = ("ok", "diverged")
@@ -122,16 +123,14 @@ def case_history(campaign_dir: str | Path, case: int, columns: Sequence[str] | N
     """The time history of one flown case as NumPy arrays (``t`` [s] and the channels, in their
     units; ``columns`` selects some, those absent from the file are left out).  Raises
     FileNotFoundError for a case that has no history (invalid draw, worker error, not done)."""
-    path = history_path(Path(campaign_dir), case)
-    if not path.is_file():
-        raise FileNotFoundError(f"case {case} has no history ({path} does not exist: the case was not flown, "
+    folder = Path(campaign_dir)
+    rows = read_rows(folder)
+    cols = dict(read_histories(folder, [case], rows, columns)).get(case)
+    if cols is None:
+        path = history_path(folder, case, rows.get(case))
+        raise FileNotFoundError(f"case {case} has no history (not in {path}: the case was not flown, "
                                 f"or is not done yet)")
-    if columns is not None:
-        names = set(pq.read_schema(path).names)
-        table = pq.read_table(path, columns=[c for c in columns if c in names])
-    else:
-        table = pq.read_table(path)
-    return {name: table.column(name).to_numpy() for name in table.column_names}
+    return cols
 
 
 @dataclass
@@ -306,21 +305,15 @@ class _Histories:
 def _read_histories(c: CampaignFolder, flown: np.ndarray) -> _Histories:
     wanted = [ch for ch, _, _ in ENVELOPE_CHANNELS]
     h = _Histories([], {ch: [] for ch in wanted}, [], [])
-    for case in c.cases[flown]:
-        path = history_path(c.path, int(case))
-        if not path.is_file():
-            h.missing.append(int(case))
+    for case, cols in read_histories(c.path, c.cases[flown], read_rows(c.path), ["t", *wanted]):
+        if cols is None or "t" not in cols:
+            h.missing.append(case)
             continue
-        names = set(pq.read_schema(path).names)
-        if "t" not in names:
-            h.missing.append(int(case))
-            continue
-        table = pq.read_table(path, columns=["t", *[ch for ch in wanted if ch in names]])
-        t = table.column("t").to_numpy()
+        t = cols["t"]
         h.t.append(t)
-        h.cases.append(int(case))
+        h.cases.append(case)
         for ch in wanted:
-            h.channels[ch].append(table.column(ch).to_numpy() if ch in names else np.full(t.size, np.nan))
+            h.channels[ch].append(cols[ch] if ch in cols else np.full(t.size, np.nan))
     return h
 
 

@@ -7,18 +7,21 @@
       resolved.json        everything that decides the runs (the resolved scenario, the dispersions,
                            the design) with its hash and the model's manifest hash
       manifest.jsonl       one line per finished run (its row: case, seed, status, draws, outcomes,
-                           metrics), appended as each batch of runs comes back and fsynced on a
-                           background thread (all of it before the command returns)
-      histories/case_000017.parquet   each flown run's decimated time history (float32), written
-                           atomically (temporary file, then rename) by the worker that flew it
+                           metrics, and the file of its history), appended as each batch of runs
+                           comes back and fsynced on a background thread (all of it before the
+                           command returns)
+      histories/batch_000032_<digest>.parquet   the decimated time histories (float32) of one
+                           batch's flown runs, with a ``case`` column, written atomically
+                           (temporary file, then rename) by the worker that flew the batch
       summary.parquet      one row per run, sorted by case, rebuilt from manifest.jsonl (atomically)
                            at the end of every `rpo mc run` / `rpo mc resume`
 
-**Loss and resumption.**  A run counts as done when its line is in ``manifest.jsonl``; its history
-was renamed into place before the line is written (and is checked whole by resume:
-:func:`history_ok`).  SIGKILL at any moment leaves at worst a last line cut in
-half (ignored and cut off by ``resume``), a history without its line (flown again, replaced by
-identical bytes) or a temporary file (removed).  ``summary.parquet`` is a pure function of the
+**Loss and resumption.**  A run counts as done when its line is in ``manifest.jsonl``; its
+batch's history file was renamed into place before the line is written (and is checked whole by
+resume: :func:`history_ok`).  SIGKILL at any moment leaves at worst a last line cut in half
+(ignored and cut off by ``resume``), a history file without its lines (its runs flown again: the
+same batch rewrites it with identical bytes, another batch writes its own, and the orphan is
+removed when the campaign completes) or a temporary file (removed).  ``summary.parquet`` is a pure function of the
 lines (sorted by case; later lines for a case replace earlier ones), so a resumed campaign's
 summary has the bytes of one never interrupted.  A machine crash loses at most the lines
 written since the last fsync completed (flown again by resume; :class:`Syncer`).
@@ -26,9 +29,11 @@ written since the last fsync completed (flown again by resume; :class:`Syncer`).
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -46,10 +51,6 @@ STATUSES = ("ok", "diverged", "invalid", "error")
 OUTCOMES = ("att_reached", "pos_reached", "diverged", "constraint_violated", "failed")
 #: The summary's metric columns: the scalar metrics of rpo.runtime.metrics, in its order.
 METRICS = tuple(UNITS)
-
-
-def history_path(folder: Path, case: int) -> Path:
-    return Path(folder) / HISTORIES / f"case_{case:06d}.parquet"
 
 
 def _atomic_write(path: Path, data: bytes, durable: bool = True) -> None:
@@ -165,54 +166,100 @@ def read_rows(folder: Path, repair: bool = False) -> dict[int, dict[str, Any]]:
 
 
 _SCHEMAS: dict[tuple, Any] = {}
-#: Parquet codec of the histories: lz4, the fastest writer of these few-kB files (zstd saves ~10 %
-#: of the bytes of such noisy float32 columns at twice the time)
+#: Parquet codec of the histories: lz4, the fastest writer of these files (zstd saves ~10 % of the
+#: bytes of such noisy float32 columns at twice the time)
 HISTORY_COMPRESSION = "lz4"
+#: The histories of a batch: one file, named by :func:`history_name`.
+HISTORY_GLOB = "batch_*.parquet"
 
 
-def write_history(folder: Path, case: int, t: np.ndarray, columns: Mapping[str, np.ndarray],
-                  units: Mapping[str, str], meta: Mapping[str, Any]) -> Path:
-    """One run's time history: ``t`` (float64, s) and the columns as float32 (7 digits: ample for
-    envelopes and figures; the metrics come from the full-precision record), atomically.  Units
-    in the schema metadata ``rpo.units``, the case in ``rpo.case``."""
+@dataclass(frozen=True)
+class History:
+    """One flown run's decimated time history, as a batch hands it to :func:`write_histories`:
+    ``t`` [s] and the chosen ``columns`` (SI, the record's units), and the run's ``meta`` (case,
+    seed, status)."""
+
+    case: int
+    t: np.ndarray
+    columns: Mapping[str, np.ndarray]
+    meta: Mapping[str, Any]
+
+
+def history_name(cases: Sequence[int]) -> str:
+    """The file of the histories of a batch flying ``cases`` (in that order): its first case and a
+    digest of the whole list.  The same batch flown again (resume) rewrites its own file with the
+    same bytes; two different batches never share a name."""
+    digest = hashlib.sha256(",".join(str(int(c)) for c in cases).encode()).hexdigest()[:12]
+    return f"batch_{int(cases[0]):06d}_{digest}.parquet"
+
+
+def legacy_history_path(folder: Path, case: int) -> Path:
+    """Where rpo before batch files kept a run's history (one file per run, no manifest entry):
+    read for folders made then."""
+    return Path(folder) / HISTORIES / f"case_{case:06d}.parquet"
+
+
+def history_path(folder: Path, case: int, row: Mapping[str, Any] | None) -> Path:
+    """The file holding ``case``'s history: the batch file its manifest ``row`` names (the row's
+    ``history``), else the per-run file of older campaign folders."""
+    name = (row or {}).get("history")
+    return Path(folder) / HISTORIES / str(name) if name else legacy_history_path(folder, case)
+
+
+def write_histories(folder: Path, runs: Sequence[History], units: Mapping[str, str]) -> str:
+    """The histories of one batch's flown ``runs``, in one Parquet file written atomically (a
+    temporary file renamed into place: a reader sees all of it or none); returns its name.
+
+    Columns: ``case`` (int64), ``t`` (float64, s) and each channel as float32 (7 digits: ample for
+    envelopes and figures; the metrics come from the full-precision record), the rows of each run
+    together, in the order of ``runs``.  Units in the schema metadata ``rpo.units``; the runs'
+    ``meta`` in ``rpo.runs`` (a JSON list).  One file per batch, not per run: creating a file costs
+    more than encoding a run's few kB (0.6-1.2 ms a file against 0.14 ms a run in one batch file,
+    docs/campaigns.md)."""
     import pyarrow as pa
     import pyarrow.parquet as pq
 
-    key = (tuple(columns), tuple(units.get(n, "") for n in columns))
+    names = tuple(runs[0].columns)
+    if any(tuple(r.columns) != names for r in runs):
+        raise ValueError("write_histories: the runs of a batch must record the same channels")
+    key = (names, tuple(units.get(n, "") for n in names))
     schema = _SCHEMAS.get(key)
-    if schema is None:  # one schema per campaign: building it is most of a small file's cost
-        fields = [pa.field("t", pa.float64(), nullable=False)] + [pa.field(n, pa.float32(), nullable=False)
-                                                                  for n in columns]
+    if schema is None:  # one schema per campaign: building it is a good part of a small file's cost
+        fields = [pa.field("case", pa.int64(), nullable=False), pa.field("t", pa.float64(), nullable=False)]
+        fields += [pa.field(n, pa.float32(), nullable=False) for n in names]
         schema = _SCHEMAS[key] = pa.schema(fields, metadata={
-            "rpo.units": json.dumps({"t": "s", **{n: units.get(n, "") for n in columns}}, sort_keys=True)})
-    # one float32 block, column-major, so that each column is a contiguous slice (the record's
-    # columns are strided views of the run's state and output arrays)
-    n = len(t)
-    block = np.empty((len(columns), n), np.float32)
-    for i, v in enumerate(columns.values()):
-        block[i] = v
-    # one Arrow array, each column a slice of it (the same file bytes); typed, because pyarrow's
-    # type inference from an untyped NumPy array took 0.65 ms of a run's 5 ms of Python
+            "rpo.units": json.dumps({"case": "-", "t": "s", **{n: units.get(n, "") for n in names}},
+                                    sort_keys=True)})
+    sizes = [len(r.t) for r in runs]
+    n = sum(sizes)
+    # one float32 block, channel-major, so that each channel is a contiguous slice of one Arrow
+    # array (the record's columns are strided views of each run's state and output arrays)
+    block = np.empty((len(names), n), np.float32)
+    start = 0
+    for r, size in zip(runs, sizes, strict=True):
+        for i, v in enumerate(r.columns.values()):
+            block[i, start:start + size] = v
+        start += size
     flat = pa.array(block.reshape(-1), type=pa.float32())
-    arrays = [pa.array(np.asarray(t, np.float64), type=pa.float64())] + [flat.slice(i * n, n)
-                                                                         for i in range(len(columns))]
-    table = pa.Table.from_arrays(arrays, schema=schema.with_metadata(
-        {**schema.metadata, b"rpo.case": json.dumps(dict(meta), sort_keys=True).encode()}))
+    case = np.repeat(np.array([r.case for r in runs], np.int64), sizes)
+    t = np.concatenate([np.asarray(r.t, np.float64) for r in runs])
+    arrays = [pa.array(case, type=pa.int64()), pa.array(t, type=pa.float64())]
+    arrays += [flat.slice(i * n, n) for i in range(len(names))]
+    meta = json.dumps([dict(r.meta) for r in runs], sort_keys=True).encode()
+    table = pa.Table.from_arrays(arrays, schema=schema.with_metadata({**schema.metadata, b"rpo.runs": meta}))
     sink = pa.BufferOutputStream()
     pq.write_table(table, sink, compression=HISTORY_COMPRESSION, use_dictionary=False, write_statistics=False)
-    path = history_path(folder, case)
-    _atomic_write(path, sink.getvalue().to_pybytes(), durable=False)
-    return path
+    name = history_name([r.case for r in runs])
+    _atomic_write(Path(folder) / HISTORIES / name, sink.getvalue().to_pybytes(), durable=False)
+    return name
 
 
-def history_ok(folder: Path, case: int) -> bool:
-    """Whether a run's history is whole: present and ending with Parquet's footer magic.  A killed
+def history_ok(path: Path) -> bool:
+    """Whether a history file is whole: present and ending with Parquet's footer magic.  A killed
     process cannot leave a part (the file is renamed into place whole), but a machine that crashed
-    before the page cache reached the disk can: resume re-flies such a run."""
-    path = history_path(folder, case)
+    before the page cache reached the disk can: resume re-flies the runs of such a file."""
     try:
-        size = path.stat().st_size
-        if size < 12:
+        if path.stat().st_size < 12:
             return False
         with open(path, "rb") as fh:
             fh.seek(-4, os.SEEK_END)
@@ -221,17 +268,72 @@ def history_ok(folder: Path, case: int) -> bool:
         return False
 
 
-def read_history(folder: Path, case: int) -> tuple[dict[str, np.ndarray], dict[str, str], dict[str, Any]]:
-    """(columns, units, meta) of one run's history."""
+def read_histories(folder: Path, cases: Iterable[int], rows: Mapping[int, Mapping[str, Any]] | None = None,
+                   columns: Sequence[str] | None = None) -> Iterator[tuple[int, dict[str, np.ndarray] | None]]:
+    """(case, its history's columns) for each of ``cases``, in order; None for a case with no
+    history (not flown, invalid, an error, or its file missing).  Each file is read once, for all
+    of its cases that are asked for.  ``rows``: the manifest's rows (read here when not given);
+    ``columns``: only these (``t`` and those present; default all but ``case``)."""
     import pyarrow.parquet as pq
 
-    path = history_path(folder, case)
-    if not path.exists():
+    folder = Path(folder)
+    rows = read_rows(folder) if rows is None else rows
+    cases = [int(c) for c in cases]
+    by_file: dict[Path, list[int]] = {}
+    for c in cases:
+        by_file.setdefault(history_path(folder, c, rows.get(c)), []).append(c)
+    found: dict[int, dict[str, np.ndarray]] = {}
+    for path, wanted in by_file.items():
+        if not path.is_file():
+            continue
+        names = pq.read_schema(path).names
+        pick = [n for n in names if n != "case"] if columns is None else [n for n in columns if n in names]
+        table = pq.read_table(path, columns=(["case"] if "case" in names else []) + pick)
+        cols = {n: table.column(n).to_numpy() for n in pick}
+        if "case" not in names:  # a per-run file of an older folder: the whole file is the run
+            found[wanted[0]] = cols
+            continue
+        case_col = table.column("case").to_numpy()
+        for c in wanted:
+            idx = np.flatnonzero(case_col == c)
+            if idx.size:  # a batch's runs are contiguous in its file
+                found[c] = {n: v[idx[0]: idx[-1] + 1] for n, v in cols.items()}
+    for c in cases:
+        yield c, found.get(c)
+
+
+def read_history(folder: Path, case: int, rows: Mapping[int, Mapping[str, Any]] | None = None
+                 ) -> tuple[dict[str, np.ndarray], dict[str, str], dict[str, Any]]:
+    """(columns, units, meta) of one run's history (``rows``: the manifest's, read when not given)."""
+    import pyarrow.parquet as pq
+
+    folder = Path(folder)
+    rows = read_rows(folder) if rows is None else rows
+    path = history_path(folder, case, rows.get(case))
+    cols = dict(read_histories(folder, [case], rows)).get(case)
+    if cols is None:
         raise CampaignError(f"{path}: no history for case {case} (not flown: invalid or missing)")
-    table = pq.read_table(path)
-    md = table.schema.metadata or {}
-    cols = {name: table.column(name).to_numpy() for name in table.column_names}
-    return cols, json.loads(md.get(b"rpo.units", b"{}")), json.loads(md.get(b"rpo.case", b"{}"))
+    md = pq.read_schema(path).metadata or {}
+    units = json.loads(md.get(b"rpo.units", b"{}"))
+    units.pop("case", None)
+    if b"rpo.runs" in md:
+        meta: dict[str, Any] = next((m for m in json.loads(md[b"rpo.runs"]) if m.get("case") == case), {})
+    else:
+        meta = json.loads(md.get(b"rpo.case", b"{}"))
+    return cols, units, meta
+
+
+def remove_orphans(folder: Path, rows: Mapping[int, Mapping[str, Any]]) -> int:
+    """Remove the batch history files no manifest row names (a batch written, then killed before
+    its lines: its runs were flown again into another file); how many.  Only when no batch is in
+    flight: at the end of a campaign whose batches all came back."""
+    named = {str(r["history"]) for r in rows.values() if r.get("history")}
+    n = 0
+    for p in (Path(folder) / HISTORIES).glob(HISTORY_GLOB):
+        if p.name not in named:
+            p.unlink(missing_ok=True)
+            n += 1
+    return n
 
 
 def remove_temporaries(folder: Path) -> int:
