@@ -278,6 +278,12 @@ def test_same_summary_bytes_in_process_pool_and_dask(model, tmp_path):
         assert res.counts["ok"] == 40, res
         out[name] = (folder / storage.SUMMARY).read_bytes()
     assert out["one"] == out["pool"] == out["dask"]
+    # the summary made from the rows in memory is the one of the manifest's lines as read back
+    storage.write_summary(folder, storage.read_resolved(folder), storage.read_rows(folder))
+    assert (folder / storage.SUMMARY).read_bytes() == out["dask"]
+    names = pq.read_schema(folder / storage.SUMMARY).names
+    assert [c for c in names if c.startswith("draw.")] == [f"draw.relative.position[{i}]" for i in range(3)] + [
+        f"draw.relative.velocity[{i}]" for i in range(3)]
 
 
 def _rpo(*args, **kw) -> subprocess.CompletedProcess:
@@ -613,3 +619,14 @@ def test_manifest_lines_are_fsynced_off_the_critical_path_and_errors_surface(tmp
     with pytest.raises(OSError, match="No space"):
         s.close()
     assert 2 in storage.read_rows(tmp_path)  # the line itself was written
+
+
+def test_draw_columns_in_dispersion_then_index_order_whatever_the_key_order():
+    disps = [{"key": "chaser.quaternion"}, {"key": "chaser.inertia"}, {"key": "thrusters.misalignment_deg"},
+             {"key": "faults.0.unit"}, {"key": "faults.0.time"}]
+    want = (["draw.chaser.quaternion.angle_deg"] + [f"draw.chaser.quaternion[{i}]" for i in range(4)]
+            + [f"draw.chaser.inertia[{i}][{j}]" for i in range(3) for j in range(i, 3)]
+            + [f"draw.thrusters.misalignment_deg[{i}]" for i in range(12)]
+            + ["draw.faults.0.unit", "draw.faults.0.time"])
+    for keys in (want, sorted(want), sorted(want, reverse=True)):  # as drawn, as a manifest line sorts them, ...
+        assert storage.draw_columns(disps, [{"draws": dict.fromkeys(keys, 0.0)}]) == want

@@ -459,9 +459,18 @@ def run_campaign(camp: Campaign, model: Any, folder: Path, *, cases: Iterable[in
     _check_histories(folder, done)
     todo = sorted(c for c in (range(camp.runs) if cases is None else cases)
                   if c not in done or done[c]["status"] == "error")
+    flown: dict[int, dict] = {}
+
+    def collect(batch_rows: list[dict]) -> None:
+        flown.update((int(r["case"]), r) for r in batch_rows)
+        if on_rows:
+            on_rows(batch_rows)
+
     stopped = fly_cases(camp, model, folder, todo, workers=workers or default_workers(), dask=dask,
-                         batch=batch, on_rows=on_rows)
-    rows = storage.read_rows(folder)
+                         batch=batch, on_rows=collect)
+    # the manifest's latest line per case, as appended (not read back: the summary uses none of
+    # what a JSON round trip could change, and draw_columns orders by names, not key order)
+    rows = {**done, **flown}
     _check_histories(folder, rows)
     if stopped is None:  # every batch came back: a history file no row names is a killed batch's
         storage.remove_orphans(folder, rows)

@@ -32,6 +32,7 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import re
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -351,17 +352,26 @@ def remove_temporaries(folder: Path) -> int:
 
 
 def draw_columns(dispersions: Sequence[Mapping[str, Any]], rows: Iterable[Mapping[str, Any]]) -> list[str]:
-    """The draw columns in dispersion order (each dispersion's columns as its rows name them)."""
+    """The draw columns in dispersion order, and within a dispersion the value itself, then its
+    named parts (``.angle_deg``), then its components in index order (``[2]`` before ``[10]``,
+    ``[0][2]`` before ``[1][1]``): an order of the names alone, whatever the order of the rows'
+    keys (the manifest's lines sort them as text)."""
     seen: dict[str, None] = {}
     for r in rows:
         for c in r.get("draws", {}):
             seen.setdefault(c, None)
     order = {d["key"]: i for i, d in enumerate(dispersions)}
+    longest_first = sorted(order, key=len, reverse=True)
 
-    def rank(col: str) -> tuple[int, int]:
-        key = next((k for k in sorted(order, key=len, reverse=True) if col == f"draw.{k}"
-                    or col.startswith(f"draw.{k}[") or col.startswith(f"draw.{k}.")), None)
-        return (order.get(key, len(order)) if key is not None else len(order), list(seen).index(col))
+    def rank(col: str) -> tuple[int, int, str, tuple[int, ...]]:
+        key = next((k for k in longest_first if col == f"draw.{k}" or col.startswith(f"draw.{k}[")
+                    or col.startswith(f"draw.{k}.")), None)
+        if key is None:  # a column of no dispersion (an older folder's): last, by name
+            return (len(order), 3, col, ())
+        rest = col[len(f"draw.{key}"):]
+        if rest.startswith("["):
+            return (order[key], 2, "", tuple(int(i) for i in re.findall(r"\[(\d+)\]", rest)))
+        return (order[key], 1 if rest else 0, rest, ())
 
     return sorted(seen, key=rank)
 
