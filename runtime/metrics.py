@@ -256,7 +256,8 @@ def _rms_tail_finite(t, x, fraction):
     if len(t) == 0:
         return None
     tail = x[t >= t[-1] - fraction * (t[-1] - t[0])]
-    return float(np.sqrt(np.mean(tail ** 2)))
+    squares = tail ** 2
+    return float(np.sqrt(np.add.reduce(squares) / squares.size))  # np.mean's sum and division
 
 
 def _zoh_integral(t, x, dt: np.ndarray | None = None) -> float | None:
@@ -280,7 +281,9 @@ SPEED_LIMIT_TOL = 0.01
 def hold_weights(t: ArrayLike) -> np.ndarray:
     """Sample-and-hold weights [s]: sample i holds over ``[t_i, t_{i+1})``, the last sample over 0."""
     t = np.asarray(t, float)
-    return np.append(np.diff(t), 0.0) if len(t) else np.zeros(0)
+    w = np.zeros(len(t))
+    np.subtract(t[1:], t[:-1], out=w[:-1])  # np.diff(t), with the final 0 in place
+    return w
 
 
 def time_fraction(t: ArrayLike, flag: ArrayLike) -> float | None:
@@ -322,7 +325,7 @@ def param(params: Mapping[str, Any] | None, name: str) -> float | None:
     """A scalar parameter [SI] from a run's parameter mapping (arrays of one value), or None."""
     if params is None or name not in params:
         return None
-    return float(np.ravel(np.asarray(params[name], float))[0])
+    return float(np.asarray(params[name], float).reshape(-1)[0])
 
 
 def unit_use(t: ArrayLike, columns: Mapping[str, Any], params: Mapping[str, Any] | None = None
@@ -391,16 +394,25 @@ def unit_use(t: ArrayLike, columns: Mapping[str, Any], params: Mapping[str, Any]
 def chatter(t: np.ndarray, u: np.ndarray, deadband: float = 0.0) -> tuple[float, float]:
     """(total variation per second, sign changes per second) of the command block ``u`` (rows =
     samples, columns = axes), summed over axes; see the module docstring."""
-    t, u = _finite(t, np.atleast_2d(np.asarray(u, float).T).T)
+    return _chatter_axes(t, np.atleast_2d(np.asarray(u, float).T), deadband)
+
+
+def _chatter_axes(t: ArrayLike, u_axes: np.ndarray, deadband: float) -> tuple[float, float]:
+    """:func:`chatter` of the command given axis by axis (rows = axes, columns = samples)."""
+    t = np.asarray(t, float)
+    ok = np.isfinite(u_axes)
+    if not ok.all():  # drop the samples where any axis is not finite
+        finite = np.all(ok, axis=0)
+        t, u_axes = t[finite], u_axes[:, finite]
     span = t[-1] - t[0] if len(t) > 1 else 0.0
     if span <= 0:
         return 0.0, 0.0
-    tv = float(np.sum(np.abs(np.diff(u, axis=0))))
-    # the axes one after the other (rows = axes): the samples above the deadband, their signs, and
-    # a sign change wherever two consecutive kept samples of the same axis differ in sign
-    u_axes = np.ascontiguousarray(u.T)
+    # summed in the order of the (samples, axes) block: sample after sample, the axes of each
+    tv = float(np.sum(np.abs(np.diff(np.ascontiguousarray(u_axes.T), axis=0))))
+    # axis after axis: the samples above the deadband, their signs, and a sign change wherever two
+    # consecutive kept samples of the same axis differ in sign
     mag = np.abs(u_axes)
-    tol = deadband * float(np.max(mag)) if u.size else 0.0
+    tol = deadband * float(np.max(mag)) if u_axes.size else 0.0
     kept = mag > tol
     kept_axis = np.nonzero(kept)[0]
     s = np.sign(u_axes[kept])
@@ -479,7 +491,7 @@ def compute_metrics(t: ArrayLike, columns: Mapping[str, np.ndarray], thresholds:
                 m[key], m[key.rsplit("_", 1)[0] + "_t_s"] = float(x[i]), float(tf[i])
     for g in CHATTER_GROUPS:
         if (b := need(f"chatter_{g}_tv_per_s", g, XYZ)) is not None:
-            tv, sc = chatter(t, stack_columns(b), th["chatter_deadband"])
+            tv, sc = _chatter_axes(t, np.array(b), th["chatter_deadband"])
             m[f"chatter_{g}_tv_per_s"], m[f"chatter_{g}_sign_changes_per_s"] = tv, sc
         else:
             unavailable[f"chatter_{g}_sign_changes_per_s"] = unavailable[f"chatter_{g}_tv_per_s"]
