@@ -177,7 +177,7 @@ def error_signals(columns: Mapping[str, np.ndarray], goal: ArrayLike | None = No
     sig, comp, src = {}, {}, {}
     if "ctrl_att_err" in columns:
         sig["att"], src["att"] = np.asarray(columns["ctrl_att_err"], float), "ctrl_att_err"
-    labels = _block_labels(columns, "ctrl_q_err", QUAT)
+    labels = _block_labels(columns, "ctrl_q_err", QUAT) if components or "att" not in sig else None
     if labels is not None:
         q = _series(columns, labels)
         if components:
@@ -295,7 +295,7 @@ def time_fraction(t: ArrayLike, flag: ArrayLike) -> float | None:
 def held_fraction(w: np.ndarray, total: float, flag: ArrayLike) -> float | None:
     """:func:`time_fraction` from the run's :func:`hold_weights` ``w`` [s] and their sum ``total``
     [s] (computed once for all the flags of a run)."""
-    return None if total <= 0 else float(np.sum(w * np.asarray(flag, bool))) / total
+    return None if total <= 0 else float((w * np.asarray(flag, bool)).sum()) / total
 
 
 def unit_columns(columns: Mapping[str, Any], prefix: str) -> list[tuple[str, np.ndarray]]:
@@ -408,13 +408,14 @@ def _chatter_axes(t: ArrayLike, u_axes: np.ndarray, deadband: float) -> tuple[fl
     if span <= 0:
         return 0.0, 0.0
     # summed in the order of the (samples, axes) block: sample after sample, the axes of each
-    tv = float(np.sum(np.abs(np.diff(np.ascontiguousarray(u_axes.T), axis=0))))
+    u = np.ascontiguousarray(u_axes.T)
+    tv = float(np.abs(u[1:] - u[:-1]).sum())  # (u[1:] - u[:-1] is np.diff(u, axis=0))
     # axis after axis: the samples above the deadband, their signs, and a sign change wherever two
     # consecutive kept samples of the same axis differ in sign
     mag = np.abs(u_axes)
-    tol = deadband * float(np.max(mag)) if u_axes.size else 0.0
+    tol = deadband * float(mag.max()) if u_axes.size else 0.0
     kept = mag > tol
-    kept_axis = np.nonzero(kept)[0]
+    kept_axis = kept.nonzero()[0]
     s = np.sign(u_axes[kept])
     changes = int(np.count_nonzero((s[1:] != s[:-1]) & (kept_axis[1:] == kept_axis[:-1])))
     return tv / span, changes / span

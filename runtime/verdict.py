@@ -148,12 +148,12 @@ def _saturation(columns: Mapping[str, Any], params: Mapping[str, Any] | None, w:
             flag = None
             if w_cmd is not None and t_max is not None:
                 cmd_mag = np.abs(w_cmd)
-                flag = np.max(cmd_mag, axis=0) >= (1 - TORQUE_LIMIT_TOL) * t_max
+                flag = cmd_mag.max(axis=0) >= (1 - TORQUE_LIMIT_TOL) * t_max
                 delay, dt = param(params, "wheel_delay"), param(params, "dt")
                 if w_app is not None and w_app.shape == w_cmd.shape and delay is not None and dt is not None \
                         and delay < dt:
                     short = np.abs(w_app) < cmd_mag - APPLIED_TOL * t_max
-                    flag = flag | np.any(short, axis=0)
+                    flag = flag | short.any(axis=0)
             put("wheel_torque", flag, ["att"])
             flag = None
             if speed is not None and w_app is not None and s_max is not None and speed.shape == w_app.shape:
@@ -165,8 +165,8 @@ def _saturation(columns: Mapping[str, Any], params: Mapping[str, Any] | None, w:
         duty = _units(columns, labels, "thr_duty")
         if duty is not None:
             tau_thr = _xyz(columns, "cmd_tau_thr")
-            asks_torque = tau_thr is not None and bool(np.nanmax(np.abs(np.array(tau_thr)), initial=0.0) > 0)
-            put("thrusters", np.max(duty, axis=0) >= 1 - TORQUE_LIMIT_TOL, ["pos", "att"] if asks_torque else ["pos"])
+            asks_torque = tau_thr is not None and bool((np.abs(np.array(tau_thr)) > 0).any())  # some |tau| > 0
+            put("thrusters", duty.max(axis=0) >= 1 - TORQUE_LIMIT_TOL, ["pos", "att"] if asks_torque else ["pos"])
     return out
 
 
