@@ -246,6 +246,12 @@ def _finite(t, x):
     return t[ok], x[ok]
 
 
+def _nanmax(x: np.ndarray) -> float:
+    """``np.nanmax(x)`` as a float; the plain maximum when no entry is NaN (the same value, a
+    fraction of the time)."""
+    return float(x.max() if x.size and not np.isnan(x).any() else np.nanmax(x))
+
+
 def _rms_tail(t, x, fraction):
     tf, xf = _finite(t, x)
     return _rms_tail_finite(tf, xf, fraction)
@@ -483,7 +489,7 @@ def compute_metrics(t: ArrayLike, columns: Mapping[str, np.ndarray], thresholds:
         m["propellant_kg"] = float(mp[-1]) if len(mp) else None
     for key, prefix in (("wheel_momentum_peak_N_m_s", "h_w"), ("wheel_speed_peak_rad_s", "env_wheel_speed")):
         if (b := need(key, prefix, ("1", "2", "3", "4"))) is not None:
-            m[key] = float(np.nanmax(np.abs(np.array(b))))  # over time and wheels
+            m[key] = _nanmax(np.abs(np.array(b)))  # over time and wheels
     for col, key in (("env_beta_fov", "beta_fov_min_m"), ("env_beta_ca", "beta_ca_min_m2")):
         if (b := need(key, col)) is not None:
             tf, x = _finite(t, b[0])
