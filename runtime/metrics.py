@@ -205,8 +205,8 @@ def error_signals(columns: Mapping[str, np.ndarray], goal: ArrayLike | None = No
             if labels is None or (fallback in ("r", "v") and goal is None):
                 continue
             b = _series(columns, labels)
-            if fallback == "r":
-                b = [x - g for x, g in zip(b, np.broadcast_to(goal, (len(b),)), strict=True)]  # type: ignore[arg-type]
+            if fallback == "r" and goal is not None:  # (goal is given: checked above)
+                b = [x - g for x, g in zip(b, np.broadcast_to(goal, (len(b),)), strict=True)]
             src[name] = f"|{fb_text}| (the controller logs no {prefix})"
         if components:
             comp[name] = stack_columns(b)
