@@ -104,6 +104,9 @@ for _g, _u in CHATTER_GROUPS.items():
 
 ERROR_QUANTITIES = {"att": "rad", "pos": "m", "rate": "rad/s", "vel": "m/s"}
 _SUFFIX = {"att": "rad", "pos": "m", "rate": "rad_s", "vel": "m_s"}
+#: error quantity -> its metrics: (final, steady-state RMS[, settling time])
+_ERROR_KEYS = {q: (f"{q}_err_final_{_SUFFIX[q]}", f"{q}_err_ss_rms_{_SUFFIX[q]}")
+               + ((f"{q}_settling_time_s",) if q in ("att", "pos") else ()) for q in ERROR_QUANTITIES}
 
 
 def quat_angle(q: np.ndarray) -> np.ndarray:
@@ -112,56 +115,114 @@ def quat_angle(q: np.ndarray) -> np.ndarray:
     return 2.0 * np.arctan2(np.linalg.norm(q[:, :3], axis=1), np.abs(q[:, 3]))
 
 
+def norm_rows(*components: np.ndarray) -> np.ndarray:
+    """Euclidean norm per sample of a vector given as its component series (same unit as they).
+
+    The squares are summed in component order, which is what ``np.linalg.norm(np.column_stack(
+    components), axis=1)`` does, to the last bit (tests/test_metrics.py checks it), without
+    stacking the block and for a fraction of the calls."""
+    total = components[0] * components[0]
+    for c in components[1:]:
+        total = total + c * c
+    return np.sqrt(total)
+
+
+def stack_columns(series: list[np.ndarray]) -> np.ndarray:
+    """The 1-D series as the columns of a C-ordered (samples, len(series)) block: what
+    ``np.column_stack`` gives, built in fewer calls."""
+    out = np.empty((len(series[0]), len(series)))
+    for i, x in enumerate(series):
+        out[:, i] = x
+    return out
+
+
+#: (prefix, component names) -> (the named labels, the numbered labels ``prefix_0..n-1``)
+_BLOCK_LABELS: dict[tuple[str, tuple[str, ...]], tuple[tuple[str, ...], tuple[str, ...]]] = {}
+
+
+def _block_labels(columns: Mapping, prefix: str, comps: tuple[str, ...]) -> tuple[str, ...] | None:
+    """The labels of the columns ``prefix_<comp>``, or ``prefix_0..n-1`` (a field declared without
+    component names), whichever are all present; None if neither are."""
+    key = (prefix, comps)
+    both = _BLOCK_LABELS.get(key)
+    if both is None:
+        both = _BLOCK_LABELS[key] = (tuple(f"{prefix}_{c}" for c in comps),
+                                     tuple(f"{prefix}_{i}" for i in range(len(comps))))
+    for labels in both:
+        if all(lbl in columns for lbl in labels):
+            return labels
+    return None
+
+
+def _series(columns: Mapping, labels: tuple[str, ...]) -> list[np.ndarray]:
+    return [np.asarray(columns[lbl], float) for lbl in labels]
+
+
 def _block(columns: Mapping, prefix: str, comps: tuple[str, ...]) -> np.ndarray | None:
     """The columns ``prefix_<comp>``, or ``prefix_0..n-1`` (a field declared without component names)."""
-    labels = [f"{prefix}_{c}" for c in comps]
-    if not all(lbl in columns for lbl in labels):
-        labels = [f"{prefix}_{i}" for i in range(len(comps))]
-        if not all(lbl in columns for lbl in labels):
-            return None
-    return np.column_stack([np.asarray(columns[lbl], float) for lbl in labels])
+    labels = _block_labels(columns, prefix, comps)
+    return None if labels is None else stack_columns(_series(columns, labels))
 
 
-def error_signals(columns: Mapping[str, np.ndarray], goal: ArrayLike | None = None) -> tuple[dict, dict, dict]:
+def _quat_angle_of(x: np.ndarray, y: np.ndarray, z: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """:func:`quat_angle` [rad] of the quaternion series given by component (the same bits)."""
+    return 2.0 * np.arctan2(norm_rows(x, y, z), np.abs(w))
+
+
+def error_signals(columns: Mapping[str, np.ndarray], goal: ArrayLike | None = None, *,
+                  components: bool = True) -> tuple[dict, dict, dict]:
     """(signals, components, sources): each error as a scalar time series (angle or norm), its
-    components (or None), and a text naming the columns used; absent quantities are left out."""
+    components (or None), and a text naming the columns used; absent quantities are left out.
+    ``components=False`` leaves the components dict empty (a campaign's row needs the signals only)."""
     sig, comp, src = {}, {}, {}
     if "ctrl_att_err" in columns:
         sig["att"], src["att"] = np.asarray(columns["ctrl_att_err"], float), "ctrl_att_err"
-    q = _block(columns, "ctrl_q_err", QUAT)
-    if q is not None:
-        comp["q"] = q
+    labels = _block_labels(columns, "ctrl_q_err", QUAT) if components or "att" not in sig else None
+    if labels is not None:
+        q = _series(columns, labels)
+        if components:
+            comp["q"] = stack_columns(q)
         if "att" not in sig:
-            sig["att"], src["att"] = quat_angle(q), "rotation angle of ctrl_q_err"
+            sig["att"], src["att"] = _quat_angle_of(*q), "rotation angle of ctrl_q_err"
     if "att" not in sig:
-        q = _block(columns, "meas_q_e", QUAT)
-        if q is not None:
-            sig["att"], src["att"] = quat_angle(q), "rotation angle of meas_q_e (000 interface frame)"
-            comp.setdefault("q", q)
+        labels = _block_labels(columns, "meas_q_e", QUAT)
+        if labels is not None:
+            q = _series(columns, labels)
+            sig["att"], src["att"] = _quat_angle_of(*q), "rotation angle of meas_q_e (000 interface frame)"
+            if components:
+                comp.setdefault("q", stack_columns(q))
     goal = None if goal is None else np.ravel(np.asarray(goal, float))
     for name, prefix, fallback, fb_text in (
             ("pos", "ctrl_pos_err", "r", "r - goal"),
             ("rate", "ctrl_rate_err", "meas_w_e", "meas_w_e (000 eq. 17)"),
             ("vel", "ctrl_vel_err", "v", "v (goal at rest)")):
-        b = _block(columns, prefix, XYZ)
-        if b is not None:
+        labels = _block_labels(columns, prefix, XYZ)
+        if labels is not None:
             src[name] = f"|{prefix}|"
+            b = _series(columns, labels)
         else:
-            b = _block(columns, fallback, XYZ)
-            if b is None or (fallback in ("r", "v") and goal is None):
+            labels = _block_labels(columns, fallback, XYZ)
+            if labels is None or (fallback in ("r", "v") and goal is None):
                 continue
-            if fallback == "r":
-                b = b - goal
+            b = _series(columns, labels)
+            if fallback == "r" and goal is not None:  # (goal is given: checked above)
+                b = [x - g for x, g in zip(b, np.broadcast_to(goal, (len(b),)), strict=True)]
             src[name] = f"|{fb_text}| (the controller logs no {prefix})"
-        comp[name], sig[name] = b, np.linalg.norm(b, axis=1)
+        if components:
+            comp[name] = stack_columns(b)
+        sig[name] = norm_rows(*b)
     return sig, comp, src
 
 
 def settling_time(t: np.ndarray, err: np.ndarray, threshold: float) -> float | None:
     """First time after which ``err < threshold`` until the last finite sample (interpolated);
     ``None`` if the last finite sample is not below it."""
-    ok = np.isfinite(err)
-    t, err = np.asarray(t, float)[ok], np.asarray(err, float)[ok]
+    tf, ef = _finite(t, err)
+    return _settling_time_finite(tf, ef, threshold)
+
+
+def _settling_time_finite(t: np.ndarray, err: np.ndarray, threshold: float) -> float | None:
+    """:func:`settling_time` of samples that are all finite."""
     if len(t) == 0 or not err[-1] < threshold:
         return None
     above = np.nonzero(err >= threshold)[0]
@@ -174,26 +235,47 @@ def settling_time(t: np.ndarray, err: np.ndarray, threshold: float) -> float | N
 
 
 def _finite(t, x):
+    """(t, x) at the samples (rows of a 2-D x) where x is finite; the arrays themselves when all are."""
     x = np.asarray(x, float)
-    ok = np.isfinite(x) if x.ndim == 1 else np.all(np.isfinite(x), axis=1)
-    return np.asarray(t, float)[ok], x[ok]
+    t = np.asarray(t, float)
+    ok = np.isfinite(x)
+    if ok.all():  # the usual case: a run's columns are finite (a diverged step's outputs are not)
+        return t, x
+    if x.ndim > 1:
+        ok = np.all(ok, axis=1)
+    return t[ok], x[ok]
+
+
+def _nanmax(x: np.ndarray) -> float:
+    """``np.nanmax(x)`` as a float; the plain maximum when no entry is NaN (the same value, a
+    fraction of the time)."""
+    return float(x.max() if x.size and not np.isnan(x).any() else np.nanmax(x))
 
 
 def _rms_tail(t, x, fraction):
-    t, x = _finite(t, x)
+    tf, xf = _finite(t, x)
+    return _rms_tail_finite(tf, xf, fraction)
+
+
+def _rms_tail_finite(t, x, fraction):
+    """RMS of the finite samples ``x`` over the last ``fraction`` of their time span ``t``."""
     if len(t) == 0:
         return None
     tail = x[t >= t[-1] - fraction * (t[-1] - t[0])]
-    return float(np.sqrt(np.mean(tail ** 2)))
+    squares = tail ** 2
+    return float(np.sqrt(np.add.reduce(squares) / squares.size))  # np.mean's sum and division
 
 
-def _zoh_integral(t, x) -> float | None:
-    """Integral of the sample-and-hold signal x (sample i over [t_i, t_{i+1}); NaN samples hold 0)."""
+def _zoh_integral(t, x, dt: np.ndarray | None = None) -> float | None:
+    """Integral of the sample-and-hold signal x (sample i over [t_i, t_{i+1}); NaN samples hold 0);
+    ``dt``: ``np.diff(t)`` when the caller has it already."""
     t = np.asarray(t, float)
     if len(t) < 2:
         return None
-    x = np.nan_to_num(np.asarray(x, float)[:-1], nan=0.0)
-    return float(np.sum(x * np.diff(t)))
+    x = np.asarray(x, float)[:-1]
+    if not np.isfinite(x).all():  # (nan_to_num also maps +-inf to the largest finite floats)
+        x = np.nan_to_num(x, nan=0.0)
+    return float(np.sum(x * (np.diff(t) if dt is None else dt)))
 
 
 #: "at the torque limit": |torque| >= (1 - TORQUE_LIMIT_TOL) x limit (the allocation scales onto it)
@@ -205,14 +287,21 @@ SPEED_LIMIT_TOL = 0.01
 def hold_weights(t: ArrayLike) -> np.ndarray:
     """Sample-and-hold weights [s]: sample i holds over ``[t_i, t_{i+1})``, the last sample over 0."""
     t = np.asarray(t, float)
-    return np.append(np.diff(t), 0.0) if len(t) else np.zeros(0)
+    w = np.zeros(len(t))
+    np.subtract(t[1:], t[:-1], out=w[:-1])  # np.diff(t), with the final 0 in place
+    return w
 
 
 def time_fraction(t: ArrayLike, flag: ArrayLike) -> float | None:
     """Fraction of the run ``[t_0, t_end]`` during which the held boolean ``flag`` is true."""
     w = hold_weights(t)
-    total = float(np.sum(w))
-    return None if total <= 0 else float(np.sum(w * np.asarray(flag, bool))) / total
+    return held_fraction(w, float(np.sum(w)), flag)
+
+
+def held_fraction(w: np.ndarray, total: float, flag: ArrayLike) -> float | None:
+    """:func:`time_fraction` from the run's :func:`hold_weights` ``w`` [s] and their sum ``total``
+    [s] (computed once for all the flags of a run)."""
+    return None if total <= 0 else float((w * np.asarray(flag, bool)).sum()) / total
 
 
 def unit_columns(columns: Mapping[str, Any], prefix: str) -> list[tuple[str, np.ndarray]]:
@@ -242,7 +331,7 @@ def param(params: Mapping[str, Any] | None, name: str) -> float | None:
     """A scalar parameter [SI] from a run's parameter mapping (arrays of one value), or None."""
     if params is None or name not in params:
         return None
-    return float(np.ravel(np.asarray(params[name], float))[0])
+    return float(np.asarray(params[name], float).reshape(-1)[0])
 
 
 def unit_use(t: ArrayLike, columns: Mapping[str, Any], params: Mapping[str, Any] | None = None
@@ -311,16 +400,30 @@ def unit_use(t: ArrayLike, columns: Mapping[str, Any], params: Mapping[str, Any]
 def chatter(t: np.ndarray, u: np.ndarray, deadband: float = 0.0) -> tuple[float, float]:
     """(total variation per second, sign changes per second) of the command block ``u`` (rows =
     samples, columns = axes), summed over axes; see the module docstring."""
-    t, u = _finite(t, np.atleast_2d(np.asarray(u, float).T).T)
+    return _chatter_axes(t, np.atleast_2d(np.asarray(u, float).T), deadband)
+
+
+def _chatter_axes(t: ArrayLike, u_axes: np.ndarray, deadband: float) -> tuple[float, float]:
+    """:func:`chatter` of the command given axis by axis (rows = axes, columns = samples)."""
+    t = np.asarray(t, float)
+    ok = np.isfinite(u_axes)
+    if not ok.all():  # drop the samples where any axis is not finite
+        finite = np.all(ok, axis=0)
+        t, u_axes = t[finite], u_axes[:, finite]
     span = t[-1] - t[0] if len(t) > 1 else 0.0
     if span <= 0:
         return 0.0, 0.0
-    tv = float(np.sum(np.abs(np.diff(u, axis=0))))
-    tol = deadband * float(np.max(np.abs(u))) if u.size else 0.0
-    changes = 0
-    for col in u.T:
-        s = np.sign(col[np.abs(col) > tol])
-        changes += int(np.count_nonzero(s[1:] != s[:-1]))
+    # summed in the order of the (samples, axes) block: sample after sample, the axes of each
+    u = np.ascontiguousarray(u_axes.T)
+    tv = float(np.abs(u[1:] - u[:-1]).sum())  # (u[1:] - u[:-1] is np.diff(u, axis=0))
+    # axis after axis: the samples above the deadband, their signs, and a sign change wherever two
+    # consecutive kept samples of the same axis differ in sign
+    mag = np.abs(u_axes)
+    tol = deadband * float(mag.max()) if u_axes.size else 0.0
+    kept = mag > tol
+    kept_axis = kept.nonzero()[0]
+    s = np.sign(u_axes[kept])
+    changes = int(np.count_nonzero((s[1:] != s[:-1]) & (kept_axis[1:] == kept_axis[:-1])))
     return tv / span, changes / span
 
 
@@ -335,18 +438,15 @@ def compute_metrics(t: ArrayLike, columns: Mapping[str, np.ndarray], thresholds:
     the scalar metrics only, and the per-unit lists are a fifth of the time)."""
     th = {**DEFAULT_THRESHOLDS, **(thresholds or {})}
     t = np.asarray(t, float)
-    m: dict = {k: None for k in UNITS}
+    m: dict = dict.fromkeys(UNITS)
     unavailable: dict[str, str] = {}
     # ``signals``: error_signals(columns, goal) when the caller has them already (a campaign's row)
-    sig, _comp, sources = error_signals(columns, goal) if signals is None else signals
+    sig, _comp, sources = error_signals(columns, goal, components=False) if signals is None else signals
     # the run's end (the last state); error values are taken at the last sample where they are
     # finite (the controller's outputs have no row for the final state)
     m["t_end_s"] = float(t[-1]) if len(t) else None
 
-    for q in ERROR_QUANTITIES:
-        keys = [f"{q}_err_final_{_SUFFIX[q]}", f"{q}_err_ss_rms_{_SUFFIX[q]}"]
-        if q in ("att", "pos"):
-            keys.append(f"{q}_settling_time_s")
+    for q, keys in _ERROR_KEYS.items():
         if q not in sig:
             for k in keys:
                 unavailable[k] = f"no {q} error columns (ctrl_{q}_err*) in this run"
@@ -355,45 +455,50 @@ def compute_metrics(t: ArrayLike, columns: Mapping[str, np.ndarray], thresholds:
         if len(tf) == 0:
             continue
         m[keys[0]] = float(xf[-1])
-        m[keys[1]] = _rms_tail(t, sig[q], th["steady_fraction"])
-    if "att" in sig:
-        m["att_settling_time_s"] = settling_time(t, sig["att"], np.radians(th["att_deg"]))
-    if "pos" in sig:
-        m["pos_settling_time_s"] = settling_time(t, sig["pos"], th["pos_m"])
+        m[keys[1]] = _rms_tail_finite(tf, xf, th["steady_fraction"])
+        if q == "att":
+            m["att_settling_time_s"] = _settling_time_finite(tf, xf, np.radians(th["att_deg"]))
+        elif q == "pos":
+            m["pos_settling_time_s"] = _settling_time_finite(tf, xf, th["pos_m"])
 
-    def need(key, *blocks):
-        out = []
-        for prefix, comps in blocks:
-            b = _block(columns, prefix, comps) if comps else (
-                np.asarray(columns[prefix], float)[:, None] if prefix in columns else None)
-            if b is None:
-                unavailable[key] = f"column(s) {prefix}{'_*' if comps else ''} not recorded"
-                return None
-            out.append(b)
-        return out
+    def need(key: str, prefix: str, comps: tuple[str, ...] = ()) -> list[np.ndarray] | None:
+        """The series of the block ``prefix_<comp>`` (``comps``) or the column ``prefix``; None,
+        with the reason in ``unavailable[key]``, when not recorded."""
+        if comps:
+            labels = _block_labels(columns, prefix, comps)
+            if labels is not None:
+                return _series(columns, labels)
+        elif prefix in columns:
+            return [np.asarray(columns[prefix], float)]
+        unavailable[key] = f"column(s) {prefix}{'_*' if comps else ''} not recorded"
+        return None
 
-    if (b := need("torque_effort_N_m_s", ("env_tau_applied", XYZ))) is not None:
-        m["torque_effort_N_m_s"] = _zoh_integral(t, np.linalg.norm(b[0], axis=1))
-    if (b := need("force_effort_N_s", ("env_F_applied", XYZ))) is not None:
-        m["force_effort_N_s"] = _zoh_integral(t, np.linalg.norm(b[0], axis=1))
-    if (b := need("delta_v_m_s", ("env_F_applied", XYZ), ("env_m_c", ()))) is not None:
-        m["delta_v_m_s"] = _zoh_integral(t, np.linalg.norm(b[0], axis=1) / b[1][:, 0])
-    if (b := need("propellant_kg", ("m_prop", ()))) is not None:
-        _, mp = _finite(t, b[0][:, 0])
+    dt = np.diff(t)
+    if (b := need("torque_effort_N_m_s", "env_tau_applied", XYZ)) is not None:
+        m["torque_effort_N_m_s"] = _zoh_integral(t, norm_rows(*b), dt)
+    force = None
+    if (b := need("force_effort_N_s", "env_F_applied", XYZ)) is not None:
+        force = norm_rows(*b)  # |env_F_applied| [N]
+        m["force_effort_N_s"] = _zoh_integral(t, force, dt)
+    if force is None:
+        unavailable["delta_v_m_s"] = unavailable["force_effort_N_s"]
+    elif (b := need("delta_v_m_s", "env_m_c")) is not None:
+        m["delta_v_m_s"] = _zoh_integral(t, force / b[0], dt)
+    if (b := need("propellant_kg", "m_prop")) is not None:
+        _, mp = _finite(t, b[0])
         m["propellant_kg"] = float(mp[-1]) if len(mp) else None
-    if (b := need("wheel_momentum_peak_N_m_s", ("h_w", ("1", "2", "3", "4")))) is not None:
-        m["wheel_momentum_peak_N_m_s"] = float(np.nanmax(np.abs(b[0])))
-    if (b := need("wheel_speed_peak_rad_s", ("env_wheel_speed", ("1", "2", "3", "4")))) is not None:
-        m["wheel_speed_peak_rad_s"] = float(np.nanmax(np.abs(b[0])))
+    for key, prefix in (("wheel_momentum_peak_N_m_s", "h_w"), ("wheel_speed_peak_rad_s", "env_wheel_speed")):
+        if (b := need(key, prefix, ("1", "2", "3", "4"))) is not None:
+            m[key] = _nanmax(np.abs(np.array(b)))  # over time and wheels
     for col, key in (("env_beta_fov", "beta_fov_min_m"), ("env_beta_ca", "beta_ca_min_m2")):
-        if (b := need(key, (col, ()))) is not None:
-            tf, x = _finite(t, b[0][:, 0])
+        if (b := need(key, col)) is not None:
+            tf, x = _finite(t, b[0])
             if len(x):
                 i = int(np.argmin(x))
                 m[key], m[key.rsplit("_", 1)[0] + "_t_s"] = float(x[i]), float(tf[i])
     for g in CHATTER_GROUPS:
-        if (b := need(f"chatter_{g}_tv_per_s", (g, XYZ))) is not None:
-            tv, sc = chatter(t, b[0], th["chatter_deadband"])
+        if (b := need(f"chatter_{g}_tv_per_s", g, XYZ)) is not None:
+            tv, sc = _chatter_axes(t, np.array(b), th["chatter_deadband"])
             m[f"chatter_{g}_tv_per_s"], m[f"chatter_{g}_sign_changes_per_s"] = tv, sc
         else:
             unavailable[f"chatter_{g}_sign_changes_per_s"] = unavailable[f"chatter_{g}_tv_per_s"]

@@ -55,7 +55,17 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .metrics import SPEED_LIMIT_TOL, TORQUE_LIMIT_TOL, _block, param, time_fraction, unit_columns
+from .metrics import (
+    SPEED_LIMIT_TOL,
+    TORQUE_LIMIT_TOL,
+    XYZ,
+    _block_labels,
+    _series,
+    _unit_labels,
+    held_fraction,
+    hold_weights,
+    param,
+)
 from .scenario.faults import active_faults
 
 #: a family saturated for less than this fraction of the run is not named as the main reason
@@ -76,19 +86,40 @@ CONSTRAINTS = {"env_beta_fov": ("beta_fov", "camera field of view", "m"),
                "env_beta_ca": ("beta_ca", "collision envelope", "m^2")}
 
 
-def _cols(columns: Mapping[str, Any], prefix: str) -> np.ndarray | None:
-    u = unit_columns(columns, prefix)
-    return np.column_stack([c for _, c in u]) if u else None
+def _units(columns: Mapping[str, Any], labels: tuple[str, ...], prefix: str) -> np.ndarray | None:
+    """The unit columns ``<prefix>_<digits>`` (``labels``: the columns' labels) as the rows of a
+    (units, samples) array, in unit order; None if there are none."""
+    u = _unit_labels(labels, prefix)
+    return np.array([np.asarray(columns[k], float) for _, k in u]) if u else None
+
+
+def _xyz(columns: Mapping[str, Any], prefix: str) -> list[np.ndarray] | None:
+    """The x, y, z series of the field ``prefix`` (or its numbered columns), None if not recorded."""
+    labels = _block_labels(columns, prefix, XYZ)
+    return None if labels is None else _series(columns, labels)
+
+
+def _weights(t: np.ndarray) -> tuple[np.ndarray, float]:
+    """The run's sample-and-hold weights [s] and their sum, the run's span [s]."""
+    w = hold_weights(t)
+    return w, float(np.sum(w))
 
 
 def saturation(t: ArrayLike, columns: Mapping[str, Any], params: Mapping[str, Any] | None) -> dict[str, dict]:
     """Per actuator family of this run: ``{"fraction": ..., "goals": [...], "what": ...}``
     (``fraction`` None when a column or limit it needs is missing); see the module docstring."""
-    t = np.asarray(t, float)
+    return _saturation(columns, params, *_weights(np.asarray(t, float)))
+
+
+def _saturation(columns: Mapping[str, Any], params: Mapping[str, Any] | None, w: np.ndarray,
+                span: float) -> dict[str, dict]:
+    """:func:`saturation` with the run's hold weights ``w`` [s] and their sum ``span`` [s]; the
+    wheels and thrusters as (units, samples) arrays, so a maximum or "any" over the units is one
+    elementwise pass down the rows."""
     out: dict[str, dict] = {}
 
     def put(name: str, flag: np.ndarray | None, goals: list[str]) -> None:
-        frac = None if flag is None else time_fraction(t, flag)
+        frac = None if flag is None else held_fraction(w, span, flag)
         out[name] = {"fraction": frac, "goals": goals, "what": FAMILY_TEXT[name]}
 
     with np.errstate(invalid="ignore"):  # NaN samples compare False: not saturated
@@ -96,40 +127,46 @@ def saturation(t: ArrayLike, columns: Mapping[str, Any], params: Mapping[str, An
             for name, cmd_parts, applied, limit, goal in (
                     ("ideal_force", ("cmd_F",), "env_F_applied", "force_max", "pos"),
                     ("ideal_torque", ("cmd_tau_w", "cmd_tau_thr"), "env_tau_applied", "torque_max", "att")):
-                parts = [_block(columns, c, ("x", "y", "z")) for c in cmd_parts]
-                app = _block(columns, applied, ("x", "y", "z"))
+                parts = [_xyz(columns, c) for c in cmd_parts]
+                app = _xyz(columns, applied)
                 lim = param(params, limit)
                 flag = None
                 if app is not None and lim is not None and all(p is not None for p in parts):
-                    cmd = np.sum([p for p in parts if p is not None], axis=0)
-                    flag = np.any(np.abs(cmd - app) > APPLIED_TOL * lim, axis=1)
+                    flag = np.zeros(len(w), bool)
+                    for axis, app_axis in enumerate(app):  # per axis: the command (sum of the parts) vs applied
+                        cmd = parts[0][axis]  # type: ignore[index]
+                        for part in parts[1:]:
+                            cmd = cmd + part[axis]  # type: ignore[index]
+                        flag |= np.abs(cmd - app_axis) > APPLIED_TOL * lim
                 put(name, flag, [goal])
             return out
+        labels = tuple(columns)
         t_max, s_max = param(params, "wheel_torque_max"), param(params, "wheel_speed_max")
-        w_cmd, w_app = _cols(columns, "wheel_cmd"), _cols(columns, "wheel_applied")
-        speed = _cols(columns, "env_wheel_speed")
+        w_cmd, w_app = _units(columns, labels, "wheel_cmd"), _units(columns, labels, "wheel_applied")
+        speed = _units(columns, labels, "env_wheel_speed")
         if w_cmd is not None or w_app is not None:
             flag = None
             if w_cmd is not None and t_max is not None:
-                flag = np.max(np.abs(w_cmd), axis=1) >= (1 - TORQUE_LIMIT_TOL) * t_max
+                cmd_mag = np.abs(w_cmd)
+                flag = cmd_mag.max(axis=0) >= (1 - TORQUE_LIMIT_TOL) * t_max
                 delay, dt = param(params, "wheel_delay"), param(params, "dt")
                 if w_app is not None and w_app.shape == w_cmd.shape and delay is not None and dt is not None \
                         and delay < dt:
-                    short = np.abs(w_app) < np.abs(w_cmd) - APPLIED_TOL * t_max
-                    flag = flag | np.any(short, axis=1)
+                    short = np.abs(w_app) < cmd_mag - APPLIED_TOL * t_max
+                    flag = flag | short.any(axis=0)
             put("wheel_torque", flag, ["att"])
             flag = None
             if speed is not None and w_app is not None and s_max is not None and speed.shape == w_app.shape:
                 at = (1 - SPEED_LIMIT_TOL) * s_max
                 # dh_i/dt = -T_i: a negative torque spins wheel i up in the positive sense
                 blocked = ((speed >= at) & (w_app < 0)) | ((speed <= -at) & (w_app > 0))
-                flag = np.any(blocked, axis=1)
+                flag = np.any(blocked, axis=0)
             put("wheel_speed", flag, ["att"])
-        duty = _cols(columns, "thr_duty")
+        duty = _units(columns, labels, "thr_duty")
         if duty is not None:
-            tau_thr = _block(columns, "cmd_tau_thr", ("x", "y", "z"))
-            asks_torque = tau_thr is not None and bool(np.nanmax(np.abs(tau_thr), initial=0.0) > 0)
-            put("thrusters", np.max(duty, axis=1) >= 1 - TORQUE_LIMIT_TOL, ["pos", "att"] if asks_torque else ["pos"])
+            tau_thr = _xyz(columns, "cmd_tau_thr")
+            asks_torque = tau_thr is not None and bool((np.abs(np.array(tau_thr)) > 0).any())  # some |tau| > 0
+            put("thrusters", duty.max(axis=0) >= 1 - TORQUE_LIMIT_TOL, ["pos", "att"] if asks_torque else ["pos"])
     return out
 
 
@@ -137,18 +174,28 @@ def constraints(t: ArrayLike, columns: Mapping[str, Any]) -> dict[str, dict]:
     """Per logged constraint margin: the fraction of the run it was < 0, its minimum and when,
     and the first time it was violated (None if never)."""
     t = np.asarray(t, float)
+    return _constraints(t, columns, *_weights(t))
+
+
+def _constraints(t: np.ndarray, columns: Mapping[str, Any], w: np.ndarray, span: float) -> dict[str, dict]:
+    """:func:`constraints` with the run's hold weights ``w`` [s] and their sum ``span`` [s]."""
     out = {}
     for col, (name, what, unit) in CONSTRAINTS.items():
         if col not in columns:
             continue
         x = np.asarray(columns[col], float)
         ok = np.isfinite(x)
-        if not ok.any():
+        if ok.all():  # the usual case; a diverged step's outputs are not finite
+            bad = x < 0
+            i = int(np.argmin(x))
+        elif ok.any():
+            bad = ok & (x < 0)
+            i = int(np.nanargmin(np.where(ok, x, np.nan)))
+        else:
             continue
-        bad = ok & (x < 0)
-        i = int(np.nanargmin(np.where(ok, x, np.nan)))
-        out[name] = {"what": what, "unit": unit, "violated_fraction": time_fraction(t, bad),
-                     "violated": bool(bad.any()), "first_violated_t_s": float(t[np.argmax(bad)]) if bad.any() else None,
+        violated = bool(bad.any())
+        out[name] = {"what": what, "unit": unit, "violated_fraction": held_fraction(w, span, bad),
+                     "violated": violated, "first_violated_t_s": float(t[np.argmax(bad)]) if violated else None,
                      "min": float(x[i]), "min_t_s": float(t[i])}
     return out
 
@@ -165,8 +212,9 @@ def verdict(metrics: Mapping[str, Any], t: ArrayLike, columns: Mapping[str, Any]
     ``line``, the one-line summary ``rpo run`` prints.  ``divergence``: the run's
     :class:`~rpo.runtime.simulate.Divergence` (its ``time``, ``label``, ``message()``) or None."""
     t = np.asarray(t, float)
-    sat = saturation(t, columns, params)
-    con = constraints(t, columns)
+    w, span = _weights(t)  # shared by every time fraction of the run
+    sat = _saturation(columns, params, w, span)
+    con = _constraints(t, columns, w, span)
     th = metrics.get("thresholds", {})
     deg = 180.0 / np.pi
     limits = {"att": f"< {th.get('att_deg', 1.0):g} deg", "pos": f"< {th.get('pos_m', 0.5):g} m"}

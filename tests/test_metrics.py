@@ -127,6 +127,36 @@ def test_numbered_components_are_accepted():
     assert m["pos_err_final_m"] == pytest.approx(np.sqrt(14) * np.exp(-100))
 
 
+def test_fast_helpers_give_the_bits_of_the_numpy_calls_they_replace():
+    # norm_rows / stack_columns stand for np.linalg.norm(np.column_stack(...), axis=1) and
+    # np.column_stack (the metrics of a campaign must not change by a bit); chatter's vectorised
+    # sign-change count for the per-axis loop
+    rng = np.random.default_rng(7)
+    for _ in range(200):
+        cols = [rng.standard_normal(301) * 10.0 ** rng.uniform(-8, 8, 301) for _ in range(4)]
+        b = np.column_stack(cols)
+        assert np.array_equal(M.stack_columns(cols), b) and M.stack_columns(cols).flags.c_contiguous
+        assert np.array_equal(M.norm_rows(*cols[:3]), np.linalg.norm(b[:, :3], axis=1))
+        assert np.array_equal(M.norm_rows(*cols), np.linalg.norm(b, axis=1))
+        assert np.array_equal(M._quat_angle_of(*cols), M.quat_angle(b))
+        u = np.round(rng.standard_normal((301, 3)), 1) * (rng.uniform(size=(301, 3)) > 0.3)
+        t = np.arange(301.0)
+        changes = 0
+        for col in u.T:
+            s = np.sign(col[np.abs(col) > 0.05 * np.max(np.abs(u))])
+            changes += int(np.count_nonzero(s[1:] != s[:-1]))
+        assert M.chatter(t, u, 0.05)[1] == changes / 300.0
+
+
+def test_error_signals_without_components():
+    cols = columns_for(decaying(), np.column_stack([decaying()] * 3), ctrl_q_err_x=0 * T, ctrl_q_err_y=0 * T,
+                       ctrl_q_err_z=0 * T + 0.1, ctrl_q_err_w=0 * T + 1)
+    sig, comp, src = M.error_signals(cols)
+    sig2, comp2, src2 = M.error_signals(cols, components=False)
+    assert set(comp) == {"q", "pos"} and comp2 == {} and src == src2 and list(sig) == list(sig2)
+    assert all(np.array_equal(sig[k], sig2[k]) for k in sig)
+
+
 # --------------------------------------------------------------------------- per-unit use
 
 WHEEL_P = {"wheel_torque_max": np.array([0.1]), "wheel_speed_max": np.array([700.0]), "thruster_force": np.array([2.0]),

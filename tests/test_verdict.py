@@ -140,3 +140,24 @@ def test_rpo_run_ends_with_the_verdict_stored_in_metrics_and_run_json(tmp_path, 
     line = cap.out.strip().splitlines()[-1]
     assert line.startswith("verdict: diverged:") and "the run diverged at t = 1.705 s" in line
     assert json.loads((out / "metrics.json").read_text())["verdict"]["line"] == line
+
+
+def test_saturation_and_constraints_alone_equal_the_verdicts_with_nan_samples():
+    # the verdict shares the run's hold weights between its fractions and takes the finite-only
+    # fast path when no sample is NaN; the public functions (and a NaN sample) give the same
+    from rpo.runtime.verdict import constraints, saturation
+    speed = np.where(T >= 70, 700.0, 100.0)
+    fov = (T - 30) ** 2 / 100 - 1.0
+    fov[[0, 500]] = np.nan
+    cols = {"ctrl_att_err": STAYS, **wheels(-0.1, speed=speed), "env_beta_fov": fov, "env_beta_ca": 5 - T / 10,
+            "thr_duty_00": np.where(T > 50, 1.0, 0.5), "thr_duty_01": 0 * T, "cmd_tau_thr_x": 0 * T,
+            "cmd_tau_thr_y": 0 * T, "cmd_tau_thr_z": np.where(T > 90, 1e-3, 0.0)}
+    cols["wheel_cmd_2"] = cols["wheel_cmd_2"].copy()
+    cols["wheel_cmd_2"][7] = np.nan
+    p = {k: np.array([v]) for k, v in REAL.items()}
+    v = verdict(M.compute_metrics(T, cols, params=p), T, cols, p)
+    assert v["saturation"] == saturation(T, cols, p) and v["constraints"] == constraints(T, cols)
+    assert v["saturation"]["thrusters"]["goals"] == ["pos", "att"]
+    assert v["saturation"]["thrusters"]["fraction"] == pytest.approx(0.5, abs=0.002)
+    c = v["constraints"]["beta_fov"]
+    assert c["min"] == pytest.approx(-1.0) and c["min_t_s"] == pytest.approx(30.0) and c["violated"]

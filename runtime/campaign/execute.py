@@ -36,7 +36,7 @@ import numpy as np
 
 from .. import interrupts
 from ..errors import CampaignError, RpoError
-from ..metrics import UNITS, compute_metrics, error_signals
+from ..metrics import UNITS, compute_metrics, error_signals, norm_rows
 from ..verdict import verdict
 from . import storage
 from .spec import DERIVED, Campaign, campaign_from_resolved
@@ -213,10 +213,10 @@ def run_row(camp: Campaign, model: Any, inputs: Any, res: Any) -> tuple[dict[str
     """(row fields, history columns, their units) of one flown run, from its in-memory record:
     the metrics and verdict of ``rpo run`` (rpo.runtime.metrics, rpo.runtime.verdict), the outcome
     flags, the chosen channels and the error signals the envelopes use."""
-    cols = {lbl: res.z[:, i] for i, lbl in enumerate(res.z_labels)}
-    cols.update({lbl: res.y[:, i] for i, lbl in enumerate(res.y_labels)})
+    cols = dict(zip(res.z_labels, res.z.T, strict=True))  # each column a view of the record
+    cols.update(zip(res.y_labels, res.y.T, strict=True))
     goal = np.ravel(inputs.gains["r_goal"]) if "r_goal" in inputs.gains else None
-    signals = error_signals(cols, goal)
+    signals = error_signals(cols, goal, components=False)  # the row needs the error signals only
     met = compute_metrics(res.t, cols, goal=goal, params=inputs.params, per_unit=False, signals=signals)
     ver = verdict(met, res.t, cols, inputs.params, res.divergence)
     goals = ver["goals"]
@@ -239,10 +239,10 @@ def run_row(camp: Campaign, model: Any, inputs: Any, res: Any) -> tuple[dict[str
     hist = {lbl: cols[lbl] for lbl in sel.labels}
     sig = signals[0]
     n = res.t.size
-    hist["err_att_rad"] = sig.get("att", np.full(n, np.nan))
-    hist["err_pos_m"] = sig.get("pos", np.full(n, np.nan))
-    hw = [cols[f"h_w_{i}"] for i in range(1, 5) if f"h_w_{i}" in cols]
-    hist["h_w_norm"] = np.linalg.norm(np.column_stack(hw), axis=1) if hw else np.full(n, np.nan)
+    hist["err_att_rad"] = sig["att"] if "att" in sig else np.full(n, np.nan)
+    hist["err_pos_m"] = sig["pos"] if "pos" in sig else np.full(n, np.nan)
+    hw = [cols[lbl] for lbl in _H_W if lbl in cols]
+    hist["h_w_norm"] = norm_rows(*hw) if hw else np.full(n, np.nan)  # |h_w| [N m s]
     assert all(d in hist for d in DERIVED)
     row = {"status": "diverged" if diverged else "ok", "message": res.divergence.message() if diverged else "",
            "outcome": outcome, "metrics": metrics, "verdict": ver["line"]}
@@ -251,6 +251,7 @@ def run_row(camp: Campaign, model: Any, inputs: Any, res: Any) -> tuple[dict[str
 
 _SELECTIONS: dict[tuple, Any] = {}
 _UNITS: dict[tuple, dict[str, str]] = {}
+_H_W = tuple(f"h_w_{i}" for i in range(1, 5))
 
 
 def _selection(camp: Campaign, model: Any, controller: str) -> Any:
@@ -264,6 +265,8 @@ def _selection(camp: Campaign, model: Any, controller: str) -> Any:
 
 
 def _finite_or_none(v: Any) -> float | None:
+    if type(v) is float:  # most metrics
+        return v if math.isfinite(v) else None
     if v is None or isinstance(v, (dict, list, str)):
         return None
     f = float(v)
