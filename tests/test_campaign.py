@@ -481,6 +481,22 @@ def _bad_text(case: str) -> str:
     return BASE + "\n[campaign]\nruns = " + ("0" if case == "runs = 0" else "10") + "\n" + extra
 
 
+def test_a_draw_that_overflows_is_an_invalid_run_named_in_its_message(model, tmp_path):
+    # a spread so wide that some draws overflow to inf: refused like any invalid draw (the campaign
+    # goes on), its summary cell null, the message naming the value
+    text = CW_CAMPAIGN.replace("runs = 256", "runs = 16").replace("duration = 1500.0", "duration = 20.0")
+    text += "\n[dispersions.chaser.mass]\ndist = \"normal\"\nstd = 1e308\n"
+    camp = loads_campaign(text, "inf.toml", model.manifest)
+    with np.errstate(over="ignore"):
+        out = run_campaign(camp, model, start_folder(camp, model, tmp_path / "mc"), workers=1)
+    assert out.counts["invalid"] == 16 and out.missing == []
+    rows = storage.read_rows(tmp_path / "mc")
+    over = [r for r in rows.values() if r["draws"]["draw.chaser.mass"] is None]
+    assert over and all("chaser.mass = inf" in r["message"] or "chaser.mass = -inf" in r["message"] for r in over)
+    mass = pq.read_table(tmp_path / "mc" / storage.SUMMARY).column("draw.chaser.mass").to_pylist()
+    assert mass.count(None) == len(over)
+
+
 @pytest.mark.parametrize("case", list(BAD))
 def test_bad_campaign_is_refused_naming_the_key(model, case):
     with pytest.raises(CampaignError) as exc:

@@ -139,7 +139,7 @@ def _fly(camp: Campaign, model: Any, cases: list[int], folder: Path) -> list[dic
         rows[case] = row
         if isinstance(pre, str):
             row.update(status="invalid", message=pre.removeprefix(f"{camp.case_source(case)}: "),
-                       outcome={}, metrics={})
+                       outcome={}, metrics={}, draws=_json_draws(row["draws"]))
         else:
             ready.append((case, pre))
     # one lockstep batch per step size (dt is a parameter a campaign may disperse)
@@ -168,6 +168,15 @@ def _fly(camp: Campaign, model: Any, cases: list[int], folder: Path) -> list[dic
         for c in histories:
             rows[c]["history"] = name
     return [rows[c] for c in cases]
+
+
+def _json_draws(cols: dict[str, Any]) -> dict[str, Any]:
+    """An invalid draw's columns as its manifest line can hold them: a non-finite value (a spread
+    wide enough to overflow) as null, since JSON has no inf or NaN; the row's message names the
+    value (validation refuses every non-finite entry, so a flown run never has one)."""
+    if all(not isinstance(v, float) or math.isfinite(v) for v in cols.values()):
+        return cols
+    return {k: None if isinstance(v, float) and not math.isfinite(v) else v for k, v in cols.items()}
 
 
 #: The plant's initial-state fields recorded in each row's ``applied`` (the rest of z0, the
