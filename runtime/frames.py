@@ -31,6 +31,7 @@ Only numpy and :class:`scipy.spatial.transform.Rotation` are used here.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 import numpy as np
@@ -103,8 +104,25 @@ def quat_multiply(a: ArrayLike, b: ArrayLike) -> np.ndarray:
 
 
 def dcm_from_quat(q: ArrayLike) -> np.ndarray:
-    """``C_{A<-B}`` for ``q = q_B_A`` (scalar last); (..., 3, 3)."""
-    return Rotation.from_quat(_q(q)).as_matrix()
+    """``C_{A<-B}`` for ``q = q_B_A`` (scalar last, normalised first); (..., 3, 3)."""
+    q = _q(q)
+    if q.ndim == 1:
+        x, y, z, w = q.tolist()
+        n = math.sqrt(x * x + y * y + z * z + w * w)
+        if n > 0 and math.isfinite(n):
+            return _dcm_of_one(x / n, y / n, z / n, w / n)
+    return Rotation.from_quat(q).as_matrix()
+
+
+def _dcm_of_one(x: float, y: float, z: float, w: float) -> np.ndarray:
+    """``C_{A<-B}`` of one unit quaternion [x, y, z, w]: SciPy's own arithmetic (its normalisation
+    and ``as_matrix``, in the same order: the same bits, tests/test_frames.py), without the cost of
+    a Rotation object for one quaternion (a campaign converts a few per run)."""
+    x2, y2, z2, w2 = x * x, y * y, z * z, w * w
+    xy, zw, xz, yw, yz, xw = x * y, z * w, x * z, y * w, y * z, x * w
+    return np.array([[x2 - y2 - z2 + w2, 2 * (xy - zw), 2 * (xz + yw)],
+                     [2 * (xy + zw), -x2 + y2 - z2 + w2, 2 * (yz - xw)],
+                     [2 * (xz - yw), 2 * (yz + xw), -x2 - y2 + z2 + w2]])
 
 
 def quat_from_dcm(C: ArrayLike) -> np.ndarray:

@@ -184,3 +184,20 @@ def test_frame_rates(model):
     np.testing.assert_allclose(w_L, [0, 0, n], rtol=1e-6, atol=1e-12)
     with pytest.raises(ValueError):
         fr.frame_attitude("body", q_IL)
+
+
+def test_dcm_from_quat_matches_scipy_bit_for_bit():
+    """One quaternion is converted without a Rotation object: the same bits as SciPy's, normalised
+    or not, and a zero quaternion still refused."""
+    rng = np.random.default_rng(7)
+    for i in range(20000):
+        q = rng.normal(size=4) * rng.uniform(0.1, 10.0)
+        if i % 5 == 0:
+            q = q / np.linalg.norm(q)
+        if i % 7 == 0:
+            q[rng.integers(4)] = 0.0
+        assert fr.dcm_from_quat(q).tobytes() == Rotation.from_quat(q).as_matrix().tobytes()
+    qs = rng.normal(size=(5, 4))
+    assert fr.dcm_from_quat(qs).tobytes() == Rotation.from_quat(qs).as_matrix().tobytes()
+    with pytest.raises(ValueError):
+        fr.dcm_from_quat([0.0, 0.0, 0.0, 0.0])
