@@ -335,8 +335,13 @@ class Scenario(_Section):
 
     def _param_overrides(self, manifest: dict) -> dict[str, Any]:
         out: dict[str, Any] = {}
+        sections: dict[str, Any] = {}  # the ~80 keys sit in a few tables: each table looked up once
         for prm in scenario_params(manifest):
-            v = self.get(prm.key)
+            table, _, leaf = prm.key.rpartition(".")
+            if table not in sections:
+                sections[table] = self.get(table) if table else self
+            node = sections[table]
+            v = None if node is None else getattr(node, leaf, None)  # = self.get(prm.key)
             if v is not None:
                 out[prm.name] = prm.to_si(v)
         if self.orbit.perigee_altitude is not None:
