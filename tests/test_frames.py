@@ -201,3 +201,16 @@ def test_dcm_from_quat_matches_scipy_bit_for_bit():
     assert fr.dcm_from_quat(qs).tobytes() == Rotation.from_quat(qs).as_matrix().tobytes()
     with pytest.raises(ValueError):
         fr.dcm_from_quat([0.0, 0.0, 0.0, 0.0])
+
+
+def test_quat_normalize_of_one_matches_the_array_path():
+    """One quaternion is normalised with math.sqrt: the same bits as np.linalg.norm over rows,
+    over magnitudes from 1e-8 to 1e8, signed zeros included; a zero quaternion still refused."""
+    rng = np.random.default_rng(11)
+    qs = rng.normal(size=(20000, 4)) * 10.0 ** rng.integers(-8, 9, size=(20000, 4))
+    qs[::7, 2] = 0.0
+    qs[::11, 0] = -0.0
+    rows = fr.quat_normalize(qs)
+    assert all(fr.quat_normalize(q).tobytes() == r.tobytes() for q, r in zip(qs, rows, strict=True))
+    with pytest.raises(ValueError):
+        fr.quat_normalize([0.0, 0.0, 0.0, 0.0])
