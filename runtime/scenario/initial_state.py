@@ -55,6 +55,13 @@ class RunInputs:
 def run_inputs(sc: Scenario, model: Model) -> RunInputs:
     """Inputs of :class:`~rpo.runtime.simulate.Simulation` for ``model``: all parameters in SI,
     the gains, and the plant's initial state with attitudes relative to ECI."""
+    return packed_run_inputs(sc, model)[0]
+
+
+def packed_run_inputs(sc: Scenario, model: Model) -> tuple[RunInputs, np.ndarray]:
+    """:func:`run_inputs` and its parameter vector ``model.vector("p", inputs.params)`` (packed on
+    the way to the initial state; the pre-flight hands it to its Simulation instead of packing
+    the same values again)."""
     manifest = model.manifest
     params = sc.params(manifest, copy=False)  # read here; RunInputs gets copies
     gains = sc.gains(manifest)
@@ -94,10 +101,11 @@ def run_inputs(sc: Scenario, model: Model) -> RunInputs:
                                 f"must be <= {key.key} = {key.to_scenario([limit]):g} {key.unit}")
         plant["h_w"] = _wheel_momentum(model, p, plant, speeds)
     sim = sc.simulation
-    return RunInputs(params={k: v.copy() for k, v in params.items()}, gains=gains, plant=plant,
-                     duration=float(sim.duration), seed=int(sim.seed), controller=sim.controller,
-                     record_every=int(sim.record_every), dt=float(params["dt"][0]),
-                     frame_info={"q_IL0": q_IL, "n0": n})
+    inputs = RunInputs(params={k: v.copy() for k, v in params.items()}, gains=gains, plant=plant,
+                       duration=float(sim.duration), seed=int(sim.seed), controller=sim.controller,
+                       record_every=int(sim.record_every), dt=float(params["dt"][0]),
+                       frame_info={"q_IL0": q_IL, "n0": n})
+    return inputs, p
 
 
 def _wheel_momentum(model: Model, p: np.ndarray, plant: dict[str, np.ndarray], speeds: np.ndarray) -> np.ndarray:
