@@ -432,3 +432,20 @@ def test_validate_scenario_reports_the_reproduction_table():
     data["reproduction"]["run"][0]["plants"] = ["moon"]
     with pytest.raises(ScenarioError, match=r'^x\.toml: reproduction\.run\[0\]\.plants\[0\] = "moon": must be one of'):
         validate_scenario(data, "x.toml")
+
+
+def test_inertia_moments_are_those_of_the_tensor_as_given():
+    """The bounds check the principal moments of the tensor as written (eigvalsh of it): reused
+    from the physical check when the tensor is exactly symmetric, computed again when it is only
+    symmetric within the tolerance."""
+    from rpo.runtime.scenario.schema import _physical_tensor
+
+    rng = np.random.default_rng(5)
+    for i in range(300):
+        A = rng.normal(size=(3, 3))
+        I = 0.1 * (A @ A.T) + 3.0 * np.eye(3)  # near-isotropic: a physical body
+        if i % 2:
+            I[0, 1] *= 1.0 + 1e-13  # symmetric within 1e-9 of the largest entry, not exactly
+        tensor, moments = _physical_tensor(I.tolist())
+        assert tensor == I.tolist()
+        assert moments.tobytes() == np.linalg.eigvalsh(np.array(tensor)).tobytes()

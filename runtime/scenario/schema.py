@@ -102,13 +102,21 @@ Quaternion = Annotated[Vec4, AfterValidator(_unit_quaternion)]
 
 
 def _physical_inertia(rows: list[list[float]]) -> list[list[float]]:
+    return _physical_tensor(rows)[0]
+
+
+def _physical_tensor(rows: list[list[float]]) -> tuple[list[list[float]], np.ndarray]:
+    """A physical inertia tensor [kg m^2] (symmetric, positive definite, the triangle inequality of
+    its principal moments) as nested lists, and the principal moments of the tensor as given
+    (``np.linalg.eigvalsh`` of it, ascending: the parameter bounds check those)."""
     I = np.array(rows, dtype=float)
     scale = float(np.max(np.abs(I))) or 1.0
     for i, j in ((0, 1), (0, 2), (1, 2)):
         if abs(I[i, j] - I[j, i]) > 1e-9 * scale:
             raise PydanticCustomError(
                 "inertia", f"must be symmetric (row {i} column {j} is {I[i, j]:g}, row {j} column {i} is {I[j, i]:g})")
-    lam = np.linalg.eigvalsh(0.5 * (I + I.T))
+    sym = 0.5 * (I + I.T)
+    lam = np.linalg.eigvalsh(sym)
     shown = ", ".join(f"{x:.6g}" for x in lam)
     if lam[0] <= 0:
         raise PydanticCustomError(
@@ -117,7 +125,10 @@ def _physical_inertia(rows: list[list[float]]) -> list[list[float]]:
         raise PydanticCustomError(
             "inertia", f"principal moments {shown} kg m^2 violate the triangle inequality I1 + I2 >= I3 "
                        "(not a physical body)")
-    return cast(list[list[float]], I.tolist())
+    # an exactly symmetric tensor (every drawn one) is its own symmetric part: the same matrix,
+    # the same moments, not decomposed twice
+    moments = lam if sym.tobytes() == I.tobytes() else np.linalg.eigvalsh(I)
+    return cast(list[list[float]], I.tolist()), moments
 
 
 Inertia = Annotated[list[Vec3], Field(min_length=3, max_length=3), AfterValidator(_physical_inertia)]
@@ -136,8 +147,8 @@ def _inertia_check(prm: ScenarioParam):
             raise PydanticCustomError("inertia", f"must be a symmetric 3x3 array of numbers ({prm.unit}){rng}")
         if not all(math.isfinite(float(x)) for r in rows for x in r):
             raise PydanticCustomError("inertia", f"must be finite numbers ({prm.unit}){rng}")
-        tensor = _physical_inertia([[float(x) for x in r] for r in rows])
-        msg = prm.check_moments(np.linalg.eigvalsh(np.array(tensor)).tolist())
+        tensor, moments = _physical_tensor([[float(x) for x in r] for r in rows])
+        msg = prm.check_moments(moments.tolist())
         if msg is not None:
             raise PydanticCustomError("inertia", msg)
         return tensor
