@@ -214,3 +214,18 @@ def test_quat_normalize_of_one_matches_the_array_path():
     assert all(fr.quat_normalize(q).tobytes() == r.tobytes() for q, r in zip(qs, rows, strict=True))
     with pytest.raises(ValueError):
         fr.quat_normalize([0.0, 0.0, 0.0, 0.0])
+
+
+def test_quat_multiply_of_two_matches_the_array_path():
+    """Two single quaternions are multiplied in Python floats: the same bits as the broadcasting
+    numpy path over rows, signed zeros included (a zero vector part, -0.0 components)."""
+    rng = np.random.default_rng(13)
+    n = 20000
+    A = rng.normal(size=(n, 4)) * 10.0 ** rng.integers(-6, 7, size=(n, 4))
+    B = rng.normal(size=(n, 4)) * 10.0 ** rng.integers(-6, 7, size=(n, 4))
+    A[::5, 1] = 0.0
+    B[::7, 2] = -0.0
+    A[::13, :3] = 0.0
+    B[::17] = [-0.0, 0.0, -0.0, 1.0]
+    rows = fr.quat_multiply(A, B)
+    assert all(fr.quat_multiply(a, b).tobytes() == r.tobytes() for a, b, r in zip(A, B, rows, strict=True))
