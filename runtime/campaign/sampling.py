@@ -95,13 +95,15 @@ def seed_words(seed: int, spawn_keys: Sequence[tuple[int, ...]], n: int) -> np.n
     run = _words32(int(seed))
     run = run + [0] * (_POOL - len(run))  # a spawned sequence pads its entropy to the pool size
     words: dict[int, list[int]] = {}  # a batch's keys repeat their streams and cases: split each once
-
-    def words_of(x: int) -> list[int]:
-        if x not in words:
-            words[x] = _words32(x)
-        return words[x]
-
-    ent = [run + [w for x in k for w in words_of(int(x))] for k in spawn_keys]
+    ent = []
+    for k in spawn_keys:
+        e = list(run)
+        for x in k:
+            w = words.get(x)
+            if w is None:
+                w = words[x] = _words32(int(x))
+            e += w
+        ent.append(e)
     out = np.empty((len(ent), n), np.uint64)
     groups: dict[int, list[int]] = {}
     for i, e in enumerate(ent):
