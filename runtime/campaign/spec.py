@@ -41,6 +41,7 @@ it is read: almost every run would be.
 from __future__ import annotations
 
 import copy
+import functools
 import hashlib
 import json
 import math
@@ -211,8 +212,11 @@ class Campaign:
 # --------------------------------------------------------------------------- paths in a table
 
 
-def _parts(key: str) -> list[str | int]:
-    return [int(p) if p.isdigit() else p for p in key.split(".")]
+@functools.lru_cache(maxsize=4096)
+def _parts(key: str) -> tuple[str | int, ...]:
+    """A dotted key's steps (``faults.0.time`` -> ("faults", 0, "time")); parsed once per key, a
+    campaign sets the same keys in every run's table."""
+    return tuple(int(p) if p.isdigit() else p for p in key.split("."))
 
 
 def plain_copy(value: Any) -> Any:
