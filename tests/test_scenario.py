@@ -449,3 +449,19 @@ def test_inertia_moments_are_those_of_the_tensor_as_given():
         tensor, moments = _physical_tensor(I.tolist())
         assert tensor == I.tolist()
         assert moments.tobytes() == np.linalg.eigvalsh(np.array(tensor)).tobytes()
+
+
+def test_wheel_momentum_check_agrees_with_allclose():
+    """The wheel-speed round trip is checked as np.allclose(rtol=1e-9, atol=1e-9) would: the same
+    answer near the tolerance, for nan and for infinities."""
+    from rpo.runtime.scenario.initial_state import _close
+
+    rng = np.random.default_rng(2)
+    inf, nan = math.inf, math.nan
+    cases = [([inf, 1.0], [inf, 1.0]), ([inf, 1.0], [-inf, 1.0]), ([nan, 1.0], [nan, 1.0]), ([1.0, 2.0], [1.0, inf])]
+    for _ in range(3000):
+        b = rng.normal(size=4) * 10.0 ** rng.integers(-12, 4)
+        cases.append((b + rng.normal(size=4) * 10.0 ** rng.integers(-13, -7) * (1 + np.abs(b)), b))
+    for a, b in cases:
+        a, b = np.array(a, float), np.array(b, float)
+        assert _close(a, b) == np.allclose(a, b, rtol=1e-9, atol=1e-9)
