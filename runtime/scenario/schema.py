@@ -380,8 +380,17 @@ class Scenario(_Section):
         ctrl = self.simulation.controller
         g = manifest_defaults(manifest, manifest["controllers"][ctrl]["gains"])
         for k, v in self.controller.get(ctrl, {}).items():
-            g[k] = np.atleast_1d(np.asarray(v, float))
+            g[k] = _gain_array(v)
         return g
+
+    def _gain(self, manifest: dict, name: str) -> np.ndarray | None:
+        """``self.gains(manifest).get(name)``, without making the others (for reading only: a
+        default is the manifest's own read-only array)."""
+        ctrl = self.simulation.controller
+        table = self.controller.get(ctrl, {})
+        if name in table:
+            return _gain_array(table[name])
+        return manifest_defaults(manifest, manifest["controllers"][ctrl]["gains"], copy=False).get(name)
 
     # -- cross-field checks (need the manifest's defaults) ---------------------------------------
 
@@ -533,12 +542,12 @@ class Scenario(_Section):
         ctrl = self.simulation.controller
         fields = [(f, b) for f, b in layout_fields(manifest, manifest["controllers"][ctrl]["gains"]).values()
                   if b is not None and b.per_step is not None]
-        gains = self.gains(manifest) if fields else {}
         for f, b in fields:
             limit = b.step_limit(dt)
-            if limit is None or f["name"] not in gains:
+            gain = None if limit is None else self._gain(manifest, f["name"])
+            if limit is None or gain is None:
                 continue
-            g = np.abs(np.ravel(gains[f["name"]]))
+            g = np.abs(np.ravel(gain))
             if g.max() > limit * (1 + 1e-12):
                 given = self.controller.get(ctrl, {}).get(f["name"])
                 key = f"controller.{ctrl}.{f['name']}"
@@ -630,6 +639,11 @@ class Scenario(_Section):
         :func:`~rpo.runtime.scenario.initial_state.run_inputs`)."""
         from .initial_state import run_inputs
         return run_inputs(self, model)
+
+
+def _gain_array(value: Any) -> np.ndarray:
+    """A gain as a scenario's ``[controller.<name>]`` writes it (a number or an array), as an array."""
+    return np.atleast_1d(np.asarray(value, float))
 
 
 class _ParamValues:
