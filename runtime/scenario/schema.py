@@ -347,8 +347,7 @@ class Scenario(_Section):
     def _param_overrides(self, manifest: dict) -> dict[str, Any]:
         out: dict[str, Any] = {}
         sections: dict[str, Any] = {}  # the ~80 keys sit in a few tables: each table looked up once
-        for prm in scenario_params(manifest):
-            table, _, leaf = prm.key.rpartition(".")
+        for table, leaf, prm in _param_paths(manifest):
             if table not in sections:
                 sections[table] = self.get(table) if table else self
             node = sections[table]
@@ -657,6 +656,16 @@ class _ParamValues:
     def __getitem__(self, name: str) -> Any:
         v = np.atleast_1d(np.asarray(self._overrides[name] if name in self._overrides else self._defaults[name], float))
         return float(v[0]) if v.size == 1 else v
+
+
+def _param_paths(manifest: dict) -> list[tuple[str, str, ScenarioParam]]:
+    """(table, leaf, parameter) of every scenario parameter, in layout order: ``chaser.mass`` ->
+    ("chaser", "mass", ...) (once per unchanging manifest)."""
+    def path(prm: ScenarioParam) -> tuple[str, str, ScenarioParam]:
+        table, _, leaf = prm.key.rpartition(".")
+        return table, leaf, prm
+
+    return _cached(manifest, ("param_paths", "p"), lambda: [path(prm) for prm in scenario_params(manifest)])
 
 
 def _per_step_params(manifest: dict) -> list[ScenarioParam]:
