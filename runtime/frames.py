@@ -26,7 +26,8 @@ Frames (000 §"Essential coordinate systems"):
 Paper 000 prints its quaternions scalar last; for the same attitude they have the same four
 numbers in Shuster's convention and in ours, so they are used as printed.
 
-Only numpy and :class:`scipy.spatial.transform.Rotation` are used here.
+Only numpy, math and :class:`scipy.spatial.transform.Rotation` are used here (one quaternion at a
+time in Python floats, with the same arithmetic as numpy and SciPy: the same bits).
 """
 
 from __future__ import annotations
