@@ -26,11 +26,13 @@ Frames (000 §"Essential coordinate systems"):
 Paper 000 prints its quaternions scalar last; for the same attitude they have the same four
 numbers in Shuster's convention and in ours, so they are used as printed.
 
-Only numpy and :class:`scipy.spatial.transform.Rotation` are used here.
+Only numpy, math and :class:`scipy.spatial.transform.Rotation` are used here (one quaternion at a
+time in Python floats, with the same arithmetic as numpy and SciPy: the same bits).
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 import numpy as np
@@ -72,6 +74,12 @@ def scalar_last_to_first(q_xyzw: ArrayLike) -> np.ndarray:
 def quat_normalize(q: ArrayLike) -> np.ndarray:
     """Unit quaternion along ``q`` (scalar last); raises ValueError for a zero quaternion."""
     q = _q(q)
+    if q.ndim == 1:  # one quaternion: its norm without np.linalg's overhead (a campaign: ~10 per run)
+        x, y, z, w = q.tolist()
+        n1 = math.sqrt(x * x + y * y + z * z + w * w)  # np.linalg.norm's sum, in its order: the same bits
+        if n1 == 0:
+            raise ValueError("cannot normalise a zero quaternion")
+        return q / n1
     n = np.linalg.norm(q, axis=-1, keepdims=True)
     if np.any(n == 0):
         raise ValueError("cannot normalise a zero quaternion")
@@ -88,23 +96,47 @@ def quat_conjugate(q: ArrayLike) -> np.ndarray:
 def quat_multiply(a: ArrayLike, b: ArrayLike) -> np.ndarray:
     """Hamilton product ``a ⊗ b`` of scalar-last quaternions (broadcasts over leading axes)."""
     a, b = _q(a), _q(b)
+    if a.ndim == 1 and b.ndim == 1:
+        return _quat_multiply_one(a, b)
     av, aw = a[..., :3], a[..., 3:]
     bv, bw = b[..., :3], b[..., 3:]
-    if a.ndim == 1 and b.ndim == 1:
-        # np.cross of two 3-vectors, its products and differences in its order (the same bits),
-        # without its axis handling (most of the time of one product)
-        (a0, a1, a2), (b0, b1, b2) = av.tolist(), bv.tolist()
-        cross = np.array([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0])
-    else:
-        cross = np.cross(av, bv)
+    cross = np.cross(av, bv)
     v = aw * bv + bw * av + cross
     w = aw * bw - np.sum(av * bv, axis=-1, keepdims=True)
     return np.concatenate([v, w], axis=-1)
 
 
+def _quat_multiply_one(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """:func:`quat_multiply` of two single quaternions in Python floats: numpy's operations in
+    numpy's order (np.cross's products and differences; the dot product summed from +0.0, as
+    np.sum does), so the same bits, signed zeros included (tests/test_frames.py), without the
+    cost of a dozen numpy calls on 3-vectors (a campaign multiplies ~6 quaternions per run)."""
+    (a0, a1, a2, aw), (b0, b1, b2, bw) = a.tolist(), b.tolist()
+    c0, c1, c2 = a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0
+    return np.array([aw * b0 + bw * a0 + c0, aw * b1 + bw * a1 + c1, aw * b2 + bw * a2 + c2,
+                     aw * bw - (0.0 + a0 * b0 + a1 * b1 + a2 * b2)])
+
+
 def dcm_from_quat(q: ArrayLike) -> np.ndarray:
-    """``C_{A<-B}`` for ``q = q_B_A`` (scalar last); (..., 3, 3)."""
-    return Rotation.from_quat(_q(q)).as_matrix()
+    """``C_{A<-B}`` for ``q = q_B_A`` (scalar last, normalised first); (..., 3, 3)."""
+    q = _q(q)
+    if q.ndim == 1:
+        x, y, z, w = q.tolist()
+        n = math.sqrt(x * x + y * y + z * z + w * w)
+        if n > 0 and math.isfinite(n):
+            return _dcm_of_one(x / n, y / n, z / n, w / n)
+    return Rotation.from_quat(q).as_matrix()
+
+
+def _dcm_of_one(x: float, y: float, z: float, w: float) -> np.ndarray:
+    """``C_{A<-B}`` of one unit quaternion [x, y, z, w]: SciPy's own arithmetic (its normalisation
+    and ``as_matrix``, in the same order: the same bits, tests/test_frames.py), without the cost of
+    a Rotation object for one quaternion (a campaign converts a few per run)."""
+    x2, y2, z2, w2 = x * x, y * y, z * z, w * w
+    xy, zw, xz, yw, yz, xw = x * y, z * w, x * z, y * w, y * z, x * w
+    return np.array([[x2 - y2 - z2 + w2, 2 * (xy - zw), 2 * (xz + yw)],
+                     [2 * (xy + zw), -x2 + y2 - z2 + w2, 2 * (yz - xw)],
+                     [2 * (xz - yw), 2 * (yz + xw), -x2 - y2 + z2 + w2]])
 
 
 def quat_from_dcm(C: ArrayLike) -> np.ndarray:

@@ -171,7 +171,10 @@ class Simulation:
     """
 
     def __init__(self, model: Model, controller: str = "baseline", params: dict | None = None,
-                 gains: dict | None = None, bounds: dict | None = None):
+                 gains: dict | None = None, bounds: dict | None = None, *, packed_p: np.ndarray | None = None):
+        """``packed_p``: ``model.vector("p", params)`` when the caller has packed it already (the
+        pre-flight, from :func:`~rpo.runtime.scenario.initial_state.packed_run_inputs`); the
+        Simulation keeps it as its own (not a copy)."""
         ctrls = model.manifest["controllers"]
         if controller not in ctrls:
             raise ModelError(f"unknown controller {controller!r}; available: {', '.join(sorted(ctrls))}")
@@ -179,7 +182,7 @@ class Simulation:
         self.controller = controller
         entry = ctrls[controller]
         self._params_given, self._gains_given = dict(params or {}), dict(gains or {})
-        self.p = model.vector("p", params)
+        self.p = model.vector("p", params) if packed_p is None else packed_p
         self.k = model.vector(entry["gains"], gains)
         self.z_layout = f"z_{controller}"
         self.y_layout = f"y_{controller}"

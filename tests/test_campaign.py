@@ -265,6 +265,8 @@ def test_batch_draws_are_the_single_draws(model, tmp_path):
         cases = [0, 3, 17, 39]
         for c, many in zip(cases, camp.draws_many(cases), strict=True):
             assert json.dumps(many) == json.dumps(camp.draws(c))
+            # the noise seeds the batch made at once are each run's own
+            assert camp.seed_of(c) == run_seed(camp.settings.seed, c) == camp.case_data(c)["simulation"]["seed"]
 
 
 def test_same_summary_bytes_in_process_pool_and_dask(model, tmp_path):

@@ -184,3 +184,48 @@ def test_frame_rates(model):
     np.testing.assert_allclose(w_L, [0, 0, n], rtol=1e-6, atol=1e-12)
     with pytest.raises(ValueError):
         fr.frame_attitude("body", q_IL)
+
+
+def test_dcm_from_quat_matches_scipy_bit_for_bit():
+    """One quaternion is converted without a Rotation object: the same bits as SciPy's, normalised
+    or not, and a zero quaternion still refused."""
+    rng = np.random.default_rng(7)
+    for i in range(20000):
+        q = rng.normal(size=4) * rng.uniform(0.1, 10.0)
+        if i % 5 == 0:
+            q = q / np.linalg.norm(q)
+        if i % 7 == 0:
+            q[rng.integers(4)] = 0.0
+        assert fr.dcm_from_quat(q).tobytes() == Rotation.from_quat(q).as_matrix().tobytes()
+    qs = rng.normal(size=(5, 4))
+    assert fr.dcm_from_quat(qs).tobytes() == Rotation.from_quat(qs).as_matrix().tobytes()
+    with pytest.raises(ValueError):
+        fr.dcm_from_quat([0.0, 0.0, 0.0, 0.0])
+
+
+def test_quat_normalize_of_one_matches_the_array_path():
+    """One quaternion is normalised with math.sqrt: the same bits as np.linalg.norm over rows,
+    over magnitudes from 1e-8 to 1e8, signed zeros included; a zero quaternion still refused."""
+    rng = np.random.default_rng(11)
+    qs = rng.normal(size=(20000, 4)) * 10.0 ** rng.integers(-8, 9, size=(20000, 4))
+    qs[::7, 2] = 0.0
+    qs[::11, 0] = -0.0
+    rows = fr.quat_normalize(qs)
+    assert all(fr.quat_normalize(q).tobytes() == r.tobytes() for q, r in zip(qs, rows, strict=True))
+    with pytest.raises(ValueError):
+        fr.quat_normalize([0.0, 0.0, 0.0, 0.0])
+
+
+def test_quat_multiply_of_two_matches_the_array_path():
+    """Two single quaternions are multiplied in Python floats: the same bits as the broadcasting
+    numpy path over rows, signed zeros included (a zero vector part, -0.0 components)."""
+    rng = np.random.default_rng(13)
+    n = 20000
+    A = rng.normal(size=(n, 4)) * 10.0 ** rng.integers(-6, 7, size=(n, 4))
+    B = rng.normal(size=(n, 4)) * 10.0 ** rng.integers(-6, 7, size=(n, 4))
+    A[::5, 1] = 0.0
+    B[::7, 2] = -0.0
+    A[::13, :3] = 0.0
+    B[::17] = [-0.0, 0.0, -0.0, 1.0]
+    rows = fr.quat_multiply(A, B)
+    assert all(fr.quat_multiply(a, b).tobytes() == r.tobytes() for a, b, r in zip(A, B, rows, strict=True))

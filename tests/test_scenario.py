@@ -432,3 +432,36 @@ def test_validate_scenario_reports_the_reproduction_table():
     data["reproduction"]["run"][0]["plants"] = ["moon"]
     with pytest.raises(ScenarioError, match=r'^x\.toml: reproduction\.run\[0\]\.plants\[0\] = "moon": must be one of'):
         validate_scenario(data, "x.toml")
+
+
+def test_inertia_moments_are_those_of_the_tensor_as_given():
+    """The bounds check the principal moments of the tensor as written (eigvalsh of it): reused
+    from the physical check when the tensor is exactly symmetric, computed again when it is only
+    symmetric within the tolerance."""
+    from rpo.runtime.scenario.schema import _physical_tensor
+
+    rng = np.random.default_rng(5)
+    for i in range(300):
+        A = rng.normal(size=(3, 3))
+        I = 0.1 * (A @ A.T) + 3.0 * np.eye(3)  # near-isotropic: a physical body
+        if i % 2:
+            I[0, 1] *= 1.0 + 1e-13  # symmetric within 1e-9 of the largest entry, not exactly
+        tensor, moments = _physical_tensor(I.tolist())
+        assert tensor == I.tolist()
+        assert moments.tobytes() == np.linalg.eigvalsh(np.array(tensor)).tobytes()
+
+
+def test_wheel_momentum_check_agrees_with_allclose():
+    """The wheel-speed round trip is checked as np.allclose(rtol=1e-9, atol=1e-9) would: the same
+    answer near the tolerance, for nan and for infinities."""
+    from rpo.runtime.scenario.initial_state import _close
+
+    rng = np.random.default_rng(2)
+    inf, nan = math.inf, math.nan
+    cases = [([inf, 1.0], [inf, 1.0]), ([inf, 1.0], [-inf, 1.0]), ([nan, 1.0], [nan, 1.0]), ([1.0, 2.0], [1.0, inf])]
+    for _ in range(3000):
+        b = rng.normal(size=4) * 10.0 ** rng.integers(-12, 4)
+        cases.append((b + rng.normal(size=4) * 10.0 ** rng.integers(-13, -7) * (1 + np.abs(b)), b))
+    for a, b in cases:
+        a, b = np.array(a, float), np.array(b, float)
+        assert _close(a, b) == np.allclose(a, b, rtol=1e-9, atol=1e-9)

@@ -105,3 +105,19 @@ def test_the_runner_goes_through_the_preflight(model, tmp_path, monkeypatch):
     with pytest.raises(ScenarioError, match="stop here"):
         runner.execute_run(III, tmp_path / "out", model, duration=0.02, plots=False)
     assert seen == ["000 scenario III"] and not (tmp_path / "out").exists()
+
+
+def test_preflight_packs_the_parameters_once_with_the_same_bits(tmp_path):
+    """The pre-flight hands its Simulation the parameter vector packed on the way to the initial
+    state: the same bytes as packing the run's parameters afresh, its own array, and the inputs
+    the same as ``to_run``'s."""
+    from rpo.runtime.compiled import load_model
+    from rpo.runtime.simulate import Simulation
+
+    model = load_model("auto")
+    sc = variant(tmp_path, "[chaser]\nmass = 97.5\n", model.manifest)
+    pre = preflight(sc, model)
+    fresh = Simulation(model, pre.inputs.controller, params=pre.inputs.params, gains=pre.inputs.gains)
+    assert pre.sim.p.tobytes() == fresh.p.tobytes() == model.vector("p", sc.to_run(model).params).tobytes()
+    assert not np.shares_memory(pre.sim.p, pre.inputs.params["chaser_mass"])
+    assert pre.z0.tobytes() == fresh.initial_state(pre.inputs.plant).tobytes()

@@ -89,6 +89,7 @@ class Dispersion:
     size: int = 1
     _frozen: Any = field(default=None, repr=False)
     _aux: Any = field(default=None, repr=False, compare=False)
+    _names: dict[tuple, tuple[str, ...]] = field(default_factory=dict, repr=False, compare=False)
 
     # -- checks ------------------------------------------------------------------------------
 
@@ -350,19 +351,40 @@ class Dispersion:
         """The summary's columns of one drawn value: ``draw.<key>`` (a scalar or a choice),
         ``draw.<key>[i]`` (components), ``draw.<key>[i][j]`` (an inertia's upper triangle) and, for a
         rotation, ``draw.<key>.angle_deg`` (its angle from the nominal attitude)."""
-        name = f"draw.{self.key}"
         if self.dist == "rotation":
             q0 = self._frozen[0]
             q = np.array(value, float)
             ang = math.degrees(float(rotation_angle(quat_multiply(quat_conjugate(q0), q))))
-            return {f"{name}.angle_deg": ang, **{f"{name}[{i}]": float(v) for i, v in enumerate(value)}}
+            return dict(zip(self._column_names("rotation", len(value)), [ang, *(float(v) for v in value)],
+                            strict=True))
         if self.dist == "inertia":
-            return {f"{name}[{i}][{j}]": float(value[i][j]) for i in range(3) for j in range(i, 3)}
+            return dict(zip(self._column_names("inertia"), [float(value[i][j]) for i in range(3) for j in range(i, 3)],
+                            strict=True))
         if isinstance(value, list):
             if value and isinstance(value[0], list):
-                return {f"{name}[{i}][{j}]": float(x) for i, row in enumerate(value) for j, x in enumerate(row)}
-            return {f"{name}[{i}]": _cell(v) for i, v in enumerate(value)}
-        return {name: _cell(value)}
+                return dict(zip(self._column_names("matrix", *(len(row) for row in value)),
+                                [float(x) for row in value for x in row], strict=True))
+            return dict(zip(self._column_names("vector", len(value)), [_cell(v) for v in value], strict=True))
+        return {self._column_names("scalar")[0]: _cell(value)}
+
+    def _column_names(self, form: str, *shape: int) -> tuple[str, ...]:
+        """The names of :meth:`columns` for a value of ``form`` and ``shape`` (the length of a
+        vector, of each row of a matrix), in its order: made once, a campaign asks for every run."""
+        names = self._names.get((form, shape))
+        if names is None:
+            name = f"draw.{self.key}"
+            if form == "rotation":
+                names = (f"{name}.angle_deg", *(f"{name}[{i}]" for i in range(shape[0])))
+            elif form == "inertia":
+                names = tuple(f"{name}[{i}][{j}]" for i in range(3) for j in range(i, 3))
+            elif form == "matrix":
+                names = tuple(f"{name}[{i}][{j}]" for i, n in enumerate(shape) for j in range(n))
+            elif form == "vector":
+                names = tuple(f"{name}[{i}]" for i in range(shape[0]))
+            else:
+                names = (name,)
+            self._names[(form, shape)] = names
+        return names
 
 
 def _rotvec_quat(phi: np.ndarray) -> np.ndarray:

@@ -94,7 +94,16 @@ def seed_words(seed: int, spawn_keys: Sequence[tuple[int, ...]], n: int) -> np.n
     one SeedSequence object per key and run."""
     run = _words32(int(seed))
     run = run + [0] * (_POOL - len(run))  # a spawned sequence pads its entropy to the pool size
-    ent = [run + [w for x in k for w in _words32(int(x))] for k in spawn_keys]
+    words: dict[int, list[int]] = {}  # a batch's keys repeat their streams and cases: split each once
+    ent = []
+    for k in spawn_keys:
+        e = list(run)
+        for x in k:
+            w = words.get(x)
+            if w is None:
+                w = words[x] = _words32(int(x))
+            e += w
+        ent.append(e)
     out = np.empty((len(ent), n), np.uint64)
     groups: dict[int, list[int]] = {}
     for i, e in enumerate(ent):

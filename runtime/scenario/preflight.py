@@ -50,9 +50,10 @@ def preflight(sc: Scenario, model: Model) -> Preflight:
     :class:`~rpo.runtime.errors.ModelError`."""
     from .. import noise
     from ..simulate import Simulation
+    from .initial_state import packed_run_inputs
 
-    inputs = sc.to_run(model)
-    sim = Simulation(model, inputs.controller, params=inputs.params, gains=inputs.gains)
+    inputs, p = packed_run_inputs(sc, model)  # = sc.to_run(model), and its parameter vector
+    sim = Simulation(model, inputs.controller, params=inputs.params, gains=inputs.gains, packed_p=p)
     z0 = sim.initial_state(inputs.plant)
     rate = f"simulation.rate = {1.0 / sim.dt:g} Hz"
     labels = model.labels(sim.z_layout)

@@ -102,13 +102,21 @@ Quaternion = Annotated[Vec4, AfterValidator(_unit_quaternion)]
 
 
 def _physical_inertia(rows: list[list[float]]) -> list[list[float]]:
+    return _physical_tensor(rows)[0]
+
+
+def _physical_tensor(rows: list[list[float]]) -> tuple[list[list[float]], np.ndarray]:
+    """A physical inertia tensor [kg m^2] (symmetric, positive definite, the triangle inequality of
+    its principal moments) as nested lists, and the principal moments of the tensor as given
+    (``np.linalg.eigvalsh`` of it, ascending: the parameter bounds check those)."""
     I = np.array(rows, dtype=float)
     scale = float(np.max(np.abs(I))) or 1.0
     for i, j in ((0, 1), (0, 2), (1, 2)):
         if abs(I[i, j] - I[j, i]) > 1e-9 * scale:
             raise PydanticCustomError(
                 "inertia", f"must be symmetric (row {i} column {j} is {I[i, j]:g}, row {j} column {i} is {I[j, i]:g})")
-    lam = np.linalg.eigvalsh(0.5 * (I + I.T))
+    sym = 0.5 * (I + I.T)
+    lam = np.linalg.eigvalsh(sym)
     shown = ", ".join(f"{x:.6g}" for x in lam)
     if lam[0] <= 0:
         raise PydanticCustomError(
@@ -117,7 +125,10 @@ def _physical_inertia(rows: list[list[float]]) -> list[list[float]]:
         raise PydanticCustomError(
             "inertia", f"principal moments {shown} kg m^2 violate the triangle inequality I1 + I2 >= I3 "
                        "(not a physical body)")
-    return cast(list[list[float]], I.tolist())
+    # an exactly symmetric tensor (every drawn one) is its own symmetric part: the same matrix,
+    # the same moments, not decomposed twice
+    moments = lam if sym.tobytes() == I.tobytes() else np.linalg.eigvalsh(I)
+    return cast(list[list[float]], I.tolist()), moments
 
 
 Inertia = Annotated[list[Vec3], Field(min_length=3, max_length=3), AfterValidator(_physical_inertia)]
@@ -136,8 +147,8 @@ def _inertia_check(prm: ScenarioParam):
             raise PydanticCustomError("inertia", f"must be a symmetric 3x3 array of numbers ({prm.unit}){rng}")
         if not all(math.isfinite(float(x)) for r in rows for x in r):
             raise PydanticCustomError("inertia", f"must be finite numbers ({prm.unit}){rng}")
-        tensor = _physical_inertia([[float(x) for x in r] for r in rows])
-        msg = prm.check_moments(np.linalg.eigvalsh(np.array(tensor)).tolist())
+        tensor, moments = _physical_tensor([[float(x) for x in r] for r in rows])
+        msg = prm.check_moments(moments.tolist())
         if msg is not None:
             raise PydanticCustomError("inertia", msg)
         return tensor
@@ -335,8 +346,12 @@ class Scenario(_Section):
 
     def _param_overrides(self, manifest: dict) -> dict[str, Any]:
         out: dict[str, Any] = {}
-        for prm in scenario_params(manifest):
-            v = self.get(prm.key)
+        sections: dict[str, Any] = {}  # the ~80 keys sit in a few tables: each table looked up once
+        for table, leaf, prm in _param_paths(manifest):
+            if table not in sections:
+                sections[table] = self.get(table) if table else self
+            node = sections[table]
+            v = None if node is None else getattr(node, leaf, None)  # = self.get(prm.key)
             if v is not None:
                 out[prm.name] = prm.to_si(v)
         if self.orbit.perigee_altitude is not None:
@@ -364,8 +379,17 @@ class Scenario(_Section):
         ctrl = self.simulation.controller
         g = manifest_defaults(manifest, manifest["controllers"][ctrl]["gains"])
         for k, v in self.controller.get(ctrl, {}).items():
-            g[k] = np.atleast_1d(np.asarray(v, float))
+            g[k] = _gain_array(v)
         return g
+
+    def _gain(self, manifest: dict, name: str) -> np.ndarray | None:
+        """``self.gains(manifest).get(name)``, without making the others (for reading only: a
+        default is the manifest's own read-only array)."""
+        ctrl = self.simulation.controller
+        table = self.controller.get(ctrl, {})
+        if name in table:
+            return _gain_array(table[name])
+        return manifest_defaults(manifest, manifest["controllers"][ctrl]["gains"], copy=False).get(name)
 
     # -- cross-field checks (need the manifest's defaults) ---------------------------------------
 
@@ -517,12 +541,12 @@ class Scenario(_Section):
         ctrl = self.simulation.controller
         fields = [(f, b) for f, b in layout_fields(manifest, manifest["controllers"][ctrl]["gains"]).values()
                   if b is not None and b.per_step is not None]
-        gains = self.gains(manifest) if fields else {}
         for f, b in fields:
             limit = b.step_limit(dt)
-            if limit is None or f["name"] not in gains:
+            gain = None if limit is None else self._gain(manifest, f["name"])
+            if limit is None or gain is None:
                 continue
-            g = np.abs(np.ravel(gains[f["name"]]))
+            g = np.abs(np.ravel(gain))
             if g.max() > limit * (1 + 1e-12):
                 given = self.controller.get(ctrl, {}).get(f["name"])
                 key = f"controller.{ctrl}.{f['name']}"
@@ -616,6 +640,11 @@ class Scenario(_Section):
         return run_inputs(self, model)
 
 
+def _gain_array(value: Any) -> np.ndarray:
+    """A gain as a scenario's ``[controller.<name>]`` writes it (a number or an array), as an array."""
+    return np.atleast_1d(np.asarray(value, float))
+
+
 class _ParamValues:
     """``p[name]``: a parameter of :meth:`Scenario.params` (the scenario's value, else the default)
     as a float when it has one entry, else its array; read on demand (the cross-field checks read a
@@ -627,6 +656,16 @@ class _ParamValues:
     def __getitem__(self, name: str) -> Any:
         v = np.atleast_1d(np.asarray(self._overrides[name] if name in self._overrides else self._defaults[name], float))
         return float(v[0]) if v.size == 1 else v
+
+
+def _param_paths(manifest: dict) -> list[tuple[str, str, ScenarioParam]]:
+    """(table, leaf, parameter) of every scenario parameter, in layout order: ``chaser.mass`` ->
+    ("chaser", "mass", ...) (once per unchanging manifest)."""
+    def path(prm: ScenarioParam) -> tuple[str, str, ScenarioParam]:
+        table, _, leaf = prm.key.rpartition(".")
+        return table, leaf, prm
+
+    return _cached(manifest, ("param_paths", "p"), lambda: [path(prm) for prm in scenario_params(manifest)])
 
 
 def _per_step_params(manifest: dict) -> list[ScenarioParam]:
