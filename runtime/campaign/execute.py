@@ -202,6 +202,9 @@ def applied(model: Any, pre: Any, nominal: tuple[np.ndarray, np.ndarray] | None)
     """What the simulation was handed, read back from the vectors themselves: the plant's initial
     state, and every parameter and gain field whose values differ from the undispersed scenario's
     (the draws, as the model sees them: SI, packed), for the row (and the tests) to check."""
+    for name, vec in (("z0", pre.z0), ("p", pre.sim.p), ("k", pre.sim.k)):
+        if not np.isfinite(vec).all():  # refused before flying; the manifest line could not hold it
+            raise ValueError(f"the {name} handed to the simulation has a non-finite entry after the pre-flight")
     z_offs = model.offsets(pre.sim.z_layout)
     out: dict[str, Any] = {"z0": {f: pre.z0[z_offs[f]].tolist() for f in PLANT_STATE}}
     ctrl = model.manifest["controllers"][pre.sim.controller]["gains"]

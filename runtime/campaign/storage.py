@@ -39,6 +39,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import orjson
 
 from ..errors import CampaignError
 from ..metrics import UNITS
@@ -85,15 +86,24 @@ def read_resolved(folder: Path) -> dict[str, Any]:
 # --------------------------------------------------------------------------- manifest
 
 
+#: A manifest line: one JSON object, keys sorted, NumPy scalars as numbers, a newline.  orjson
+#: rather than json: a row is ~11 kB (the draws and the applied vectors, ~250 floats) and json took
+#: 0.13 ms to write one, orjson 0.014 ms.  orjson writes a NaN or inf as null where json raised; a
+#: row holds none: metrics are finite or None, a refused draw's non-finite cells are null
+#: (execute._json_draws), the applied vectors are checked finite (execute.applied).  Lines are read
+#: back with json (read_rows), which gives the same floats.
+_LINE = orjson.OPT_SORT_KEYS | orjson.OPT_APPEND_NEWLINE | orjson.OPT_SERIALIZE_NUMPY
+
+
 def append_rows(folder: Path, rows: Iterable[Mapping[str, Any]], sync: bool = True) -> bool:
     """Append one line per row (whole lines, in one write) and, with ``sync``, fsync: each line is
     on disk when this returns.  ``sync=False`` leaves the fsync to the caller (:class:`Syncer`);
     the lines are in the page cache either way, so a killed process loses none.  Returns whether
     anything was written."""
-    lines = "".join(json.dumps(r, sort_keys=True, allow_nan=False) + "\n" for r in rows)
+    lines = b"".join(orjson.dumps(r, option=_LINE) for r in rows)
     if not lines:
         return False
-    with open(Path(folder) / MANIFEST, "a", encoding="utf-8") as fh:
+    with open(Path(folder) / MANIFEST, "ab") as fh:
         fh.write(lines)
         fh.flush()
         if sync:
