@@ -15,9 +15,11 @@ Per repetition, in this process (the model is loaded and compiled once, before a
 * ``dask_wall_s``: the same on a Dask LocalCluster of as many single-threaded workers, its start
   and shutdown included (skipped without ``dask[distributed]``).
 
-Printed ratios (medians over ``--repeat``): ``campaign_overhead`` = wall_1worker_s / bare_s (the
-campaign machinery's cost on one core; 1.0 would be free), ``dask_ratio`` = dask_wall_s /
-campaign_wall_s; ``campaign_mb`` is the size of the pool run's folder [MB, 1e6 bytes].
+Printed ratios: ``campaign_overhead`` = wall_1worker_s / bare_s (the campaign machinery's cost on
+one core; 1.0 would be free), ``dask_ratio`` = dask_wall_s / campaign_wall_s, each the median over
+``--repeat`` of the ratio within one repetition (the two are timed back to back there, so a drift
+of the shared machine's speed between repetitions cancels; ``*_s`` are medians of the times);
+``campaign_mb`` is the size of the pool run's folder [MB, 1e6 bytes].
 ``--json``: the last line is one JSON object with these keys.  ``load_average`` (1 min) is
 printed too: wall times on a machine shared with other jobs are not comparable.
 """
@@ -123,10 +125,14 @@ def main() -> None:
                 res["dask_wall_s"].append(campaign(camp, model, tmp, "dask", workers=workers, dask="local")[0])
             print(f"  rep {rep + 1}: " + ", ".join(f"{k} {v[-1]:.3g}" for k, v in res.items() if v), flush=True)
     med = {k: statistics.median(v) for k, v in res.items() if v}
+    overhead = [w / b for w, b in zip(res["wall_1worker_s"], res["bare_s"], strict=True)]
+    dask = [d / p for d, p in zip(res["dask_wall_s"], res["campaign_wall_s"], strict=False)]
+    print("  per repetition: campaign_overhead " + ", ".join(f"{r:.3f}" for r in overhead)
+          + ("; dask_ratio " + ", ".join(f"{r:.3f}" for r in dask) if dask else ""))
     out = {"runs": camp.runs, "duration_s": float(sim["duration"]), "workers": workers, "repeat": args.repeat,
            **{k: round(v, 4) for k, v in med.items()},
-           "campaign_overhead": round(med["wall_1worker_s"] / med["bare_s"], 4),
-           "dask_ratio": round(med["dask_wall_s"] / med["campaign_wall_s"], 4) if "dask_wall_s" in med else None,
+           "campaign_overhead": round(statistics.median(overhead), 4),
+           "dask_ratio": round(statistics.median(dask), 4) if dask else None,
            "us_per_run_step": round(med["bare_s"] / (camp.runs * round(sim["duration"] / dt)) * 1e6, 4),
            "load_average": round(os.getloadavg()[0], 2)}
     print(f"campaign_wall_s {out['campaign_wall_s']:.3g} (target <= 30), campaign_overhead "
