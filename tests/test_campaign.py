@@ -16,6 +16,7 @@ import signal
 import subprocess
 import sys
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -489,7 +490,8 @@ def test_a_draw_that_overflows_is_an_invalid_run_named_in_its_message(model, tmp
     text = CW_CAMPAIGN.replace("runs = 256", "runs = 16").replace("duration = 1500.0", "duration = 20.0")
     text += "\n[dispersions.chaser.mass]\ndist = \"normal\"\nstd = 1e308\n"
     camp = loads_campaign(text, "inf.toml", model.manifest)
-    with np.errstate(over="ignore"):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # the overflow is the row's message, not a NumPy warning
         out = run_campaign(camp, model, start_folder(camp, model, tmp_path / "mc"), workers=1)
     assert out.counts["invalid"] == 16 and out.missing == []
     rows = storage.read_rows(tmp_path / "mc")

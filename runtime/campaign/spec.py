@@ -170,7 +170,8 @@ class Campaign:
     def draws(self, case: int) -> dict[str, Any]:
         """key -> the value drawn for run ``case`` (in the key's unit, as a scenario holds it)."""
         u = self.design.uniforms(case)
-        return {d.key: d.value(u[d.key]) for d in self.dispersions}
+        with np.errstate(over="ignore", invalid="ignore"):  # a draw that overflows: refused by validation, named
+            return {d.key: d.value(u[d.key]) for d in self.dispersions}
 
     def draws_many(self, cases: Sequence[int]) -> list[dict[str, Any]]:
         """:meth:`draws` of each of ``cases`` (the same values; the uniforms made at once)."""
@@ -179,7 +180,8 @@ class Campaign:
         fresh = [c for c in cases if (self.settings.seed, c) not in self._seeds]
         self._seeds.update(zip(((self.settings.seed, c) for c in fresh), run_seeds(self.settings.seed, fresh),
                                strict=True))
-        by_key = {d.key: d.values([u[d.key] for u in us]) for d in self.dispersions}
+        with np.errstate(over="ignore", invalid="ignore"):  # as in draws: the row's message names it
+            by_key = {d.key: d.values([u[d.key] for u in us]) for d in self.dispersions}
         return [{d.key: by_key[d.key][i] for d in self.dispersions} for i in range(len(us))]
 
     def case_data(self, case: int, draws: dict[str, Any] | None = None, share: bool = False) -> dict[str, Any]:
