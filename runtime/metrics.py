@@ -158,12 +158,6 @@ def _series(columns: Mapping, labels: tuple[str, ...]) -> list[np.ndarray]:
     return [np.asarray(columns[lbl], float) for lbl in labels]
 
 
-def _block(columns: Mapping, prefix: str, comps: tuple[str, ...]) -> np.ndarray | None:
-    """The columns ``prefix_<comp>``, or ``prefix_0..n-1`` (a field declared without component names)."""
-    labels = _block_labels(columns, prefix, comps)
-    return None if labels is None else stack_columns(_series(columns, labels))
-
-
 def _quat_angle_of(x: np.ndarray, y: np.ndarray, z: np.ndarray, w: np.ndarray) -> np.ndarray:
     """:func:`quat_angle` [rad] of the quaternion series given by component (the same bits)."""
     return 2.0 * np.arctan2(norm_rows(x, y, z), np.abs(w))
@@ -250,11 +244,6 @@ def _nanmax(x: np.ndarray) -> float:
     """``np.nanmax(x)`` as a float; the plain maximum when no entry is NaN (the same value, a
     fraction of the time)."""
     return float(x.max() if x.size and not np.isnan(x).any() else np.nanmax(x))
-
-
-def _rms_tail(t, x, fraction):
-    tf, xf = _finite(t, x)
-    return _rms_tail_finite(tf, xf, fraction)
 
 
 def _rms_tail_finite(t, x, fraction):
