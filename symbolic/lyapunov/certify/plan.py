@@ -1,0 +1,163 @@
+"""Proof plans: the certified domain of a statement and the goals the box prover must close.
+
+A statement ``lhs <= rhs`` (or ``>=``, ``>``) holds on a domain when its *gap* (``rhs - lhs``, or
+``lhs - rhs``) is >= 0 there.  A :class:`Plan` states that domain physically as one or more
+:class:`Region`\\ s: a box of coordinates (each with bounds and a unit), the statement's other symbols as
+expressions of the coordinates (the domain map: ``s = u d`` puts a boundary layer's edge on a box face; a
+unit quaternion is a point of a chart), and hypotheses ``h >= 0`` that cut the box (``D**2 - |d|**2``).
+For each region and each component the goal is the gap with the domain map substituted, optionally
+rewritten by the plan's ``reduce`` step (expanded, a positive factor cleared, ...).  Every such step is
+re-verified symbolically when the certificate is checked: ``reduce`` must return an expression identical to
+its input (residual 0 after canonicalisation), or a ``(factor, rest)`` pair whose product is the input,
+where the factor must itself be certified positive.
+
+The plans live beside the claims (``symbolic/lyapunov/<controller>/plans.py``, a ``PLANS`` dict from
+claim id to a function of the statement returning a :class:`Plan`).
+"""
+
+from __future__ import annotations
+
+import hashlib
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import sympy as sp
+
+from ..core import Statement
+
+
+@dataclass(frozen=True)
+class Coordinate:
+    """One box coordinate: ``lo <= symbol <= hi`` (floats, exact as written), in ``unit``."""
+
+    symbol: sp.Symbol
+    lo: float
+    hi: float
+    unit: str = ""
+
+    def __post_init__(self):
+        if not (float(self.lo) <= float(self.hi)):
+            raise ValueError(f"coordinate {self.symbol}: lo {self.lo} > hi {self.hi}")
+
+    def describe(self) -> str:
+        u = f" {self.unit}" if self.unit else ""
+        return f"{self.symbol} in [{self.lo:g}, {self.hi:g}]{u}"
+
+
+@dataclass(frozen=True)
+class Region:
+    """A piece of the certified domain (see the module docstring)."""
+
+    coords: tuple[Coordinate, ...]
+    subs: dict = field(default_factory=dict)          # statement symbol -> expression of the coordinates
+    hypotheses: tuple[sp.Expr, ...] = ()              # each >= 0 on the domain
+    describe: str = ""
+    equilibria: tuple[dict, ...] = ()                 # coordinate points (exact rationals) where gap = 0
+
+    @property
+    def symbols(self) -> tuple[sp.Symbol, ...]:
+        return tuple(c.symbol for c in self.coords)
+
+    def text(self) -> str:
+        parts = [c.describe() for c in self.coords]
+        parts += [f"{s} = {sp.sstr(e)}" for s, e in self.subs.items()]
+        parts += [f"{sp.sstr(h)} >= 0" for h in self.hypotheses]
+        return (self.describe + ": " if self.describe else "") + "; ".join(parts)
+
+
+Reduce = Callable[[sp.Expr], "sp.Expr | tuple[sp.Expr, sp.Expr]"]
+
+
+@dataclass
+class Plan:
+    """How to certify one statement: regions, an optional rewriting step, the box budget."""
+
+    regions: list[Region]
+    domain: str                                   # the certified domain in words, with units (the report)
+    reduce: Reduce | None = None                  # gap -> equal expression, or (positive factor, rest)
+    margin: sp.Expr | None = None                 # '>' statements: gap - margin >= 0, margin > 0 off zero_at
+    max_boxes: int = 400_000
+    seconds: float = 600.0
+    note: str = ""
+    covers_search_domain: bool = True             # False: certified on a smaller domain (says ``note``)
+
+
+@dataclass
+class Goal:
+    """``expr >= 0`` over ``region`` (component ``component`` of the statement; ``part`` 0 the rest, 1 the
+    positive factor of a factored gap)."""
+
+    region: int
+    component: int
+    part: int
+    expr: sp.Expr
+    raw: sp.Expr                  # the gap with the domain map, before ``reduce``
+    step: str                     # "none", "identity", "factor"
+
+
+def goal_coordinates(reg: Region, expr: sp.Expr) -> list[Coordinate]:
+    """The region's coordinates that the goal or a hypothesis reads (the others would only be split for
+    nothing: the goal is constant along them)."""
+    used = set(expr.free_symbols).union(*[set(h.free_symbols) for h in reg.hypotheses])
+    return [c for c in reg.coords if c.symbol in used]
+
+
+def gaps(st: Statement) -> list[sp.Expr]:
+    """The statement's gap per component: >= 0 exactly where it holds."""
+    lhs = list(st.lhs) if isinstance(st.lhs, sp.MatrixBase) else [st.lhs]
+    rhs = list(st.rhs) if isinstance(st.rhs, sp.MatrixBase) else [st.rhs]
+    if len(rhs) == 1 and len(lhs) > 1:
+        rhs = rhs * len(lhs)
+    if st.relation == "<=":
+        return [sp.sympify(b - a) for a, b in zip(lhs, rhs, strict=True)]
+    if st.relation in (">=", ">"):
+        return [sp.sympify(a - b) for a, b in zip(lhs, rhs, strict=True)]
+    raise ValueError(f"relation {st.relation!r} is not an inequality")
+
+
+def goals(st: Statement, plan: Plan) -> list[Goal]:
+    """Every goal of the plan, in a fixed order (region, component, part)."""
+    out = []
+    for ri, reg in enumerate(plan.regions):
+        for ci, g in enumerate(gaps(st)):
+            if st.relation == ">":
+                if plan.margin is None:
+                    raise ValueError("a '>' statement needs the plan's margin")
+                g = g - plan.margin
+            raw = g.xreplace(reg.subs) if reg.subs else g
+            missing = raw.free_symbols - set(reg.symbols)
+            if missing:
+                raise ValueError(f"region {ri}: the domain map leaves {sorted(map(str, missing))} free")
+            if plan.reduce is None:
+                out.append(Goal(ri, ci, 0, raw, raw, "none"))
+                continue
+            red = plan.reduce(raw)
+            if isinstance(red, tuple):
+                factor, rest = red
+                out.append(Goal(ri, ci, 0, sp.sympify(rest), raw, "factor"))
+                out.append(Goal(ri, ci, 1, sp.sympify(factor), raw, "factor"))
+            else:
+                out.append(Goal(ri, ci, 0, sp.sympify(red), raw, "identity"))
+    return out
+
+
+def expr_hash(*exprs: sp.Basic | str) -> str:
+    """sha256 of the expressions' ``srepr`` (SymPy's canonical argument order makes it stable)."""
+    h = hashlib.sha256()
+    for e in exprs:
+        h.update((e if isinstance(e, str) else sp.srepr(e)).encode())
+        h.update(b"\0")
+    return h.hexdigest()
+
+
+def statement_hash(st: Statement) -> str:
+    """The hash of a statement's sources: both sides and the relation, as built from ``symbolic/``."""
+    return expr_hash(st.relation, sp.sympify(st.lhs), sp.sympify(st.rhs))
+
+
+def region_hash(reg: Region) -> str:
+    return expr_hash(*[f"{c.symbol.name}:{c.lo!r}:{c.hi!r}" for c in reg.coords],
+                     *[f"{k}" for k in reg.subs], *list(reg.subs.values()), *reg.hypotheses,
+                     *[sp.Tuple(*sorted(p.items(), key=lambda kv: kv[0].name)) for p in reg.equilibria])
+
+
