@@ -6,6 +6,7 @@ import sympy as sp
 
 from ..certify import Coordinate, Plan, Region
 from ..core import Statement
+from .plans_v1 import PLANS as _PLANS_V1
 
 
 def _v2_lemma1(st: Statement) -> Plan:
@@ -22,4 +23,4 @@ def _v2_lemma1(st: Statement) -> Plan:
     return Plan([reg], "chi1_i in [-4, 4] (i = 1..3), kappa_1 in [0.01, 5] 1/s", reduce=reduce)
 
 
-PLANS = {"c002.V2.lemma1": _v2_lemma1}
+PLANS = {"c002.V2.lemma1": _v2_lemma1, **_PLANS_V1}

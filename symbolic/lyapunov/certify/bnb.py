@@ -136,8 +136,10 @@ class _Engine:
 
 
 def prove(g: sp.Expr, coords: list, hypotheses: list[sp.Expr] = (), equilibria: list[dict] = (),
-          max_boxes: int = 400_000, seconds: float = 600.0) -> BnbResult:
-    """Certify ``g >= 0`` on the box ``coords`` ([(symbol, lo, hi)]) where every hypothesis is >= 0."""
+          max_boxes: int = 400_000, seconds: float = 600.0, strict: bool = False) -> BnbResult:
+    """Certify ``g >= 0`` (``strict``: ``g > 0``) on the box ``coords`` ([(symbol, lo, hi)]) where every
+    hypothesis is >= 0."""
+    ok = (lambda v: v > 0) if strict else (lambda v: v >= 0)
     t0 = time.perf_counter()
     syms = [c[0] for c in coords]
     if len(syms) > MAX_DIM:
@@ -168,7 +170,7 @@ def prove(g: sp.Expr, coords: list, hypotheses: list[sp.Expr] = (), equilibria: 
             lo, hi, ids = q_lo[b0:b0 + BATCH], q_hi[b0:b0 + BATCH], q_id[b0:b0 + BATCH]
             out_lo, out_hi, smooth = eng.prog.evaluate(lo, hi)
             excluded = np.any(out_hi[1:] < 0, axis=0) if eng.nh else np.zeros(len(ids), bool)
-            natural = ~excluded & (out_lo[0] >= 0)
+            natural = ~excluded & ok(out_lo[0])
             leaf = np.full(len(ids), -1)
             leaf[excluded] = LEAF["X"]
             leaf[natural] = LEAF["N"]
@@ -180,15 +182,15 @@ def prove(g: sp.Expr, coords: list, hypotheses: list[sp.Expr] = (), equilibria: 
                 mag = np.full(lo.shape, np.nan)
                 if len(idx):
                     mv_lo, mg, dlo, dhi = eng.mean_value(lo[idx], hi[idx])
-                    mv_ok[idx] = mv_lo >= 0
+                    mv_ok[idx] = ok(mv_lo)
                     mag[idx] = mg
                     leaf[mv_ok] = LEAF["M"]
                     sel = ~mv_ok[idx] & np.any((dlo >= 0) | (dhi <= 0), axis=1)
                     if sel.any():
                         face = eng.monotone_face(lo[idx][sel], hi[idx][sel], dlo[sel], dhi[sel])
-                        leaf[idx[sel][face >= 0]] = LEAF["C"]
+                        leaf[idx[sel][ok(face)]] = LEAF["C"]
                 rest = leaf < 0
-                if rest.any() and eng.equilibria:
+                if rest.any() and eng.equilibria and not strict:
                     idx = np.nonzero(rest & smooth)[0]
                     contains = np.zeros(len(idx), bool)
                     for p in eng.equilibria:
@@ -205,7 +207,7 @@ def prove(g: sp.Expr, coords: list, hypotheses: list[sp.Expr] = (), equilibria: 
                 m = 0.5 * lo[idx] + 0.5 * hi[idx]
                 clo, chi, _ = eng.prog.evaluate(m, m)
                 inside = np.all(clo[1:] >= 0, axis=0) if eng.nh else np.ones(len(idx), bool)
-                bad = inside & (chi[0] < 0)
+                bad = inside & ((chi[0] <= 0) if strict else (chi[0] < 0))
                 if bad.any():
                     k = int(idx[np.argmax(bad & (chi[0] == chi[0][bad].min()))])
                     pt = {str(s): float(0.5 * lo[k, i] + 0.5 * hi[k, i]) for i, s in enumerate(syms)}

@@ -83,7 +83,7 @@ def derive(claim: Claim, tag: str, st: Statement, plan: Plan, log=print) -> tupl
         left = max(1.0, plan.seconds - (time.perf_counter() - t0))
         names = {c[0] for c in coords}
         eqs = [{k: v for k, v in p.items() if k in names} for p in reg.equilibria]
-        r = bnb.prove(g.expr, coords, list(reg.hypotheses), eqs, plan.max_boxes, left)
+        r = bnb.prove(g.expr, coords, list(reg.hypotheses), eqs, plan.max_boxes, left, strict=g.strict)
         if r.status != "certified":
             cx = None
             if r.counterexample:
@@ -97,6 +97,7 @@ def derive(claim: Claim, tag: str, st: Statement, plan: Plan, log=print) -> tupl
         for k, v in r.methods.items():
             methods[k] = methods.get(k, 0) + v
         out_goals.append({"region": g.region, "component": g.component, "part": g.part, "step": g.step,
+                          "strict": g.strict,
                           "goal_hash": _goal_key(g), "boxes": r.boxes, "methods": r.methods,
                           "seconds": round(r.seconds, 2), "tree": base64.b64encode(r.tree).decode()})
         log(f"    {claim.id} goal {len(out_goals)}/{len(gl)}: {r.boxes} boxes {r.methods} {r.seconds:.1f} s")
@@ -131,6 +132,9 @@ def _check_steps(st: Statement, plan: Plan) -> None:
     if st.relation == ">":
         if plan.margin is None or not prove_positive_definite(plan.margin, st.zero_at, st.positive):
             raise CheckError("the margin of a '>' statement is not a positive sum of squares in zero_at")
+    for u in plan.uses:
+        if not u.lemma.verify():
+            raise CheckError(f"the proof of lemma {u.lemma.name} does not check")
     gl = goals(st, plan)
     by_raw: dict = {}
     for g in gl:
@@ -193,7 +197,7 @@ def recheck(claim: Claim, tag: str, st: Statement, plan: Plan, data: dict) -> Ce
                 raise CheckError("the goals are out of order")
             cs = goal_coordinates(reg, g.expr)
             eqs = [{k: v for k, v in p.items() if k in {c.symbol for c in cs}} for p in reg.equilibria]
-            checker = LeafChecker(g.expr, [c.symbol for c in cs], list(reg.hypotheses), eqs)
+            checker = LeafChecker(g.expr, [c.symbol for c in cs], list(reg.hypotheses), eqs, g.strict)
             root = [(float(c.lo), float(c.hi)) for c in cs]
             tree = base64.b64decode(rec["tree"], validate=True)
             try:

@@ -24,6 +24,7 @@ from dataclasses import dataclass, field
 import sympy as sp
 
 from ..core import Statement
+from .lemmas import Lemma
 
 
 @dataclass(frozen=True)
@@ -68,6 +69,24 @@ class Region:
 Reduce = Callable[[sp.Expr], "sp.Expr | tuple[sp.Expr, sp.Expr]"]
 
 
+@dataclass(frozen=True)
+class Use:
+    """One instance of a proved lemma in a proof by composition: ``weight * lemma.gap(mapping) >= 0``.
+
+    The goal becomes ``gap - sum_k weight_k * lemma_k.gap(mapping_k)``, and each use adds its side goals:
+    ``weight >= 0`` and every premise of the lemma at the mapped point (``mapping`` gives the lemma's
+    symbols as expressions of the statement's symbols; the region's domain map is applied after it).
+    ``component``: the statement's component it applies to."""
+
+    lemma: Lemma
+    mapping: dict
+    weight: sp.Expr = sp.S.One
+    component: int = 0
+
+    def mapped(self, expr: sp.Expr) -> sp.Expr:
+        return sp.sympify(expr).xreplace({k: sp.sympify(v) for k, v in self.mapping.items()})
+
+
 @dataclass
 class Plan:
     """How to certify one statement: regions, an optional rewriting step, the box budget."""
@@ -80,19 +99,21 @@ class Plan:
     seconds: float = 600.0
     note: str = ""
     covers_search_domain: bool = True             # False: certified on a smaller domain (says ``note``)
+    uses: tuple[Use, ...] = ()                    # proved lemmas the proof composes (see :class:`Use`)
 
 
 @dataclass
 class Goal:
     """``expr >= 0`` over ``region`` (component ``component`` of the statement; ``part`` 0 the rest, 1 the
-    positive factor of a factored gap)."""
+    positive factor of a factored gap, 2... the side goals of the lemmas used: weights and premises)."""
 
     region: int
     component: int
     part: int
     expr: sp.Expr
     raw: sp.Expr                  # the gap with the domain map, before ``reduce``
-    step: str                     # "none", "identity", "factor"
+    step: str                     # "none", "identity", "factor"; side goals: "weight", "premise"
+    strict: bool = False          # expr > 0 (a strict premise of a lemma)
 
 
 def goal_coordinates(reg: Region, expr: sp.Expr) -> list[Coordinate]:
@@ -115,29 +136,48 @@ def gaps(st: Statement) -> list[sp.Expr]:
     raise ValueError(f"relation {st.relation!r} is not an inequality")
 
 
+def composed(st: Statement, plan: Plan, region: Region, component: int, gap: sp.Expr) -> sp.Expr:
+    """The gap of one component over one region, less the lemmas used (before ``reduce``)."""
+    g = gap - plan.margin if st.relation == ">" else gap
+    for u in plan.uses:
+        if u.component == component:
+            g = g - u.weight * u.mapped(u.lemma.gap)
+    return g.xreplace(region.subs) if region.subs else g
+
+
 def goals(st: Statement, plan: Plan) -> list[Goal]:
     """Every goal of the plan, in a fixed order (region, component, part)."""
+    if st.relation == ">" and plan.margin is None:
+        raise ValueError("a '>' statement needs the plan's margin")
     out = []
     for ri, reg in enumerate(plan.regions):
         for ci, g in enumerate(gaps(st)):
-            if st.relation == ">":
-                if plan.margin is None:
-                    raise ValueError("a '>' statement needs the plan's margin")
-                g = g - plan.margin
-            raw = g.xreplace(reg.subs) if reg.subs else g
+            raw = composed(st, plan, reg, ci, g)
             missing = raw.free_symbols - set(reg.symbols)
             if missing:
                 raise ValueError(f"region {ri}: the domain map leaves {sorted(map(str, missing))} free")
             if plan.reduce is None:
                 out.append(Goal(ri, ci, 0, raw, raw, "none"))
-                continue
-            red = plan.reduce(raw)
-            if isinstance(red, tuple):
-                factor, rest = red
-                out.append(Goal(ri, ci, 0, sp.sympify(rest), raw, "factor"))
-                out.append(Goal(ri, ci, 1, sp.sympify(factor), raw, "factor"))
             else:
-                out.append(Goal(ri, ci, 0, sp.sympify(red), raw, "identity"))
+                red = plan.reduce(raw)
+                if isinstance(red, tuple):
+                    factor, rest = red
+                    out.append(Goal(ri, ci, 0, sp.sympify(rest), raw, "factor"))
+                    out.append(Goal(ri, ci, 1, sp.sympify(factor), raw, "factor"))
+                else:
+                    out.append(Goal(ri, ci, 0, sp.sympify(red), raw, "identity"))
+            part = 2
+            for u in plan.uses:
+                if u.component != ci:
+                    continue
+                side = [(u.weight, "weight", False)] + [
+                    (u.mapped(h), "premise", u.lemma.strict_premise(k)) for k, h in enumerate(u.lemma.premises)]
+                for e, kind, strict in side:
+                    e = sp.sympify(e).xreplace(reg.subs) if reg.subs else sp.sympify(e)
+                    if e.is_number and (e > 0 or (e >= 0 and not strict)):
+                        continue          # a constant of the right sign needs no boxes
+                    out.append(Goal(ri, ci, part, e, e, kind, strict))
+                    part += 1
     return out
 
 

@@ -225,6 +225,7 @@ class LeafChecker:
     coords: list
     hypotheses: list
     equilibria: list
+    strict: bool = False
 
     def __post_init__(self):
         self.prog = IvProgram([self.g], self.coords)
@@ -268,6 +269,9 @@ class LeafChecker:
             acc = acc + d * (b - c)
         return acc.a, grads
 
+    def _ok(self, lower) -> bool:
+        return lower > 0 if self.strict else lower >= 0
+
     def check(self, method: str, box: list) -> str:
         """'' when the leaf's method holds on ``box``, else the reason."""
         if method == "X":
@@ -277,12 +281,12 @@ class LeafChecker:
             return "" if any(h.b < 0 for h in hs) else "no hypothesis is < 0 on the whole box"
         if method == "N":
             (gv,), _ = self.prog.evaluate(box)
-            return "" if gv.a >= 0 else f"enclosure lower bound {gv.a} < 0"
+            return "" if self._ok(gv.a) else f"enclosure lower bound {gv.a} too low"
         if method == "M":
             lo, _ = self._mean_value(box)
             if lo is None:
                 return "the goal is not differentiable on the box"
-            return "" if lo >= 0 else f"mean-value lower bound {lo} < 0"
+            return "" if self._ok(lo) else f"mean-value lower bound {lo} too low"
         if method == "C":
             (gv,), smooth = self.prog.evaluate(box)
             if not smooth:
@@ -297,11 +301,13 @@ class LeafChecker:
                 else:
                     face.append(b)
             (fv,), _ = self.prog.evaluate(face)
-            if fv.a >= 0:
+            if self._ok(fv.a):
                 return ""
             lo, _ = self._mean_value(face)
-            return "" if (lo is not None and lo >= 0) else f"face lower bound {fv.a} < 0"
+            return "" if (lo is not None and self._ok(lo)) else f"face lower bound {fv.a} too low"
         if method == "H":
+            if self.strict:
+                return "a second-order certificate proves g >= 0 only, the goal is strict"
             inside = [p for p in self.eq_points if all(b.a <= _mpq(v) <= b.b for v, b in zip(p, box, strict=True))]
             if not inside:
                 return "the box contains no verified equilibrium"
