@@ -58,4 +58,82 @@ def _vs_bound(st: Statement) -> Plan:
                 reduce=sp.expand)
 
 
-PLANS = {"c004.theorem.Vs_bound": _vs_bound}
+def _v_lower_bound(st: Statement) -> Plan:
+    """The bound on V in the proof of Theorem 1: V1 + V2 - rhs is a sum of squares once J and the gains
+    are written by a domain map.
+
+    * J = lambda_J I + C C^T, C lower triangular (c_ii >= 0): every J - lambda_J I that is positive
+      semidefinite has such a (Cholesky) factor, so every drawn point (lambda_J = min eig J) is covered;
+      then s2^T J s2 - lambda_J |s2|^2 = |C^T s2|^2.  Bounds: lambda_min(J) >= 200 - 2*60 = 80 (Gershgorin)
+      and <= 700; (C C^T)_ii = J_ii - lambda_J <= 620, so |c_ij| <= sqrt(620) < 25.
+    * gamma = max gamma_i: one region per index k of the largest gain, gamma_k = G and gamma_i = G (1 - v_i)
+      with v_i in [0, 0.99] (v_i = 1 - gamma_i/G <= 1 - 0.01/G); Max simplifies to G exactly (v_i >= 0), and
+      z^2/(2 gamma_i) - z^2/(2 G) = z^2 v_i / (2 G (1 - v_i)) >= 0.
+
+    The rewritten gap (checked to be identical) is a sum of such nonnegative terms: the natural enclosure
+    closes it on one box per region."""
+    sym = _by_name(st)
+    s2 = _vec(sym, "s_2")
+    lam = sym["lambda_J"]
+    J = {(i, j): sym[f"J_{i}{j}"] for i in range(1, 4) for j in range(i, 4)}
+    cd = [sp.Symbol(f"c_{i}{i}", nonnegative=True) for i in range(1, 4)]
+    c21, c31, c32 = (sp.Symbol(f"c_{i}{j}", real=True) for i, j in ((2, 1), (3, 1), (3, 2)))
+    C = sp.Matrix([[cd[0], 0, 0], [c21, cd[1], 0], [c31, c32, cd[2]]])
+    CCt = C * C.T
+    lam_c = sp.Symbol("lambda", positive=True)
+    j_subs = {J[i, j]: CCt[i - 1, j - 1] + (lam_c if i == j else 0) for (i, j) in J}
+    j_subs[lam] = lam_c
+    j_coords = ([Coordinate(lam_c, 80.0, 700.0, "kg m^2")] + [Coordinate(c, 0.0, 25.0, "sqrt(kg) m") for c in cd]
+                + [Coordinate(c, -25.0, 25.0, "sqrt(kg) m") for c in (c21, c31, c32)])
+    Cts = C.T * sp.Matrix(s2)
+    gam = [sym[f"gamma_{i}"] for i in range(1, 7)]
+    # each gain's estimate errors (eqs. 23, 32); rho~_f is in V1 but not in the printed zeta
+    zeta = {1: [sym["mtilde_Delta"]], 2: [], 3: [sym["rhotilde_m"]], 4: _vec(sym, "thetatilde_Delta", 6),
+            5: [sym["rhotilde_tau"]], 6: [sym["rhotilde_J"]]}
+    rf = sym["rhotilde_f"]
+    other = ([Coordinate(x, -40.0, 40.0, "m") for x in _vec(sym, "r_e")]
+             + [Coordinate(x, -2.0, 2.0, "m/s") for x in _vec(sym, "s_1")]
+             + [Coordinate(x, -2.0, 2.0, "rad/s") for x in s2]
+             + [Coordinate(x, -20.0, 20.0) for x in (*zeta[1], rf, *zeta[3], *zeta[5], *zeta[6])]
+             + [Coordinate(x, -100.0, 100.0, "kg m^2") for x in zeta[4]]
+             + [Coordinate(sym["k_0"], 0.01, 1.0, "N/m"), Coordinate(sym["m"], 20.0, 100.0, "kg")])
+    G = sp.Symbol("gamma_max", positive=True)
+    regions, targets = [], []
+    for k in range(6):
+        coords, subs, hyps = [Coordinate(G, 0.01, 1.0)], {gam[k]: G}, []
+        target = sum(e**2 for e in Cts) / 2
+        for i in range(6):
+            if i == k:
+                continue
+            v = sp.Symbol(f"v_{i + 1}", nonnegative=True)
+            coords.append(Coordinate(v, 0.0, 0.99))
+            subs[gam[i]] = G * (1 - v)
+            hyps.append(G * (1 - v) - sp.Rational(1, 100))
+            target += sum(z**2 for z in zeta[i + 1]) * v / (2 * G * (1 - v))
+        target += rf**2 / (2 * subs[gam[1]])
+        regions.append(Region(tuple(other + j_coords + coords), {**j_subs, **subs}, tuple(hyps),
+                              describe=f"gamma_{k + 1} = max gamma_i"))
+        targets.append(target)
+
+    def reduce(g):
+        # the region is the one whose ratio coordinates v_i are those in g; return its sum of squares
+        # (the certificate re-checks that the two are identical)
+        used = {x for x in g.free_symbols if x.name.startswith("v_")}
+        for reg, tgt in zip(regions, targets, strict=True):
+            if used == {c.symbol for c in reg.coords if c.symbol.name.startswith("v_")}:
+                return tgt
+        raise ValueError("no region matches")
+
+    return Plan(regions, "r_e in [-40, 40]^3 m, s1 in [-2, 2]^3 m/s, s2 in [-2, 2]^3 rad/s, m~, rho~_f, "
+                         "rho~_m, rho~_tau, rho~_J in [-20, 20], theta~ in [-100, 100]^6 kg m^2, k0 in [0.01, 1] "
+                         "N/m, m in [20, 100] kg, gamma_1..6 in [0.01, 1]; J = lambda_J I + C C^T with "
+                         "lambda_J in [80, 700] kg m^2, C lower triangular, c_ii in [0, 25], |c_ij| <= 25 "
+                         "(every J of the search domain with lambda_J = its least eigenvalue, and more: any "
+                         "lambda_J <= min eig J)",
+                reduce=reduce,
+                note="Certified for every lambda_J with J - lambda_J I = C C^T (a lower bound on the least "
+                     "eigenvalue), which contains the drawn lambda_J = min eig J of every diagonally dominant "
+                     "J of the search domain (Cholesky factor of J - lambda_min I, bounds in the plan).")
+
+
+PLANS = {"c004.theorem.Vs_bound": _vs_bound, "c004.theorem.V_lower_bound": _v_lower_bound}
