@@ -136,4 +136,8 @@ def _v_lower_bound(st: Statement) -> Plan:
                      "J of the search domain (Cholesky factor of J - lambda_min I, bounds in the plan).")
 
 
+# No plan yet for position.n1_bound, attitude.n2_bound, position.V1dot_bound, attitude.V2dot_bound and
+# theorem.Vdot_bound: each rests on ||n|| <= rho ||w_t||^2, whose proof needs |R a| = |a| for R = R(sigma_e)
+# and ||J_t^-1|| ||J_t|| from eigenvalues (neither is a syntactic cancellation the prover can use), and whose
+# gap is 0 at w = w_e with a square root of a quartic there (no first- or second-order leaf closes it).
 PLANS = {"c004.theorem.Vs_bound": _vs_bound, "c004.theorem.V_lower_bound": _v_lower_bound}
