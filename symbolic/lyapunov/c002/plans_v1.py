@@ -4,9 +4,13 @@ from __future__ import annotations
 
 import sympy as sp
 
+from ...controllers import c002 as c
+from ...rotations import dot
 from ..certify import Coordinate, Plan, Region
-from ..certify.plan import composed, gaps
+from ..certify.lemmas import Lemma
+from ..certify.plan import Use, composed, gaps
 from ..core import Statement
+from .common import _nrm
 
 
 def _named(st: Statement, *names: str) -> list[sp.Symbol]:
@@ -94,7 +98,113 @@ def _residual_set(st: Statement) -> Plan:
     return plan
 
 
+# --------------------------------------------------------------------------- Remark 4: ||C_r w~||
+
+def _ball4(t: list[sp.Symbol], sg: sp.Symbol) -> list[sp.Expr]:
+    """The closed unit ball of R^4 as the image of [-1, 1]^4 (onto; the unit sphere at sg = +-1): the ball chart
+    of :func:`_ball3` for the first three entries, the fourth sg sqrt((1 - t1^2)(1 - t2^2)(1 - t3^2)), so that
+    1 - |.|^2 = (1 - sg^2)(1 - t1^2)(1 - t2^2)(1 - t3^2)."""
+    return [*_ball3(t), sg * sp.sqrt((1 - t[0] ** 2) * (1 - t[1] ** 2) * (1 - t[2] ** 2))]
+
+
+def _expand0(e) -> bool:
+    return sp.expand(e) == 0
+
+
+def _remark4_lemma_proof() -> bool:
+    """The identities of the Remark 4 chain (see the lemma's text)."""
+    Jg = sp.Matrix(3, 3, lambda i, j: sp.Symbol(f"jg_{min(i, j) + 1}{max(i, j) + 1}", real=True))
+    p, w, uu, vv = (sp.Matrix(sp.symbols(f"{n}_1:4", real=True)) for n in ("pg", "wg", "ug", "vg"))
+    X = c.attitude_coriolis_matrix(Jg, sp.eye(3), p, w) * w
+    parts = Jg * p.cross(w) + p.cross(Jg * w) - (Jg * p).cross(w) - (Jg * w).cross(w)
+    split = all(_expand0(a - b) for a, b in zip(X, parts, strict=True))
+    Rs = sp.Matrix(3, 3, lambda i, j: sp.Symbol(f"rg_{i + 1}{j + 1}", real=True))
+    via_p = all(_expand0(e) for e in c.attitude_coriolis_matrix(Jg, Rs, p, w)
+                - c.attitude_coriolis_matrix(Jg, sp.eye(3), Rs * p, w))
+    lagrange = _expand0(dot(uu.cross(vv), uu.cross(vv)) + dot(uu, vv) ** 2 - dot(uu, uu) * dot(vv, vv))
+    qg = sp.Matrix(sp.symbols("qg_1:5", real=True))
+    Rg = c.dcm_pursuer_from_target(qg)
+    orth = all(_expand0(e) for e in Rg.T * Rg - dot(qg, qg) ** 2 * sp.eye(3))
+    t, sg = list(sp.symbols("tg_1:4", real=True)), sp.Symbol("sg", real=True)
+    prod3 = (1 - t[0] ** 2) * (1 - t[1] ** 2) * (1 - t[2] ** 2)
+    ball4 = _expand0(1 - sum(x**2 for x in _ball4(t, sg)) - (1 - sg**2) * prod3)
+    unit4 = _expand0(sum(x**2 for x in _ball4(t, 1)) - 1)
+    ball3 = _expand0(1 - sum(x**2 for x in _ball3(t)) - prod3)
+    return split and via_p and lagrange and orth and ball4 and unit4 and ball3
+
+
+def _remark4_charts(Jm, q, wt, a1, cy, t, sg, u, b1, f) -> dict:
+    """The charts, as a substitution of the symbols of J (upper triangle), q and omega_t:
+    J = C diag(b1 f) C^T with C = R(c(u)), c(u) = :func:`_ball4` at sg = 1 (a unit quaternion),
+    q = :func:`_ball4` (t, sg) (the unit ball of R^4), omega_t = a1 :func:`_ball3` (cy)."""
+    Cm = c.dcm_pursuer_from_target(sp.Matrix(_ball4(u, 1)))
+    J = Cm * sp.diag(*[b1 * x for x in f]) * Cm.T
+    return {**{Jm[i, j]: J[i, j] for i in range(3) for j in range(i, 3)}, **dict(zip(q, _ball4(t, sg), strict=True)),
+            **dict(zip(wt, [a1 * y for y in _ball3(cy)], strict=True))}
+
+
+def _remark4_lemma(w, a1, cy, t, sg, u, b1, f) -> Lemma:
+    """Remark 4 (corrected) in the charts of the plan: J = C diag(b1 f) C^T with C = R(c(u)), c(u) a unit
+    quaternion (:func:`_ball4` at sg = 1), R = R(q(t, sg)), omega_t = a1 y(cy) (:func:`_ball3`)."""
+    Jg = sp.Matrix(3, 3, lambda i, j: sp.Symbol(f"jg_{min(i, j) + 1}{max(i, j) + 1}", real=True))
+    qg, wtg = sp.Matrix(sp.symbols("qg_1:5", real=True)), sp.Matrix(sp.symbols("wtg_1:4", real=True))
+    wv = sp.Matrix(w)
+    nw = _nrm(wv)
+    generic = 3 * a1 * b1 * nw + b1 * nw**2 - _nrm(c.attitude_coriolis_matrix(Jg, c.dcm_pursuer_from_target(qg),
+                                                                             wtg, wv) * wv)
+    gap = generic.xreplace(_remark4_charts(Jg, qg, wtg, a1, cy, t, sg, u, b1, f))
+    prem = (a1, b1, *[1 - x**2 for x in (*cy, *t, sg, *u)], *[1 - x for x in f], *f)
+    text = ("||C_r w|| <= 3 a1 b1 ||w|| + b1 ||w||^2 for C_r = J p^x + p^x J - (J (w + p))^x (eq. 4), p = R omega_t "
+            "(C_r depends on R, omega_t only through p: identity), J = C diag(b1 f) C^T with 0 <= f_i <= 1, "
+            "C = R(c(u)), |c(u)| = 1, R = R(q), |q| <= 1, |omega_t| <= a1: "
+            "(1) C_r w = J (p x w) + p x (J w) - (J p) x w - (J w) x w (identity); (2) the triangle inequality "
+            "(Cauchy-Schwarz) bounds its norm by the sum of the four norms; (3) |a x b| <= |a| |b| (Lagrange: "
+            "|a x b|^2 + (a.b)^2 = |a|^2 |b|^2, identity); (4) |J x| <= b1 |x|: R(c)^T R(c) = |c|^4 I (identity) and "
+            "|c(u)|^2 = 1 (identity) make C orthogonal, so |J x|^2 = sum b1^2 f_i^2 (C^T x)_i^2 <= b1^2 |x|^2; "
+            "(5) |p| = |q|^2 |omega_t| (R^T R = |q|^4 I) with 1 - |q(t, sg)|^2 = (1 - sg^2) prod(1 - t_i^2) >= 0 "
+            "and a1^2 - |omega_t|^2 = a1^2 prod(1 - cy_i^2) >= 0 (identities), so |p| <= a1.  Sum of (2)-(5): "
+            "||C_r w|| <= b1 |p| |w| + |p| b1 |w| + b1 |p| |w| + b1 |w|^2 <= 3 a1 b1 |w| + b1 |w|^2.")
+    syms = (*w, a1, *cy, *t, sg, *u, b1, *f)
+    return Lemma("remark4_Cr_chart", tuple(syms), gap, prem, text, _remark4_lemma_proof)
+
+
+def _remark4_Cr(st: Statement) -> Plan:
+    """Remark 4 (corrected, factor 3): proved by the lemma above, stated in the plan's charts, so the goal
+    left to the boxes is the statement's gap less the lemma's (identically 0) and the lemma's premises
+    (box faces).  J's eigenvalues b1 f_i with f_i in [1/8, 1] contain every d_i in [5, b1]; b1 >= max d
+    (the claim's b1 = max d) is a superset; q in the unit ball of R^4 contains the unit quaternions."""
+    w = _named(st, "omega_1", "omega_2", "omega_3")
+    wt = _named(st, "omega_t_1", "omega_t_2", "omega_t_3")
+    q = _named(st, "q_1", "q_2", "q_3", "q_0")
+    Jn = {(i, j): _named(st, f"J_{i + 1}{j + 1}")[0] for i in range(3) for j in range(i, 3)}
+    a1, b1 = _named(st, "a_1", "b_1")
+    cy = list(sp.symbols("cy_1:4", real=True))
+    t = list(sp.symbols("t_1:4", real=True))
+    u = list(sp.symbols("u_1:4", real=True))
+    sg = sp.Symbol("sg", real=True)
+    f = list(sp.symbols("f_1:4", positive=True))
+    Jm = sp.Matrix(3, 3, lambda i, j: Jn[min(i, j), max(i, j)])
+    subs = _remark4_charts(Jm, q, wt, a1, cy, t, sg, u, b1, f)
+    coords = (*[Coordinate(x, -0.01, 0.01, "rad/s") for x in w], Coordinate(a1, 0.05, 0.5, "rad/s"),
+              *[Coordinate(x, -1.0, 1.0, "1") for x in cy + t + [sg] + u], Coordinate(b1, 5.0, 40.0, "kg m^2"),
+              *[Coordinate(x, 0.125, 1.0, "1") for x in f])
+    reg = Region(coords, subs, describe="J = R(c(u)) diag(b1 f) R(c(u))^T, q = q(t, sg) in the unit ball, "
+                                        "omega_t = a1 y(cy) in the a1-ball")
+    lem = _remark4_lemma(w, a1, cy, t, sg, u, b1, f)
+    return Plan([reg], "omega~ in [-0.01, 0.01]^3 rad/s, a1 in [0.05, 0.5] rad/s, ||omega_t|| <= a1, q any "
+                       "quaternion with |q| <= 1 (contains the unit ones), J = C diag(d) C^T with C any rotation and "
+                       "d_i in [b1/8, b1], b1 in [5, 40] kg m^2 (contains d_i in [5, 40], b1 = max d)",
+                uses=(Use(lem, {}),), reduce=_zero_goal(b1))
+
+
+def _zero_goal(x: sp.Symbol):
+    """The goal left after a lemma that is the whole statement is the constant 0, which the box prover cannot
+    take (no coordinate: an empty box array); 0 * x (unevaluated, x a coordinate) is the same goal on a box."""
+    return lambda g: sp.Mul(sp.S.Zero, x, evaluate=False) if g == 0 else g
+
+
 PLANS: dict = {
     "c002.V1.lemma2_unit_terms": _lemma2_unit,
     "c002.V1.residual_set": _residual_set,
+    "c002.model.remark4_Cr": _remark4_Cr,
 }
