@@ -203,8 +203,83 @@ def _zero_goal(x: sp.Symbol):
     return lambda g: sp.Mul(sp.S.Zero, x, evaluate=False) if g == 0 else g
 
 
+# --------------------------------------------------------------------------- Remark 5: ||m n_t||
+
+def _remark5_lemma_proof() -> bool:
+    """The identities of the Remark 5 chain (see the lemma's text), besides those of Remark 4's."""
+    Rs = sp.Matrix(3, 3, lambda i, j: sp.Symbol(f"rg_{i + 1}{j + 1}", real=True))
+    wt, wd, vt, vd, sig, dg = (sp.Matrix(sp.symbols(f"{n}_1:4", real=True))
+                               for n in ("wtg", "wdg", "vtg", "vdg", "sgg", "dgg"))
+    n_t = c.translation_nonlinear_term(Rs, wt, wd, vt, vd, sig, Rs * vd - dg)
+    pv = Rs * wt
+    parts = pv.cross(Rs * vt) + pv.cross(pv.cross(Rs * sig)) - Rs * sig.cross(wd) + dg
+    return all(_expand0(a - b) for a, b in zip(n_t, parts, strict=True)) and _remark4_lemma_proof()
+
+
+def _remark5_generic(m, a, sn, w):
+    """Remark 5's gap (corrected) built as the claim builds it, over generic symbols (returned with it)."""
+    qg = sp.Matrix(sp.symbols("qg_1:5", real=True))
+    vecs = {n: sp.Matrix(sp.symbols(f"{n}_1:4", real=True)) for n in ("wtg", "wdg", "vtg", "vdg", "sgg", "gpg", "dgg")}
+    R = c.dcm_pursuer_from_target(qg)
+    n_t = c.translation_nonlinear_term(R, vecs["wtg"], vecs["wdg"], vecs["vtg"], vecs["vdg"], vecs["sgg"], vecs["gpg"])
+    lhs = _nrm(m * n_t).xreplace(dict(zip(vecs["gpg"], R * vecs["vdg"] - vecs["dgg"], strict=True)))
+    a1, a2, a3, a4 = a
+    rhs = m * a1 * a3 + m * a4 + m * sn * a1 * _nrm(sp.Matrix(w)) + m * sn * a2 + m * a1**2 * sn
+    return rhs - lhs, qg, vecs
+
+
+def _remark5_charts(qg, vecs, a, sn, ch, t, sg) -> dict:
+    """q = :func:`_ball4` (t, sg); omega_t, omega_t_dot, v_t, sigma_t, Deltag, v_t_dot = radius x :func:`_ball3`
+    with radii a1, a2, a3, sigmanorm, a4, 10."""
+    a1, a2, a3, a4 = a
+    out = dict(zip(qg, _ball4(t, sg), strict=True))
+    for n, r in (("wtg", a1), ("wdg", a2), ("vtg", a3), ("sgg", sn), ("dgg", a4), ("vdg", 10)):
+        out.update(zip(vecs[n], [r * y for y in _ball3(ch[n])], strict=True))
+    return out
+
+
+def _remark5_nt(st: Statement) -> Plan:
+    """Remark 5 (corrected, with gravity): proved by a lemma stated in the plan's charts (as Remark 4), so the
+    boxes close only the lemma's premises (box faces) and the constant 0 left of the main goal."""
+    m, b3, sn = _named(st, "m", "b_3", "sigmanorm")
+    a = _named(st, "a_1", "a_2", "a_3", "a_4")
+    w = _named(st, "omega_1", "omega_2", "omega_3")
+    q = _named(st, "q_1", "q_2", "q_3", "q_0")
+    names = {"wtg": "omega_t", "wdg": "omegadot_t", "vtg": "v_t", "vdg": "vdot_t", "sgg": "sigma_t", "dgg": "Deltag"}
+    by = {x.name: x for x in st.free_symbols()}
+    ch = {n: list(sp.symbols(f"c{n[:2]}_1:4", real=True)) for n in names}
+    t, sg = list(sp.symbols("t_1:4", real=True)), sp.Symbol("sg", real=True)
+    gap, qg, vecs = _remark5_generic(m, a, sn, w)
+    charts = _remark5_charts(qg, vecs, a, sn, ch, t, sg)
+    prem = (m, sn, *a, *[1 - x**2 for x in (*t, sg, *[y for n in names for y in ch[n]])])
+    text = ("||m n_t|| <= m (a1 a3 + a4 + sigmanorm a1 ||w~|| + sigmanorm a2 + a1^2 sigmanorm) for n_t of eq. 9 "
+            "(corrected) with g_p = R v_t_dot - Deltag: (1) n_t = p x (R v_t) + p x (p x (R sigma_t)) "
+            "- R (sigma_t x omega_t_dot) + Deltag, p = R omega_t (identity); (2) the triangle inequality and "
+            "|a x b| <= |a| |b| (Lagrange's identity); (3) |R x| = |q|^2 |x| <= |x| (R^T R = |q|^4 I and "
+            "1 - |q(t, sg)|^2 = (1 - sg^2) prod(1 - t_i^2), identities); (4) each vector in its ball: "
+            "r^2 - |r y(c)|^2 = r^2 prod(1 - c_i^2) (identity); the sum is <= the bound (its a1 ||w~|| term >= 0).")
+    lem = Lemma("remark5_nt_chart", (m, sn, *a, *w, *t, sg, *[y for n in names for y in ch[n]]),
+                gap.xreplace(charts), prem, text, _remark5_lemma_proof)
+    subs = {b3: m, **{qs: charts[qq] for qs, qq in zip(q, qg, strict=True)}}
+    for n, base in names.items():
+        if f"{base}_1" in by:
+            subs.update({by[f"{base}_{i + 1}"]: charts[vecs[n][i]] for i in range(3)})
+    coords = (*[Coordinate(x, -1.0, 1.0, "rad/s") for x in w], Coordinate(a[0], 0.001, 0.5, "rad/s"),
+              Coordinate(a[1], 0.001, 0.5, "rad/s^2"), Coordinate(a[2], 0.01, 10.0, "m/s"),
+              Coordinate(a[3], 0.01, 10.0, "m/s^2"), Coordinate(m, 20.0, 200.0, "kg"),
+              Coordinate(sn, 0.1, 10.0, "m"),
+              *[Coordinate(x, -1.0, 1.0, "1") for x in (*t, sg, *[y for n in names for y in ch[n]])])
+    reg = Region(coords, subs, describe="b3 = m; q = q(t, sg) in the unit ball of R^4; omega_t, omega_t_dot, v_t, "
+                                        "sigma_t, Deltag, v_t_dot in their balls by the cube chart")
+    return Plan([reg], "omega~ in [-1, 1]^3 rad/s, a1, a2 in [0.001, 0.5], a3, a4 in [0.01, 10], m = b3 in [20, 200] "
+                       "kg, sigmanorm in [0.1, 10] m, ||omega_t|| <= a1, ||omega_t_dot|| <= a2, ||v_t|| <= a3, "
+                       "||sigma_t|| <= sigmanorm, ||Deltag|| <= a4, ||v_t_dot|| <= 10, q any quaternion with |q| <= 1 "
+                       "(contains the unit ones)", uses=(Use(lem, {}),), reduce=_zero_goal(m))
+
+
 PLANS: dict = {
     "c002.V1.lemma2_unit_terms": _lemma2_unit,
     "c002.V1.residual_set": _residual_set,
     "c002.model.remark4_Cr": _remark4_Cr,
+    "c002.model.remark5_nt": _remark5_nt,
 }
