@@ -1,0 +1,134 @@
+"""000: proof plans of the inequality claims (certified domains; see ``symbolic/lyapunov/certify``).
+
+The per-axis V-dot bounds (attitude eqs. 68-72, translation eqs. 102-104, 117-118, 129) share one plan:
+after the law and the adaptation laws are substituted and the product expanded, the parameter-error terms
+cancel and V-dot = (d - (D + eps) sign(s)) S_aug.  The domain map splits s = e_dot + lambda_0 e into the
+three pieces of the boundary layer, each with coordinates that carry SymPy sign assumptions matching their
+box (v, p, q >= 0), so that Max, Min, sign and Abs of the layer evaluate exactly when the map is
+substituted; the disturbance is d = D w with |w| <= 1 (its bound |d| = D on the faces w = +-1).
+"""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from ..certify import Coordinate, Plan, Region
+from ..core import Statement
+
+
+def _sym(st: Statement, name: str) -> sp.Symbol:
+    (s,) = [x for x in st.free_symbols() if x.name == name]
+    return s
+
+
+def _nonneg(name: str) -> sp.Symbol:
+    """A box coordinate >= 0 (its box starts at 0): the assumption lets SymPy evaluate the layer's Max, Min,
+    sign and Abs exactly under the domain map."""
+    return sp.Symbol(name, nonnegative=True)
+
+
+# --------------------------------------------------------------------------- convergence (eq. 72, conclusion)
+
+def _convergence(st: Statement) -> Plan:
+    """e (s - lambda_0 e) <= 0 inside the layer |s| <= d for d/lambda_0 <= |e| <= 3 d/lambda_0 (the sampler's
+    set: e = +-(d/lambda_0)(1 + 2|z|), |z| <= 1).  Map s = u d, e = +-w d/lambda_0 (w in [1, 3]): the gap is
+    (d^2/lambda_0) w (w -+ u), the positive factor d^2/lambda_0 cleared."""
+    e, s, lam = _sym(st, "e"), _sym(st, "s"), _sym(st, "lambda_0")
+    d = sp.Symbol("d", positive=True)
+    u, w = sp.symbols("u w", real=True)
+    base = (Coordinate(lam, 0.005, 1.0, "1/s"), Coordinate(d, 0.001, 1.0, "error rate unit"),
+            Coordinate(u, -1.0, 1.0, "1 (s = u d)"), Coordinate(w, 1.0, 3.0, "1 (|e| = w d/lambda_0)"))
+    regs = [Region(base, {s: u * d, e: sg * w * d / lam}, describe=f"e {'>' if sg > 0 else '<'} 0")
+            for sg in (1, -1)]
+
+    def reduce(g):
+        factor = d**2 / lam
+        return factor, sp.factor(sp.expand(g / factor))
+
+    return Plan(regs, "lambda_0 in [0.005, 1] 1/s, d in [0.001, 1], |s| <= d, d/lambda_0 <= |e| <= 3 d/lambda_0 "
+                      "(the search domain; e and s in the units of the tracking error and its rate)",
+                reduce=reduce)
+
+
+# --------------------------------------------------------------------------- per-axis V-dot <= -eps |S_aug|
+
+#: the abstract attitude axis' search domain (attitude._AttitudeAxis.domain): symbol -> (lo, hi, unit)
+_ATT_BOX = {"lambda_0": (0.05, 1.0, "1/s"), "e": (-1.0, 1.0, "1 (sgn(q_e4) q_ev)"),
+            "D": (0.001, 0.05, "rad/s^2"), "epsilon": (0.001, 0.05, "rad/s^2"), "acc_d": (-0.01, 0.01, "rad/s^2"),
+            "b": (1 / 30, 1 / 5, "1/(kg m^2)"), "bhat": (0.0, 40.0, "kg m^2"),
+            **{f"a_{i}": (-2.0, 2.0, "Table 1 units") for i in range(1, 7)},
+            **{f"ahat_{i}": (-40.0, 40.0, "Table 1 units / b") for i in range(1, 7)},
+            **{f"f_{i}": (-0.2, 0.2, "Table 1 units") for i in range(1, 7)}}
+_ATT_D = (0.001, 0.1, "rad/s")          # boundary-layer width d
+_ATT_S = 0.3                            # |s| <= 3 d + 0.3 rad/s (the sampler _s_then_edot)
+
+
+def _tr_box(ax: str, n: int) -> dict:
+    """The abstract translation axis' search domain (translation._TranslationAxis.domain)."""
+    return {"lambda_0": (0.005, 0.1, "1/s"), "e_" + ax: (-500.0, 500.0, "m"), f"epsilon_{ax}": (0.001, 0.1, "m/s^2"),
+            f"acc_d{ax}": (-0.05, 0.05, "m/s^2"), "b": (1 / 150, 1 / 50, "1/kg"), f"hhat_{ax}": (0.0, 200.0, "kg"),
+            f"D_{ax}": (0.001, 0.1, "m/s^2"),
+            **{f"theta_{ax}{i}": (-2.0, 2.0, "regressor units") for i in range(1, n + 1)},
+            **{f"thetahat_{ax}{i}": (-200.0, 200.0, "regressor units / b") for i in range(1, n + 1)},
+            **{f"phi_{ax}{i}": (-10.0, 10.0, "regressor units") for i in range(1, n + 1)}}
+
+
+def _axis_bound(names: dict, box: dict, d_box: tuple, s_scale: float, what: str):
+    """Plan of an abstract axis' V-dot <= -eps |S_aug| (|dist| <= D).  ``names``: the statement's symbols
+    e, edot, d, D, dist; ``box``: the other coordinates' boxes (the search domain); ``d_box``: the layer's
+    width; |s| <= 3 d + s_scale (the sampler draws e_dot = s - lambda_0 e).
+
+    Regions: s >= d (s = d + (2 d + s_scale) v), s <= -d (s = -d - (2 d + s_scale) v), v in [0, 1]; and
+    |s| <= d with p = d - s, q = d + s >= 0 as coordinates (d = (p + q)/2 within its box by hypotheses), where
+    S_aug = Max(-p, 0) + Min(q, 0) = 0.  The disturbance is D w, |w| <= 1.  ``reduce``: expansion (the
+    adaptive terms cancel) and factorisation of what remains."""
+
+    def plan(st: Statement) -> Plan:
+        sym = {k: _sym(st, v) for k, v in names.items()}
+        s_add = sp.nsimplify(s_scale)       # exact: 5 m/s, 3/10 rad/s
+        lam = _sym(st, "lambda_0")
+        e, edot, d, D, dist = (sym[k] for k in ("e", "edot", "d", "D", "dist"))
+        w = sp.Symbol("w", real=True)
+        v, p, q = _nonneg("v"), _nonneg("p"), _nonneg("q")
+        free = {x.name: x for x in st.free_symbols()}
+        others = tuple(Coordinate(free[k], lo, hi, unit) for k, (lo, hi, unit) in box.items() if k in free)
+        cw = Coordinate(w, -1.0, 1.0, f"1 ({dist} = {D} w)")
+        cd = Coordinate(d, d_box[0], d_box[1], d_box[2])
+        regs = []
+        for sg, txt in ((1, "s >= d"), (-1, "s <= -d")):
+            s_map = sg * (d + (2 * d + s_add) * v)
+            regs.append(Region(others + (cd, cw, Coordinate(v, 0.0, 1.0, f"1 (s = {sg} (d + (2 d + {s_scale:g}) v))")),
+                               {edot: s_map - lam * e, dist: D * w}, describe=txt))
+        pq_hi = 2 * d_box[1]
+        d_pq = (p + q) / 2
+        regs.append(Region(others + (cw, Coordinate(p, 0.0, pq_hi, f"{d_box[2]} (d - s)"),
+                                     Coordinate(q, 0.0, pq_hi, f"{d_box[2]} (d + s)")),
+                           {d: d_pq, edot: (q - p) / 2 - lam * e, dist: D * w},
+                           hypotheses=(d_pq - d_box[0], d_box[1] - d_pq), describe="|s| <= d"))
+
+        def reduce(g):
+            return sp.factor(sp.expand(g))
+
+        dom = (f"{what}: every coordinate in its search box ({', '.join(c.describe() for c in others)}), "
+               f"d in [{d_box[0]:g}, {d_box[1]:g}] {d_box[2]}, |s| <= 3 d + {s_scale:g} (s = e_dot + lambda_0 e), "
+               f"|{dist}| <= {D}; gamma gains do not enter (they cancel)")
+        return Plan(regs, dom, reduce=reduce)
+
+    return plan
+
+
+_ATT_NAMES = {"e": "e", "edot": "edot", "d": "d", "D": "D", "dist": "dist"}
+_att_Vdot_bound = _axis_bound(_ATT_NAMES, _ATT_BOX, _ATT_D, _ATT_S, "attitude axis (eqs. 48, 51-72)")
+
+
+def _tr_names(ax: str) -> dict:
+    return {"e": f"e_{ax}", "edot": f"edot_{ax}", "d": f"d_{ax}", "D": f"D_{ax}", "dist": f"a_d{ax}"}
+
+
+_TR_PLANS = {f"c000.translation_{ax}.Vdot_bound":
+             _axis_bound(_tr_names(ax), _tr_box(ax, n), (0.001, 1.0, "m/s"), 5.0,
+                         f"translation axis {ax} (eqs. {eqs})")
+             for ax, n, eqs in (("x", 5, "81-104"), ("y", 3, "105-118"), ("z", 1, "119-129"))}
+
+
+PLANS = {"c000.convergence": _convergence, "c000.attitude.Vdot_bound": _att_Vdot_bound, **_TR_PLANS}
