@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import sympy as sp
 
+from ...controllers import c000 as c
 from ..certify import Coordinate, Plan, Region
 from ..certify.lemmas import Lemma
 from ..certify.plan import Use
@@ -189,5 +190,77 @@ def _form_eq30_x(st: Statement) -> Plan:
                 reduce=lambda g: sp.expand(g), uses=(use,))
 
 
+# --------------------------------------------------------------------------- the spacecraft V-dot bounds
+
+def _layer_lemma() -> Lemma:
+    """The per-axis step of eqs. 68-72 as a lemma: for S = s - d sat(s/d) (the code's layer, d >= 0) and
+    |delta| <= D, eps >= 0:  (delta - (D + eps) sign(s)) S <= -eps |S|."""
+    s, d, delta, D, eps = sp.symbols("s d delta D epsilon", real=True)
+    S = c.boundary_layer_surface(s, d)
+    gap = -eps * sp.Abs(S) - (delta - (D + eps) * sp.sign(s)) * S
+
+    def proof() -> bool:
+        v = sp.Symbol("v", positive=True)
+        dn, p, q = (sp.Symbol(n, nonnegative=True) for n in ("d_n", "p", "q"))
+        outside_pos = gap.xreplace({d: dn}).xreplace({s: dn + v}) - (D - delta) * v     # s > d: S = s - d
+        outside_neg = gap.xreplace({d: dn}).xreplace({s: -dn - v}) - (D + delta) * v    # s < -d: S = s + d
+        inside = gap.xreplace({d: (p + q) / 2, s: (q - p) / 2})                         # |s| <= d: S = 0
+        return all(sp.expand(e) == 0 for e in (outside_pos, outside_neg, inside))
+
+    return Lemma("boundary_layer_reaching", (s, d, delta, D, eps), gap, (D - delta, D + delta, eps, d),
+                 "(delta - (D + eps) sign(s)) S_aug <= -eps |S_aug| for |delta| <= D, eps >= 0, S_aug = "
+                 "max(s - d, 0) + min(s + d, 0), d >= 0: for s > d the gap is (D - delta)(s - d), for s < -d it is "
+                 "(D + delta)(-d - s), inside |s| <= d S_aug = 0 (each case an exact SymPy identity), products "
+                 "of nonnegative factors", proof)
+
+
+LAYER = _layer_lemma()
+
+
+def _att_spacecraft_bound(st: Statement) -> Plan:
+    """V_j-dot of C000.law along the rigid bodies <= -eps_j |S_j| (eqs. 51, 68-72, spacecraft quantities).
+
+    M_c is the statement's derived map M_c,j = I_cj (D_j z_j - wdot_d,j + (C_t^c I_t^-1 M_t)_j) (so that
+    d_j + wdot_d,j = D_j z_j, |z_j| <= 1).  With it, V_j-dot expands exactly (no use of |q_e| = 1 or
+    sigma^2 = 1) to (D_j z_j - (D_j + eps_j) sign(s_j)) S_j, s_j = omega_e,j + lam_att sigma q_e,j: the lemma
+    :data:`LAYER` (the per-axis argument) at delta = D_j z_j leaves the goal 0, and its premises are
+    |D_j z_j| <= D_j, eps_j >= 0, d_j >= 0.  Since the identity needs no constraint, the unit quaternion and
+    sigma = sgn(q_e4) are certified on their hull (q_e in [-1, 1]^4, sigma in [-1, 1])."""
+    fs = {x.name: x for x in st.free_symbols()}
+    ax = "xyz"
+    q = sp.Matrix([fs[f"q_e_{a}"] for a in "xyzw"])
+    C_tc = c.dcm_target_to_chaser(q)
+    Ic, It, Mt = ([fs[f"{n}{i}"] for i in (1, 2, 3)] for n in ("I_c", "I_t", "M_t"))
+    z = sp.symbols("z_d1:4", real=True)
+    D, eps, dd, wd = ([fs[f"{n}_{a}"] for a in ax] for n in ("D_att", "eps_att", "d_att", "wdot_d"))
+    subs = {fs[f"M_c{j + 1}"]: Ic[j] * (D[j] * z[j] - wd[j] + sum(C_tc[j, m] * Mt[m] / It[m] for m in range(3)))
+            for j in range(3)}
+    lam, sig = fs["lam_att"], fs["sigma"]
+    uses = tuple(Use(LAYER, {LAYER.symbols[0]: fs[f"w_e_{ax[j]}"] + lam * sig * q[j], LAYER.symbols[1]: dd[j],
+                             LAYER.symbols[2]: D[j] * z[j], LAYER.symbols[3]: D[j], LAYER.symbols[4]: eps[j]},
+                     component=j) for j in range(3))
+    boxes = ([(q[i], -1.0, 1.0, "1 (unit quaternion, hull)") for i in range(4)]
+             + [(sig, -1.0, 1.0, "1 (sgn(q_e4), hull)")]
+             + [(fs[f"{n}_{a}"], lo, hi, u) for n, lo, hi, u in (("w_e", -0.15, 0.15, "rad/s"),
+                                                                    ("w_c", -0.15, 0.15, "rad/s"),
+                                                                    ("h_rw", -2.0, 2.0, "N m s")) for a in ax]
+             + [(x, lo, hi, u) for xs, lo, hi, u in ((Mt, -1.0, 1.0, "N m"), (Ic, 5.0, 30.0, "kg m^2"),
+                                                     (It, 2000.0, 4000.0, "kg m^2"), (D, 0.001, 0.05, "rad/s^2"),
+                                                     (eps, 0.001, 0.05, "rad/s^2"), (dd, 0.0, 0.01, "rad/s"),
+                                                     (wd, -0.01, 0.01, "rad/s^2"), (z, -1.0, 1.0, "1"))
+                for x in xs]
+             + [(fs["lam_att"], 0.05, 1.0, "1/s")]
+             + [(fs[f"a_hat_{a}_{i}"], -40.0, 40.0, "Table 1 units / b") for a in ax for i in range(1, 7)]
+             + [(fs[f"b_hat_{a}"], 0.0, 40.0, "kg m^2") for a in ax])
+    coords = tuple(Coordinate(*b) for b in boxes if b[0] in fs.values() or b[0] in z)
+    # the composed goals are the constant 0: the redundant hypotheses give them coordinates (see form_eq30)
+    reg = Region(coords, subs, hypotheses=tuple(zj + 1 for zj in z),
+                 describe="the search domain (q_e and sigma on their hull); M_c,j = I_cj (D_j z_j - wdot_d,j + "
+                          "(C_t^c I_t^-1 M_t)_j) as the statement draws it")
+    return Plan([reg], "q_e in [-1, 1]^4 (contains the unit sphere), sigma in [-1, 1] (contains +-1), "
+                       + ", ".join(cd.describe() for cd in coords[5:]) + "; M_c as drawn (|d_j + wdot_d,j| <= D_j)",
+                reduce=lambda g: sp.expand(g), uses=uses)
+
+
 PLANS = {"c000.convergence": _convergence, "c000.attitude.Vdot_bound": _att_Vdot_bound, **_TR_PLANS,
-         "c000.translation_x.form_eq30": _form_eq30_x}
+         "c000.translation_x.form_eq30": _form_eq30_x, "c000.attitude.spacecraft_Vdot_bound": _att_spacecraft_bound}
