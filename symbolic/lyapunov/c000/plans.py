@@ -13,6 +13,7 @@ from __future__ import annotations
 import sympy as sp
 
 from ...controllers import c000 as c
+from ...relative_translation import relative_acceleration
 from ..certify import Coordinate, Plan, Region
 from ..certify.lemmas import Lemma
 from ..certify.plan import Use
@@ -262,5 +263,65 @@ def _att_spacecraft_bound(st: Statement) -> Plan:
                 reduce=lambda g: sp.expand(g), uses=uses)
 
 
+def _zero_if_identity(g: sp.Expr) -> sp.Expr:
+    """0 when ``g`` is identically 0 as a rational function (the certificate re-verifies it), else ``g``."""
+    return sp.Integer(0) if prove_zero(g, []) else g
+
+
+def _tr_spacecraft_bound(st: Statement) -> Plan:
+    """V_j-dot of C000.law along eq. 30 <= -eps_j |S_j| when |a_dj + rho_j + acc_d,j| <= D_j (eqs. 86-88,
+    102-104, 118, 129 on the spacecraft quantities).
+
+    a_d is the statement's derived map a_dj = D_j z_j - acc_d,j - rho_j (rho_x = eq. 30 - eq. 81 at zero
+    control and disturbance, rho_y = rho_z = 0).  With it, V_j-dot equals (D_j z_j - (D_j + eps_j) sign(s_j))
+    S_j as rational functions (the plant's C_{L<-c}(q) = quat_to_dcm(q)/|q|^4 cancels against the law's
+    rotation for every q != 0, so |q_cL| = 1 is not used): the lemma :data:`LAYER` at delta = D_j z_j leaves the
+    goal 0 (re-verified symbolically), and its premises are |D_j z_j| <= D_j, eps_j >= 0, d_j >= 0.  q_cL is
+    certified on its hull minus a ball about 0, n and n_dot on a hull of the Kepler orbits drawn."""
+    fs = {x.name: x for x in st.free_symbols()}
+    ax = "xyz"
+    r = sp.Matrix([fs[f"r_{a}"] for a in ax])
+    v = sp.Matrix([fs[f"v_{a}"] for a in ax])
+    n, n_dot, r_t, mu = fs["n"], fs["n_dot"], fs["r_t"], fs["mu"]
+    z = sp.symbols("z_ad1:4", real=True)
+    D, eps, dd, acc, rg = ([fs[f"{nm}_{a}"] for a in ax] for nm in ("D_pos", "eps_pos", "d_pos", "acc_d", "r_goal"))
+    z3 = sp.zeros(3, 1)
+    rho = (relative_acceleration(r, v, r_t, n, n_dot, mu, z3, z3)[0]
+           - c.translation_model(r, v, n, n_dot, c.chaser_orbit_radius(r_t, r), mu, z3, z3)[0])
+    mu_val = sp.Integer(int(MU_EARTH))
+    # xreplace is simultaneous: mu inside rho is replaced here
+    subs = {fs[f"a_d{j + 1}"]: D[j] * z[j] - acc[j] - (rho.xreplace({mu: mu_val}) if j == 0 else 0) for j in range(3)}
+    subs[mu] = mu_val
+    lam = fs["lam_pos"]
+    L = LAYER.symbols
+    uses = tuple(Use(LAYER, {L[0]: lam * (r[j] - rg[j]) + v[j], L[1]: dd[j], L[2]: D[j] * z[j], L[3]: D[j],
+                             L[4]: eps[j]}, component=j) for j in range(3))
+    q = [fs[f"q_cL_{a}"] for a in "xyzw"]
+    th_scale = {"theta_xx_alpha_xx1": 1.0, "theta_xx_alpha_xx2": 1e-3, "theta_xx_alpha_xx3": 1e-3,
+                "theta_xx_a_xx1": 1e-3, "theta_xx_a_xx2": 1e17, "theta_yy_alpha_yy1": 1.0,
+                "theta_yy_alpha_yy2": 1e-3, "theta_yy_alpha_yy3": 1e-3, "theta_zz": 1e-3}
+    boxes = ([(x, -100.0, 100.0, "m") for x in r] + [(x, -6.0, 6.0, "m/s") for x in v]
+             + [(r_t, 6.7e6, 5.9e7, "m"), (n, 0.0, 1e-2, "rad/s"), (n_dot, -1e-5, 1e-5, "rad/s^2")]
+             + [(x, -1.0, 1.0, "1 (q_cL, hull)") for x in q]
+             + [(fs["m_c"], 80.0, 120.0, "kg"), (lam, 0.005, 0.1, "1/s")]
+             + [(x, 0.001, 0.1, "m/s^2") for x in D + eps] + [(x, 0.0, 0.05, "m/s") for x in dd]
+             + [(x, -0.05, 0.05, "m/s^2") for x in acc] + [(x, -20.0, 20.0, "m") for x in rg]
+             + [(fs[k], lo, hi, "") for k, lo, hi in (("gamma_theta", 1e-9, 1.0), ("gamma_h", 0.1, 10.0)) if k in fs]
+             + [(fs[f"h_hat_{a}{a}"], 50.0, 200.0, "kg") for a in ax]
+             + [(fs[k], -sc, sc, "regressor units / b") for k, sc in th_scale.items()]
+             + [(x, -1.0, 1.0, "1") for x in z])
+    coords = tuple(Coordinate(*b) for b in boxes if b[0] in fs.values() or b[0] in z)
+    # the composed goals are the constant 0: the redundant hypotheses z_j >= -1 give them coordinates
+    hyps = (*[zj + 1 for zj in z], sum(x**2 for x in q) - sp.Rational(1, 2))
+    reg = Region(coords, subs, hypotheses=hyps,
+                 describe="the search domain on hulls (q_cL, n, n_dot); a_d as the statement draws it")
+    return Plan([reg], "q_cL in [-1, 1]^4 with |q_cL|^2 >= 1/2 (contains the unit sphere), n in [0, 0.01] rad/s, "
+                       "n_dot in [-1e-5, 1e-5] rad/s^2 (contain the Kepler orbits drawn), mu = 3.986004418e14 m^3/s^2, "
+                       + ", ".join(cd.describe() for cd in coords if cd.symbol not in (*q, n, n_dot))
+                       + "; a_d as drawn (|a_dj + rho_j + acc_d,j| <= D_j)",
+                reduce=_zero_if_identity, uses=uses)
+
+
 PLANS = {"c000.convergence": _convergence, "c000.attitude.Vdot_bound": _att_Vdot_bound, **_TR_PLANS,
-         "c000.translation_x.form_eq30": _form_eq30_x, "c000.attitude.spacecraft_Vdot_bound": _att_spacecraft_bound}
+         "c000.translation_x.form_eq30": _form_eq30_x, "c000.attitude.spacecraft_Vdot_bound": _att_spacecraft_bound,
+         "c000.translation.spacecraft_Vdot_bound": _tr_spacecraft_bound}
