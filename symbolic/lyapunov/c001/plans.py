@@ -106,7 +106,53 @@ def _eso_v1_definite(st: Statement) -> Plan:
                      "enlarge it.")
 
 
+# --------------------------------------------------------------------------- Proposition 2 (pose law)
+
+def _pose_h_definite(st: Statement) -> Plan:
+    """Eq. 64: X^T H X = sum_i (k_d omega_i^2 - J_i omega_i Dd_i + k_v D_i Dd_i^2) > 0, J = diag(M, m I).
+
+    Per channel the 2x2 block, less the margin eps (omega_i^2 + Dd_i^2), is written in LDL^T form (lemma
+    ``ldl_2``, 2 eps taken, so eps (omega_i^2 + Dd_i^2) remains as the main goal): pivot k_d - 2 eps,
+    Schur complement v_i = k_v D_i - 2 eps - J_i^2 / (4 (k_d - 2 eps)).  The sampler's k_v is
+    s T with T = max_j c_j / D_j (c_j = J_j^2 / (4 k_d)) and s in [1 + 1e-6, 10 + 1e-6]; the domain map
+    D_i = c_i / (T r_i), r_i in (0, 1], k_v = s T makes k_v D_i = s c_i / r_i (T cancels), so v_i is
+    monotone in two coordinates and its worst corner s = 1 + 1e-6, r_i = 1 keeps a relative slack 1e-6."""
+    eps = sp.Rational(1, 10**9)
+    vals = {"k_d": 2.0, "m": 60.0, "M_1": 15.6, "M_2": 10.8, "M_3": 11.5}
+    fixed = {_sym(st, n): sp.Rational(v) for n, v in vals.items()}
+    kd = fixed[_sym(st, "k_d")]
+    J = [_sym(st, n) for n in ("M_1", "M_2", "M_3", "m", "m", "m")]
+    Jv = [fixed[j] for j in J]
+    w = [_sym(st, f"omega_{i}") for i in range(1, 7)]
+    dd = [_sym(st, f"Deltad_{i}") for i in range(1, 7)]
+    D = [_sym(st, f"D_{i}") for i in range(1, 7)]
+    kv = _sym(st, "k_v")
+    cs = [j**2 / (4 * kd) for j in Jv]
+    cmax = max(cs)
+    T, s_ = sp.symbols("T s", positive=True)
+    r = sp.symbols("r_1:7", positive=True)
+    coords = ([Coordinate(x, -1.0, 1.0, "rad/s or m/s" if k < 6 else "rad/s^2 or m/s^2") for k, x in enumerate(w + dd)]
+              + [Coordinate(T, float(cmax) / 100 * (1 - 1e-9), float(cmax) / 0.01 * (1 + 1e-9), "unit of k_v")]
+              + [Coordinate(s_, 1.0 + 0.9e-6, 10.0 + 2e-6)]
+              + [Coordinate(ri, float(ci / cmax) * 1e-4 * (1 - 1e-9), 1.0) for ri, ci in zip(r, cs, strict=True)])
+    subs = dict(fixed)
+    subs[kv] = s_ * T
+    subs.update({Di: ci / (T * ri) for Di, ci, ri in zip(D, cs, r, strict=True)})
+    p = _sym(st, "k_d") - 2 * eps          # the pivot (k_d = 2 by the domain map)
+    uses = tuple(Use(LDL2, {_p: p, _u: -j / (2 * p), _v: kv * Di - 2 * eps - j**2 / (4 * p), _x: x, _y: y})
+                 for j, Di, x, y in zip(J, D, w, dd, strict=True))
+    margin = eps * sum((x**2 for x in w + dd), sp.S.Zero)
+    reg = Region(tuple(coords), subs, describe="k_v = s T, D_i = c_i / (T r_i): the sampler's k_v, any D_i")
+    return Plan([reg], "omega_i, Deltad_i in [-1, 1]; k_d = 2, m = 60 kg, M = (15.6, 10.8, 11.5) kg m^2; "
+                "D_i > 0 with k_v >= (1 + 9e-7) max_i J_i^2 / (4 k_d D_i) and k_v <= 10.000002 times that "
+                "(max_i J_i^2/(4 k_d D_i) in [4.5, 45000], i.e. D_i in [0.01, 100])",
+                reduce=sp.expand, margin=margin, uses=uses,
+                note="A superset of the search domain: D_i = c_i / (T r_i) with r_i in (1e-4 c_i/c_max, 1] "
+                     "covers every D in [0.01, 100]^6 (T = max_j c_j/D_j, r_i = c_i/(D_i T)) and more.")
+
+
 PLANS = {
     "c001.eso.w_bound": _eso_w_bound,
     "c001.eso.V1_definite": _eso_v1_definite,
+    "c001.pose.H_definite": _pose_h_definite,
 }
