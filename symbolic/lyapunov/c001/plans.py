@@ -1,0 +1,158 @@
+"""001: proof plans of the inequality claims (certified domains; see ``symbolic/lyapunov/certify``)."""
+
+from __future__ import annotations
+
+import sympy as sp
+
+from ..certify import Coordinate, Plan, Region
+from ..certify.lemmas import Lemma
+from ..certify.plan import Use
+from ..core import Statement
+
+
+def _sym(st: Statement, name: str) -> sp.Symbol:
+    (s,) = [s for s in st.free_symbols() if s.name == name]
+    return s
+
+
+# --------------------------------------------------------------------------- lemmas of this paper
+
+_p, _u, _v, _x, _y = sp.symbols("p u v x y", real=True)
+
+LDL2 = Lemma(
+    "ldl_2", (_p, _u, _v, _x, _y), _p * _x**2 + 2 * _p * _u * _x * _y + (_p * _u**2 + _v) * _y**2, (_p, _v),
+    "p x^2 + 2 p u x y + (p u^2 + v) y^2 >= 0 for p, v >= 0: it is p (x + u y)^2 + v y^2 (the LDL^T "
+    "factorisation of a 2x2 quadratic form), a sum of nonnegative terms",
+    lambda: sp.expand(_p * _x**2 + 2 * _p * _u * _x * _y + (_p * _u**2 + _v) * _y**2
+                      - (_p * (_x + _u * _y) ** 2 + _v * _y**2)) == 0)
+
+
+# --------------------------------------------------------------------------- Proposition 1 (ESO)
+
+def _eso_w_bound(st: Statement) -> Plan:
+    """Text after eq. 35: w_i >= 0.5 kappa1^2/||eta_i|| + kappa2.
+
+    eta1 = +-t^2 (t > 0) makes |eta1|^(1/2) = t polynomial; kappa2 cancels and the gap is
+    kappa1 (N^2 - kappa1^2 t^2) / (2 t N (N + kappa1 t)) with N = ||eta_i|| = (eta2^2 + Theta^2)^(1/2):
+    the positive factor is cleared and N^2 - kappa1^2 t^2 = eta2^2 + 2 kappa1 kappa2 t^3 + kappa2^2 t^4
+    (squaring both sides, both >= 0) is a sum of nonnegative terms on the box."""
+    eta1, eta2, k1, k2 = (_sym(st, n) for n in ("eta1", "eta2", "kappa_1", "kappa_2"))
+    t = sp.Symbol("t", positive=True)
+    coords = (Coordinate(t, 1e-30, 3.17), Coordinate(eta2, -10.0, 10.0),
+              Coordinate(k1, 0.01, 10.0), Coordinate(k2, 0.01, 10.0))
+    regions = [Region(coords, {eta1: t**2}, describe="eta1 > 0: eta1 = t^2"),
+               Region(coords, {eta1: -t**2}, describe="eta1 < 0: eta1 = -t^2")]
+    N = sp.sqrt(eta2**2 + t**2 * (k1 + k2 * t) ** 2)
+
+    def reduce(g):
+        rest = eta2**2 + 2 * k1 * k2 * t**3 + k2**2 * t**4
+        factor = k1 / (2 * t * N * (N + k1 * t))
+        return factor, rest
+
+    return Plan(regions, "1e-60 <= |eta1| <= 10 (as eta1 = +-t^2, t in [1e-30, 3.17]), eta2 in [-10, 10], "
+                "kappa_1, kappa_2 in [0.01, 10] (the scaled, unitless variables of eq. 27)", reduce=reduce,
+                covers_search_domain=False,
+                note="0 < |eta1| < 1e-60 is left out (eta1 = 0 itself, where w_i = kappa1/(2 |eta1|^(1/2)) is "
+                     "infinite, is outside the statement): the positive factor kappa1/(2 t N (N + kappa1 t)) is "
+                     "unbounded as t -> 0, and the re-check encloses 1/x on a box touching x = 0 as the whole "
+                     "line, so no box may reach t = 0.")
+
+
+def _eso_v1_definite(st: Statement) -> Plan:
+    """Eq. 32: V1 = sum_i eta_i^T P_i eta_i > 0, P_i from K~_i^T P_i + P_i K~_i = -Q_i.
+
+    Per channel, 2 k1 P = [[a + b k2, -b k1], [-b k1, (a + 2 c k1 + b k1^2 + b k2)/k2]] with
+    Q = [[a, c], [c, b]]; less the margin m (Theta^2/k1 + eta2^2/(k1 k2)) it is written in LDL^T form in
+    (Theta, eta2/k2): with h = 2 m, pivot p = a + b k2 - 2 h and Schur complement v = k2 S / p,
+    S = (a + c k1 + b k2)^2 + (a b - c^2) k1^2 - 2 h (2 a + 2 c k1 + b k1^2 + 2 b k2) + 4 h^2,
+    so the gap is a sum of ``ldl_2`` instances (weight 1/(2 k1)) plus m (Theta^2/k1 + eta2^2/(k1 k2));
+    the boxes only prove p > 0 and v >= 0 over (k1, k2, Q).  Q is the sampler's own map: a = A^2,
+    b = B^2 (A, B in [0.1, 10]^(1/2)), c = 0.99 z A B with z in [-1, 1]."""
+    m = sp.Rational(1, 10**8)
+    n = 2
+    th = [_sym(st, f"Theta_{i}") for i in range(1, n + 1)]
+    e2 = [_sym(st, f"eta2_{i}") for i in range(1, n + 1)]
+    K1 = [_sym(st, f"k1_{i}") for i in range(1, n + 1)]
+    K2 = [_sym(st, f"k2_{i}") for i in range(1, n + 1)]
+    Q = [[_sym(st, f"Q{j}_{i}") for j in ("11", "12", "22")] for i in range(1, n + 1)]
+    coords, subs, uses = [], {}, []
+    margin = sp.S.Zero
+    for i in range(n):
+        k1, k2 = K1[i], K2[i]
+        a, c, b = Q[i]
+        A, B = sp.symbols(f"A_{i + 1} B_{i + 1}", positive=True)
+        z = sp.Symbol(f"z_{i + 1}", real=True)
+        coords += [Coordinate(th[i], -10.0, 10.0), Coordinate(e2[i], -10.0, 10.0),
+                   Coordinate(k1, 1e-3, 10.0), Coordinate(k2, 1e-3, 10.0),
+                   Coordinate(A, 0.316, 3.17), Coordinate(B, 0.316, 3.17), Coordinate(z, -1.0, 1.0)]
+        subs.update({a: A**2, b: B**2, c: sp.Rational(99, 100) * z * A * B})
+        margin += m * (th[i] ** 2 / k1 + e2[i] ** 2 / (k1 * k2))
+        # the lemma takes twice the margin: the excess is left as the main goal, a sum of squares with
+        # positive coefficients (a goal that is identically 0 has no coordinates to box)
+        h = 2 * m
+        p = a + b * k2 - 2 * h
+        # a b - c^2 written as a b (1 - c^2/(a b)): under the map it is A^2 B^2 (1 - 0.9801 z^2), no
+        # dependency between the two terms for the boxes to fight
+        S = ((a + c * k1 + b * k2) ** 2 + a * b * (1 - c**2 / (a * b)) * k1**2
+             - 2 * h * (2 * a + 2 * c * k1 + b * k1**2 + 2 * b * k2) + 4 * h**2)
+        uses.append(Use(LDL2, {_p: p, _u: -b * k1 * k2 / p, _v: k2 * S / p, _x: th[i], _y: e2[i] / k2},
+                        1 / (2 * k1)))
+    reg = Region(tuple(coords), subs, describe="the search domain (Q_i by the sampler's map)")
+    return Plan([reg], "Theta_i, eta2_i in [-10, 10]; k1_i, k2_i in [1e-3, 10]; Q_i = [[a, c], [c, b]] with "
+                "a, b in [0.0998, 10.05], c = 0.99 z (a b)^(1/2), z in [-1, 1] (i = 1, 2)",
+                reduce=lambda g: sp.cancel(sp.expand(g)), margin=margin, uses=tuple(uses),
+                note="Q_i is the set the sampler draws (a, b = 10^[-1, 1], |c| <= 0.99 (a b)^(1/2)), "
+                     "parameterised as a = A^2, b = B^2, c = 0.99 z A B; A, B in [0.316, 3.17] slightly "
+                     "enlarge it.")
+
+
+# --------------------------------------------------------------------------- Proposition 2 (pose law)
+
+def _pose_h_definite(st: Statement) -> Plan:
+    """Eq. 64: X^T H X = sum_i (k_d omega_i^2 - J_i omega_i Dd_i + k_v D_i Dd_i^2) > 0, J = diag(M, m I).
+
+    Per channel the 2x2 block, less the margin eps (omega_i^2 + Dd_i^2), is written in LDL^T form (lemma
+    ``ldl_2``, 2 eps taken, so eps (omega_i^2 + Dd_i^2) remains as the main goal): pivot k_d - 2 eps,
+    Schur complement v_i = k_v D_i - 2 eps - J_i^2 / (4 (k_d - 2 eps)).  The sampler's k_v is
+    s T with T = max_j c_j / D_j (c_j = J_j^2 / (4 k_d)) and s in [1 + 1e-6, 10 + 1e-6]; the domain map
+    D_i = c_i / (T r_i), r_i in (0, 1], k_v = s T makes k_v D_i = s c_i / r_i (T cancels), so v_i is
+    monotone in two coordinates and its worst corner s = 1 + 1e-6, r_i = 1 keeps a relative slack 1e-6."""
+    eps = sp.Rational(1, 10**9)
+    vals = {"k_d": 2.0, "m": 60.0, "M_1": 15.6, "M_2": 10.8, "M_3": 11.5}
+    fixed = {_sym(st, n): sp.Rational(v) for n, v in vals.items()}
+    kd = fixed[_sym(st, "k_d")]
+    J = [_sym(st, n) for n in ("M_1", "M_2", "M_3", "m", "m", "m")]
+    Jv = [fixed[j] for j in J]
+    w = [_sym(st, f"omega_{i}") for i in range(1, 7)]
+    dd = [_sym(st, f"Deltad_{i}") for i in range(1, 7)]
+    D = [_sym(st, f"D_{i}") for i in range(1, 7)]
+    kv = _sym(st, "k_v")
+    cs = [j**2 / (4 * kd) for j in Jv]
+    cmax = max(cs)
+    T, s_ = sp.symbols("T s", positive=True)
+    r = sp.symbols("r_1:7", positive=True)
+    coords = ([Coordinate(x, -1.0, 1.0, "rad/s or m/s" if k < 6 else "rad/s^2 or m/s^2") for k, x in enumerate(w + dd)]
+              + [Coordinate(T, float(cmax) / 100 * (1 - 1e-9), float(cmax) / 0.01 * (1 + 1e-9), "unit of k_v")]
+              + [Coordinate(s_, 1.0 + 0.9e-6, 10.0 + 2e-6)]
+              + [Coordinate(ri, float(ci / cmax) * 1e-4 * (1 - 1e-9), 1.0) for ri, ci in zip(r, cs, strict=True)])
+    subs = dict(fixed)
+    subs[kv] = s_ * T
+    subs.update({Di: ci / (T * ri) for Di, ci, ri in zip(D, cs, r, strict=True)})
+    p = _sym(st, "k_d") - 2 * eps          # the pivot (k_d = 2 by the domain map)
+    uses = tuple(Use(LDL2, {_p: p, _u: -j / (2 * p), _v: kv * Di - 2 * eps - j**2 / (4 * p), _x: x, _y: y})
+                 for j, Di, x, y in zip(J, D, w, dd, strict=True))
+    margin = eps * sum((x**2 for x in w + dd), sp.S.Zero)
+    reg = Region(tuple(coords), subs, describe="k_v = s T, D_i = c_i / (T r_i): the sampler's k_v, any D_i")
+    return Plan([reg], "omega_i, Deltad_i in [-1, 1]; k_d = 2, m = 60 kg, M = (15.6, 10.8, 11.5) kg m^2; "
+                "D_i > 0 with k_v >= (1 + 9e-7) max_i J_i^2 / (4 k_d D_i) and k_v <= 10.000002 times that "
+                "(max_i J_i^2/(4 k_d D_i) in [4.5, 45000], i.e. D_i in [0.01, 100])",
+                reduce=sp.expand, margin=margin, uses=uses,
+                note="A superset of the search domain: D_i = c_i / (T r_i) with r_i in (1e-4 c_i/c_max, 1] "
+                     "covers every D in [0.01, 100]^6 (T = max_j c_j/D_j, r_i = c_i/(D_i T)) and more.")
+
+
+PLANS = {
+    "c001.eso.w_bound": _eso_w_bound,
+    "c001.eso.V1_definite": _eso_v1_definite,
+    "c001.pose.H_definite": _pose_h_definite,
+}
