@@ -139,12 +139,24 @@ def prove(g: sp.Expr, coords: list, hypotheses: list[sp.Expr] = (), equilibria: 
           max_boxes: int = 400_000, seconds: float = 600.0, strict: bool = False) -> BnbResult:
     """Certify ``g >= 0`` (``strict``: ``g > 0``) on the box ``coords`` ([(symbol, lo, hi)]) where every
     hypothesis is >= 0."""
-    ok = (lambda v: v > 0) if strict else (lambda v: v >= 0)
+    holds = (lambda v: v > 0) if strict else (lambda v: v >= 0)
     t0 = time.perf_counter()
     syms = [c[0] for c in coords]
     if len(syms) > MAX_DIM:
         return BnbResult("cannot", reason=f"{len(syms)} coordinates (at most {MAX_DIM})")
     eng = _Engine(sp.sympify(g), syms, [sp.sympify(h) for h in hypotheses], list(equilibria))
+    if not syms:
+        # a constant goal: one evaluation, a one-leaf tree over the empty box
+        lo_c, hi_c, _ = eng.prog.evaluate(np.zeros((1, 0)), np.zeros((1, 0)))
+        good = (lo_c[0, 0] > 0) if strict else (lo_c[0, 0] >= 0)
+        if good:
+            return BnbResult("certified", tree=bytes([LEAF["N"]]), boxes=1, methods={"N": 1},
+                             seconds=time.perf_counter() - t0)
+        if hi_c[0, 0] < 0 or (strict and hi_c[0, 0] <= 0):
+            return BnbResult("counterexample", counterexample={}, value=float(hi_c[0, 0]),
+                             seconds=time.perf_counter() - t0)
+        return BnbResult("cannot", reason=f"constant goal enclosed in [{lo_c[0, 0]:.3g}, {hi_c[0, 0]:.3g}]",
+                         seconds=time.perf_counter() - t0)
     root_lo = np.array([[float(c[1]) for c in coords]])
     root_hi = np.array([[float(c[2]) for c in coords]])
     scale = np.maximum(root_hi - root_lo, 1e-300)[0]
@@ -170,7 +182,7 @@ def prove(g: sp.Expr, coords: list, hypotheses: list[sp.Expr] = (), equilibria: 
             lo, hi, ids = q_lo[b0:b0 + BATCH], q_hi[b0:b0 + BATCH], q_id[b0:b0 + BATCH]
             out_lo, out_hi, smooth = eng.prog.evaluate(lo, hi)
             excluded = np.any(out_hi[1:] < 0, axis=0) if eng.nh else np.zeros(len(ids), bool)
-            natural = ~excluded & ok(out_lo[0])
+            natural = ~excluded & holds(out_lo[0])
             leaf = np.full(len(ids), -1)
             leaf[excluded] = LEAF["X"]
             leaf[natural] = LEAF["N"]
@@ -182,13 +194,13 @@ def prove(g: sp.Expr, coords: list, hypotheses: list[sp.Expr] = (), equilibria: 
                 mag = np.full(lo.shape, np.nan)
                 if len(idx):
                     mv_lo, mg, dlo, dhi = eng.mean_value(lo[idx], hi[idx])
-                    mv_ok[idx] = ok(mv_lo)
+                    mv_ok[idx] = holds(mv_lo)
                     mag[idx] = mg
                     leaf[mv_ok] = LEAF["M"]
                     sel = ~mv_ok[idx] & np.any((dlo >= 0) | (dhi <= 0), axis=1)
                     if sel.any():
                         face = eng.monotone_face(lo[idx][sel], hi[idx][sel], dlo[sel], dhi[sel])
-                        leaf[idx[sel][ok(face)]] = LEAF["C"]
+                        leaf[idx[sel][holds(face)]] = LEAF["C"]
                 rest = leaf < 0
                 if rest.any() and eng.equilibria and not strict:
                     idx = np.nonzero(rest & smooth)[0]

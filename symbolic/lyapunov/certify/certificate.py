@@ -31,6 +31,7 @@ import sympy as sp
 
 from ..core import Claim, Statement
 from . import bnb
+from .lemmas import LIBRARY
 from .plan import Plan, expr_hash, gaps, goal_coordinates, goals, region_hash, statement_hash
 from .recheck import CheckError, LeafChecker, walk
 
@@ -74,8 +75,12 @@ def _goal_key(g) -> str:
 def derive(claim: Claim, tag: str, st: Statement, plan: Plan, log=print) -> tuple[Certification, dict | None]:
     """Run the prover on every goal; (result, certificate data or None)."""
     t0 = time.perf_counter()
-    _check_steps(st, plan)
-    gl = goals(st, plan)
+    try:
+        _check_steps(st, plan)
+        gl = goals(st, plan)
+    except (CheckError, ValueError) as exc:
+        return Certification("cannot", plan.domain, plan.covers_search_domain, reason=f"the plan does not check: {exc}",
+                             note=plan.note), None
     out_goals, boxes, methods = [], 0, {}
     for g in gl:
         reg = plan.regions[g.region]
@@ -86,10 +91,15 @@ def derive(claim: Claim, tag: str, st: Statement, plan: Plan, log=print) -> tupl
         r = bnb.prove(g.expr, coords, list(reg.hypotheses), eqs, plan.max_boxes, left, strict=g.strict)
         if r.status != "certified":
             cx = None
-            if r.counterexample:
+            if r.counterexample is not None:
                 cx = _statement_point(reg, r.counterexample)
-            why = r.reason or f"g = {r.value:.4g} < 0"
-            return Certification(r.status, plan.domain, plan.covers_search_domain, boxes + r.boxes, methods,
+            why = r.reason or f"g = {r.value:.4g} {'<=' if g.strict else '<'} 0 at {cx}"
+            status = r.status
+            if status == "counterexample" and not (g.part == 0 and g.step in ("none", "identity") and not plan.uses):
+                # a failing side goal, factor or composed rest does not make the statement false
+                status, cx = "cannot", None
+                why = f"{g.step} goal fails: {why}"
+            return Certification(status, plan.domain, plan.covers_search_domain, boxes + r.boxes, methods,
                                  len(gl), time.perf_counter() - t0,
                                  reason=f"goal {len(out_goals) + 1} of {len(gl)} (region {g.region}, component "
                                         f"{g.component}): {why}", counterexample=cx, note=plan.note), None
@@ -114,13 +124,12 @@ def derive(claim: Claim, tag: str, st: Statement, plan: Plan, log=print) -> tupl
 
 def _statement_point(reg, point: dict) -> dict:
     """A counterexample in coordinates, mapped to the statement's symbols too."""
-    sub = {c.symbol: sp.Float(point[str(c.symbol)], 17) for c in reg.coords}
+    sub = {c.symbol: sp.Float(point[str(c.symbol)], 17) for c in reg.coords if str(c.symbol) in point}
     out = dict(point)
     for s, e in reg.subs.items():
-        try:
-            out[str(s)] = float(e.xreplace(sub))
-        except (TypeError, ValueError):
-            pass
+        val = e.xreplace(sub)
+        if val.is_number:
+            out[str(s)] = float(val)
     return out
 
 
@@ -133,6 +142,10 @@ def _check_steps(st: Statement, plan: Plan) -> None:
         if plan.margin is None or not prove_positive_definite(plan.margin, st.zero_at, st.positive):
             raise CheckError("the margin of a '>' statement is not a positive sum of squares in zero_at")
     for u in plan.uses:
+        # only the reviewed library: a lemma's proof is code, and a claim-sized "lemma" whose inequality
+        # steps are argued in prose would carry the whole proof unchecked
+        if LIBRARY.get(u.lemma.name) is not u.lemma:
+            raise CheckError(f"lemma {u.lemma.name} is not in the library of proved lemmas (certify/lemmas.py)")
         if not u.lemma.verify():
             raise CheckError(f"the proof of lemma {u.lemma.name} does not check")
     gl = goals(st, plan)

@@ -5,6 +5,11 @@ the strict ones).  Its ``proof`` is re-run whenever a certificate that uses it i
 short chain of exact SymPy identities plus a textbook step named in ``text`` (a square is >= 0;
 for a, b >= 0, a**2 >= b**2 implies a >= b).  A plan uses a lemma through :class:`~.plan.Use`, which maps
 the lemma's symbols to expressions of the statement's.
+
+This library is the trusted base of the certificates: a lemma's proof is code that checks identities, and
+the textbook step that turns them into ``gap >= 0`` is in its text.  So every lemma is small, general and
+reviewed here, and the checker refuses a lemma that is not in :data:`LIBRARY` (a claim-sized "lemma"
+defined in a plan would carry its proof unchecked).
 """
 
 from __future__ import annotations
@@ -99,8 +104,51 @@ DOT_BALL3 = Lemma(
     "x . y <= |x| rho for |y| <= rho (rho >= 0): Cauchy-Schwarz, then |y| <= rho (both >= 0)",
     _lagrange)
 
+# --------------------------------------------------------------------------- a 2x2 quadratic form, LDL^T
+
+_p, _u, _v, _xx, _yy = _r("p u v x y")
+_ldl_gap = _p * _xx**2 + 2 * _p * _u * _xx * _yy + (_p * _u**2 + _v) * _yy**2
+
+LDL2 = Lemma(
+    "ldl_2", (_p, _u, _v, _xx, _yy), _ldl_gap, (_p, _v),
+    "p x^2 + 2 p u x y + (p u^2 + v) y^2 >= 0 for p, v >= 0: it is p (x + u y)^2 + v y^2 (the LDL^T "
+    "factorisation of a 2x2 quadratic form), a sum of nonnegative terms",
+    lambda: _zero(_ldl_gap - (_p * (_xx + _u * _yy) ** 2 + _v * _yy**2)))
+
+
+# --------------------------------------------------------------------------- reaching the boundary layer
+
+def _layer_lemma() -> Lemma:
+    """The per-axis step of paper 000's eqs. 68-72: for the code's layer S = max(s - d, 0) + min(s + d, 0)
+    (``c000.boundary_layer_surface``), d >= 0, |delta| <= D and eps >= 0:
+    (delta - (D + eps) sign(s)) S <= -eps |S|."""
+    from ...controllers import c000
+
+    s, d, delta, D, eps = _r("s d delta D epsilon")
+    S = c000.boundary_layer_surface(s, d)
+    gap = -eps * sp.Abs(S) - (delta - (D + eps) * sp.sign(s)) * S
+
+    def proof() -> bool:
+        # three cases that cover every s for d >= 0: s = d + v (v > 0), s = -d - v (v > 0), and
+        # |s| <= d as d = (p + q)/2, s = (q - p)/2 with p = d - s >= 0, q = d + s >= 0
+        v = sp.Symbol("v", positive=True)
+        dn, p, q = (sp.Symbol(n, nonnegative=True) for n in ("d_n", "p", "q"))
+        outside_pos = gap.xreplace({d: dn}).xreplace({s: dn + v}) - (D - delta) * v
+        outside_neg = gap.xreplace({d: dn}).xreplace({s: -dn - v}) - (D + delta) * v
+        inside = gap.xreplace({d: (p + q) / 2, s: (q - p) / 2})
+        return all(sp.expand(e) == 0 for e in (outside_pos, outside_neg, inside))
+
+    return Lemma("boundary_layer_reaching", (s, d, delta, D, eps), gap, (D - delta, D + delta, eps, d),
+                 "(delta - (D + eps) sign(s)) S_aug <= -eps |S_aug| for |delta| <= D, eps >= 0, S_aug = "
+                 "max(s - d, 0) + min(s + d, 0), d >= 0: for s > d the gap is (D - delta)(s - d), for s < -d it is "
+                 "(D + delta)(-d - s), inside |s| <= d S_aug = 0 (each case an exact SymPy identity), products "
+                 "of nonnegative factors", proof)
+
+
+LAYER = _layer_lemma()
+
 LIBRARY: dict[str, Lemma] = {lem.name: lem for lem in (YOUNG, ABS_PRODUCT, CAUCHY_SCHWARZ3, NORM2_LE_NORM1,
-                                                       DOT_BALL3)}
+                                                       DOT_BALL3, LDL2, LAYER)}
 
 
 def vector_mapping(lemma: Lemma, **vectors) -> dict:

@@ -40,6 +40,20 @@ class Coordinate:
         if not (float(self.lo) <= float(self.hi)):
             raise ValueError(f"coordinate {self.symbol}: lo {self.lo} > hi {self.hi}")
 
+    def assumption_error(self) -> str:
+        """'' when the symbol's SymPy assumptions hold on the whole interval (SymPy simplifies with them:
+        ``sqrt(x**2) = x`` for a positive x), else what is violated."""
+        s, lo, hi = self.symbol, float(self.lo), float(self.hi)
+        checks = [(s.is_positive, lo > 0, "positive"), (s.is_nonnegative, lo >= 0, "nonnegative"),
+                  (s.is_negative, hi < 0, "negative"), (s.is_nonpositive, hi <= 0, "nonpositive"),
+                  (s.is_nonzero, lo > 0 or hi < 0, "nonzero")]
+        for declared, holds, name in checks:
+            if declared and not holds:
+                return f"coordinate {s} is declared {name} but its interval is [{lo!r}, {hi!r}]"
+        if s.is_integer or s.is_real is False:
+            return f"coordinate {s} must be a real symbol without integer assumptions"
+        return ""
+
     def describe(self) -> str:
         u = f" {self.unit}" if self.unit else ""
         return f"{self.symbol} in [{self.lo:g}, {self.hi:g}]{u}"
@@ -112,7 +126,8 @@ class Goal:
     part: int
     expr: sp.Expr
     raw: sp.Expr                  # the gap with the domain map, before ``reduce``
-    step: str                     # "none", "identity", "factor"; side goals: "weight", "premise"
+    step: str                     # "none", "identity", "factor"; side goals: "weight", "premise",
+                                  # "assumption" (a substituted symbol's sign assumption)
     strict: bool = False          # expr > 0 (a strict premise of a lemma)
 
 
@@ -146,9 +161,15 @@ def composed(st: Statement, plan: Plan, region: Region, component: int, gap: sp.
 
 
 def goals(st: Statement, plan: Plan) -> list[Goal]:
-    """Every goal of the plan, in a fixed order (region, component, part)."""
+    """Every goal of the plan, in a fixed order (region, component, part).  ValueError when a coordinate's
+    SymPy assumptions do not hold on its interval."""
     if st.relation == ">" and plan.margin is None:
         raise ValueError("a '>' statement needs the plan's margin")
+    for reg in plan.regions:
+        for c in reg.coords:
+            err = c.assumption_error()
+            if err:
+                raise ValueError(err)
     out = []
     for ri, reg in enumerate(plan.regions):
         for ci, g in enumerate(gaps(st)):
@@ -167,6 +188,17 @@ def goals(st: Statement, plan: Plan) -> list[Goal]:
                 else:
                     out.append(Goal(ri, ci, 0, sp.sympify(red), raw, "identity"))
             part = 2
+            # a substituted symbol's SymPy assumptions (the statement was simplified with them) must hold
+            # for its expression on the domain: side goals
+            for sym, e in reg.subs.items():
+                for declared, strict, sign in ((sym.is_positive, True, 1), (sym.is_nonnegative, False, 1),
+                                               (sym.is_negative, True, -1), (sym.is_nonpositive, False, -1)):
+                    if declared:
+                        side_e = sp.sympify(sign * e)
+                        if not (side_e.is_number and (side_e > 0 or (side_e >= 0 and not strict))):
+                            out.append(Goal(ri, ci, part, side_e, side_e, "assumption", strict))
+                            part += 1
+                        break
             for u in plan.uses:
                 if u.component != ci:
                     continue

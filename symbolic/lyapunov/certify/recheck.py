@@ -71,149 +71,202 @@ def _straddles(a, closed: bool) -> bool:
 
 
 class IvProgram:
-    """A SymPy expression list compiled to mpmath interval operations (own walker, own op set)."""
+    """A SymPy expression list compiled to mpmath interval operations (own walker, own op set).
+
+    The expressions are walked once into a list of closures over slots (common subexpressions share a
+    slot); :meth:`evaluate` runs the list on one box."""
 
     def __init__(self, exprs, variables):
         self.variables = list(variables)
         self.exprs = [sp.sympify(e) for e in exprs]
+        self._index: dict = {v: i for i, v in enumerate(self.variables)}
+        self._ops: list = []
+        self._n = len(self.variables)
+        self.outputs = [self._emit(e) for e in self.exprs]
 
     def evaluate(self, box: list) -> tuple[list, bool]:
         """(enclosures of the expressions, smooth) over ``box`` (one iv.mpf per variable)."""
-        memo: dict = dict(zip(self.variables, box, strict=True))
-        state = {"smooth": True}
-        out = [self._ev(e, memo, state) for e in self.exprs]
-        return out, state["smooth"]
+        slots = list(box) + [None] * (self._n - len(box))
+        state = [True]
+        for f, out, args in self._ops:
+            slots[out] = f(state, *[slots[a] for a in args])
+        return [slots[k] for k in self.outputs], state[0]
 
-    def _ev(self, e, memo, state):
-        if e in memo:
-            return memo[e]
-        r = self._ev_new(e, memo, state)
-        memo[e] = r
-        return r
+    def _new(self, f, args) -> int:
+        k = self._n
+        self._n += 1
+        self._ops.append((f, k, tuple(args)))
+        return k
 
-    def _ev_new(self, e, memo, state):
-        ev = self._ev
+    def _emit(self, e) -> int:
+        if e in self._index:
+            return self._index[e]
+        k = self._emit_new(e)
+        self._index[e] = k
+        return k
+
+    def _const(self, value) -> int:
+        return self._new(lambda st, v=value: v, [])
+
+    def _emit_new(self, e) -> int:
+        em = self._emit
         if e.is_Rational:
-            return iv.mpf(int(e.p)) / iv.mpf(int(e.q)) if e.q != 1 else iv.mpf(int(e.p))
+            return self._const(iv.mpf(int(e.p)) / iv.mpf(int(e.q)) if e.q != 1 else iv.mpf(int(e.p)))
         if e.is_Float:
-            return iv.mpf(sp.Rational(e).p) / iv.mpf(sp.Rational(e).q)
+            r = sp.Rational(e)
+            return self._const(iv.mpf(int(r.p)) / iv.mpf(int(r.q)))
         if e.is_NumberSymbol:
-            return iv.mpf(str(sp.N(e, 40)))  # a 40-digit decimal, widened by mpmath's string conversion
+            return self._const(iv.mpf(str(sp.N(e, 40))))
         if e.is_Symbol:
             raise CheckError(f"symbol {e} is not a coordinate")
         if isinstance(e, sp.Add):
-            acc = ev(e.args[0], memo, state)
-            for a in e.args[1:]:
-                acc = acc + ev(a, memo, state)
-            return acc
+            return self._new(_op_add, [em(a) for a in e.args])
         if isinstance(e, sp.Mul):
-            acc = ev(e.args[0], memo, state)
-            for a in e.args[1:]:
-                acc = acc * ev(a, memo, state)
-            return acc
+            return self._new(_op_mul, [em(a) for a in e.args])
         if isinstance(e, sp.Pow):
             b, x = e.args
             if x.is_Integer:
-                return _ipow(ev(b, memo, state), int(x))
+                return self._new(lambda st, a, n=int(x): _ipow(a, n), [em(b)])
             if x.is_Rational and x.q == 2:
-                base = ev(b, memo, state)
-                if base.a < 0:
-                    return iv.mpf(["-inf", "inf"])
-                root = iv.sqrt(base)
-                if x.p == 1:
-                    return root
-                return _ipow(root, int(x.p))
-            return ev(sp.exp(x * sp.log(b)), memo, state)
+                return self._new(lambda st, a, n=int(x.p): _op_half_pow(a, n), [em(b)])
+            return em(sp.exp(x * sp.log(b)))
         if isinstance(e, sp.exp):
-            return iv.exp(ev(e.args[0], memo, state))
+            return self._new(lambda st, a: iv.exp(a), [em(e.args[0])])
         if isinstance(e, sp.log):
-            a = ev(e.args[0], memo, state)
-            return iv.mpf(["-inf", "inf"]) if a.a <= 0 else iv.log(a)
+            return self._new(lambda st, a: iv.mpf(["-inf", "inf"]) if a.a <= 0 else iv.log(a), [em(e.args[0])])
         if isinstance(e, sp.tanh):
-            return _iv_tanh(ev(e.args[0], memo, state))
+            return self._new(lambda st, a: _iv_tanh(a), [em(e.args[0])])
         if isinstance(e, sp.cosh):
-            return _iv_cosh(ev(e.args[0], memo, state))
+            return self._new(lambda st, a: _iv_cosh(a), [em(e.args[0])])
         if isinstance(e, sp.sinh):
-            return ev((sp.exp(e.args[0]) - sp.exp(-e.args[0])) / 2, memo, state)
+            return em((sp.exp(e.args[0]) - sp.exp(-e.args[0])) / 2)
         if isinstance(e, sp.sin):
-            return iv.sin(ev(e.args[0], memo, state))
+            return self._new(lambda st, a: iv.sin(a), [em(e.args[0])])
         if isinstance(e, sp.cos):
-            return iv.cos(ev(e.args[0], memo, state))
+            return self._new(lambda st, a: iv.cos(a), [em(e.args[0])])
         if isinstance(e, sp.atan):
-            return iv.atan(ev(e.args[0], memo, state))
+            return self._new(lambda st, a: iv.atan(a), [em(e.args[0])])
         if isinstance(e, sp.Abs):
-            a = ev(e.args[0], memo, state)
-            if _straddles(a, closed=False):
-                state["smooth"] = False
-            return abs(a)
+            return self._new(_op_abs, [em(e.args[0])])
         if isinstance(e, sp.sign):
-            a = ev(e.args[0], memo, state)
-            if _straddles(a, closed=True):
-                state["smooth"] = False
-            sgn = [(-1 if v < 0 else (1 if v > 0 else 0)) for v in (a.a, a.b)]
-            return iv.mpf(sgn)
+            return self._new(_op_sign, [em(e.args[0])])
         if isinstance(e, (sp.Heaviside, Step)):
             h0 = (e.args[1] if len(e.args) > 1 else sp.Rational(1, 2)) if isinstance(e, sp.Heaviside) else 1
-            a = ev(e.args[0], memo, state)
-            vals = []
-            for v in (a.a, a.b):
-                vals.append(1 if v > 0 else (0 if v < 0 else float(h0)))
-            if _straddles(a, closed=True):
-                state["smooth"] = False
-                vals.append(float(h0))
-            return iv.mpf([min(vals), max(vals)])
+            return self._new(lambda st, a, h=float(h0): _op_step(st, a, h), [em(e.args[0])])
         if isinstance(e, (sp.Max, Fmax, sp.Min)):
-            args = [ev(a, memo, state) for a in e.args]
             is_max = not isinstance(e, sp.Min)
-            lo = (max if is_max else min)(a.a for a in args)
-            hi = (max if is_max else min)(a.b for a in args)
-            # smooth only where one argument dominates the others on the whole box
-            if is_max:
-                top = max(range(len(args)), key=lambda k: args[k].a)
-                if not all(args[top].a > args[k].b for k in range(len(args)) if k != top):
-                    state["smooth"] = False
-            else:
-                top = min(range(len(args)), key=lambda k: args[k].b)
-                if not all(args[top].b < args[k].a for k in range(len(args)) if k != top):
-                    state["smooth"] = False
-            return iv.mpf([lo, hi])
+            return self._new(lambda st, *a, m=is_max: _op_maxmin(st, a, m), [em(a) for a in e.args])
         if isinstance(e, sp.Piecewise):
-            acc, decided = None, False
+            branches, args = [], []
             for val, cond in e.args:
                 if cond is sp.true:
-                    maybe, sure = True, True
-                else:
-                    a, b = ev(cond.lhs, memo, state), ev(cond.rhs, memo, state)
-                    op = cond.rel_op
-                    if op in ("<", "<="):
-                        a, b, op = b, a, (">" if op == "<" else ">=")
-                    if op == ">":
-                        maybe, sure = a.b > b.a, a.a > b.b
-                    elif op == ">=":
-                        maybe, sure = a.b >= b.a, a.a >= b.b
-                    else:
-                        raise CheckError(f"Piecewise condition {cond}")
-                if maybe:
-                    v = ev(val, memo, state)
-                    acc = v if acc is None else _hull(acc, v)
-                    if not sure:
-                        state["smooth"] = False
-                if sure:
-                    decided = True
-                    break
-            if acc is None or not decided:
-                raise CheckError("Piecewise without a branch for part of a box")
-            return acc
+                    branches.append((len(args), None))
+                    args.append(em(val))
+                    continue
+                if not isinstance(cond, (sp.StrictLessThan, sp.LessThan, sp.StrictGreaterThan, sp.GreaterThan)):
+                    raise CheckError(f"Piecewise condition {cond}")
+                branches.append((len(args), cond.rel_op))
+                args += [em(val), em(cond.lhs), em(cond.rhs)]
+            return self._new(lambda st, *a, br=tuple(branches): _op_piecewise(st, a, br), args)
         raise CheckError(f"no interval rule for {type(e).__name__}")
 
 
+def _op_add(st, *args):
+    acc = args[0]
+    for a in args[1:]:
+        acc = acc + a
+    return acc
+
+
+def _op_mul(st, *args):
+    acc = args[0]
+    for a in args[1:]:
+        acc = acc * a
+    return acc
+
+
+def _op_half_pow(a, n: int):
+    if a.a < 0:
+        return iv.mpf(["-inf", "inf"])
+    root = iv.sqrt(a)
+    return root if n == 1 else _ipow(root, n)
+
+
+def _op_abs(st, a):
+    if _straddles(a, closed=False):
+        st[0] = False
+    return abs(a)
+
+
+def _op_sign(st, a):
+    if _straddles(a, closed=True):
+        st[0] = False
+    return iv.mpf([(-1 if v < 0 else (1 if v > 0 else 0)) for v in (a.a, a.b)])
+
+
+def _op_step(st, a, h0: float):
+    vals = [1 if v > 0 else (0 if v < 0 else h0) for v in (a.a, a.b)]
+    if _straddles(a, closed=True):
+        st[0] = False
+        vals.append(h0)
+    return iv.mpf([min(vals), max(vals)])
+
+
+def _op_maxmin(st, args, is_max: bool):
+    lo = (max if is_max else min)(a.a for a in args)
+    hi = (max if is_max else min)(a.b for a in args)
+    # smooth only where one argument dominates the others on the whole box
+    if is_max:
+        top = max(range(len(args)), key=lambda k: args[k].a)
+        if not all(args[top].a > args[k].b for k in range(len(args)) if k != top):
+            st[0] = False
+    else:
+        top = min(range(len(args)), key=lambda k: args[k].b)
+        if not all(args[top].b < args[k].a for k in range(len(args)) if k != top):
+            st[0] = False
+    return iv.mpf([lo, hi])
+
+
+def _op_piecewise(st, args, branches):
+    acc, decided = None, False
+    for start, op in branches:
+        if op is None:
+            maybe = sure = True
+        else:
+            a, b = args[start + 1], args[start + 2]
+            if op in ("<", "<="):
+                a, b, op = b, a, (">" if op == "<" else ">=")
+            if op == ">":
+                maybe, sure = a.b > b.a, a.a > b.b
+            else:
+                maybe, sure = a.b >= b.a, a.a >= b.b
+        if maybe:
+            v = args[start]
+            acc = v if acc is None else _hull(acc, v)
+            if not sure:
+                st[0] = False
+        if sure:
+            decided = True
+            break
+    if acc is None or not decided:
+        raise CheckError("Piecewise without a branch for part of a box")
+    return acc
+
+
 def _ipow(base, n: int):
-    if n > 0 and n % 2 == 0:
-        return abs(base) ** n
+    """base**n for an integer n, even powers through |base| (tight), negative powers as the reciprocal with
+    half-lines where 0 is an end point (as the prover's), the whole line where 0 is inside."""
     if n < 0:
-        if base.a <= 0 <= base.b:
-            return iv.mpf(["-inf", "inf"])
-        return 1 / (base ** (-n))
+        p = _ipow(base, -n)
+        if p.a > 0 or p.b < 0:
+            return 1 / p
+        if p.a == 0 and p.b > 0:
+            return iv.mpf([(1 / iv.mpf([p.b, p.b])).a, "inf"])
+        if p.b == 0 and p.a < 0:
+            return iv.mpf(["-inf", (1 / iv.mpf([p.a, p.a])).b])
+        return iv.mpf(["-inf", "inf"])
+    if n % 2 == 0:
+        return abs(base) ** n
     return base ** n
 
 
@@ -243,8 +296,9 @@ class LeafChecker:
 
     @property
     def grad(self) -> IvProgram:
+        """The goal and its gradient in one program (shared subexpressions): outputs g, dg/dx_1, ..."""
         if self._grad is None:
-            self._grad = IvProgram([sp.diff(self.g, x) for x in self.coords], self.coords)
+            self._grad = IvProgram([self.g, *[sp.diff(self.g, x) for x in self.coords]], self.coords)
         return self._grad
 
     @property
@@ -258,10 +312,10 @@ class LeafChecker:
     def _mean_value(self, box) -> tuple[mpf | None, list | None]:
         """Lower bound of the mean-value form (None where g is not differentiable on the box), and the
         gradient enclosure."""
-        (gv,), smooth = self.prog.evaluate(box)
+        out, smooth = self.grad.evaluate(box)
         if not smooth:
             return None, None
-        grads, gsmooth = self.grad.evaluate(box)
+        grads = out[1:]
         centre = [iv.mpf([(b.a + b.b) / 2, (b.a + b.b) / 2]) for b in box]
         (gc,), _ = self.prog.evaluate(centre)
         acc = gc
@@ -288,10 +342,10 @@ class LeafChecker:
                 return "the goal is not differentiable on the box"
             return "" if self._ok(lo) else f"mean-value lower bound {lo} too low"
         if method == "C":
-            (gv,), smooth = self.prog.evaluate(box)
+            out, smooth = self.grad.evaluate(box)
             if not smooth:
                 return "the goal is not differentiable on the box"
-            grads, _ = self.grad.evaluate(box)
+            grads = out[1:]
             face = []
             for d, b in zip(grads, box, strict=True):
                 if d.a >= 0:
