@@ -15,7 +15,7 @@ import sympy as sp
 from ...controllers import c000 as c
 from ...relative_translation import relative_acceleration
 from ..certify import Coordinate, Plan, Region
-from ..certify.lemmas import Lemma
+from ..certify.lemmas import LAYER
 from ..certify.plan import Use
 from ..check import prove_zero
 from ..core import Statement
@@ -139,83 +139,9 @@ _TR_PLANS = {f"c000.translation_{ax}.Vdot_bound":
 
 # --------------------------------------------------------------------------- eq. 81's r_t = r_c - |r_e| (x row)
 
-def _substitution_lemma(st: Statement) -> tuple[Lemma, sp.Symbol]:
-    """|eq. 81 - eq. 30| <= (|r_e| - x) k whenever k >= 2 mu r_t P / (r_c + r_t + |r_e|), r_t > 2 |r_e|, mu >= 0,
-    with r' = r_c - |r_e| (eq. 81's r_t) and P = 1/r_c^3 + (r' + r_t)/(r_t^2 r'^2).
-
-    Proof: with rho = |r_e|, R = r_c, (r_t + rho)^2 - R^2 = 2 r_t (rho - x), so R - r_t - rho =
-    -2 r_t (rho - x)/(R + r_t + rho); writing eq. 81 - eq. 30 = mu [(r' - r_t)/R^3 + 1/r_t^2 - 1/r'^2] and
-    1/r_t^2 - 1/r'^2 = (r' - r_t)(r' + r_t)/(r_t^2 r'^2) gives the identity (checked symbolically, modulo the
-    root relations rho^2 = |r_e|^2, R^2 = |r_t X_L + r_e|^2)
-        eq. 81 - eq. 30 = -(rho - x) 2 mu r_t P / (R + r_t + rho).
-    Textbook steps: rho >= |x| >= x; R >= r_t - rho (triangle inequality), so r' >= r_t - 2 rho > 0 and
-    P > 0; hence |eq. 81 - eq. 30| = (rho - x) 2 mu r_t P/(R + r_t + rho) <= (rho - x) k.
-    The lemma's symbols are the statement's (its difference is read from the statement, unchanged)."""
-    x, y, z = (_sym(st, c) for c in "xyz")
-    r_t, mu = _sym(st, "r_t"), _sym(st, "mu")
-    k = sp.Symbol("k_subst", real=True)
-    diff = st.lhs.args[0] if isinstance(st.lhs, sp.Abs) else None
-    if diff is None:
-        raise ValueError("c000.translation_x.form_eq30: the statement is not |eq. 81 - eq. 30| <= bound")
-    rho = sp.sqrt(x**2 + y**2 + z**2)
-    R = sp.sqrt((r_t + x) ** 2 + y**2 + z**2)
-    rp = R - rho
-    P = 1 / R**3 + (rp + r_t) / (r_t**2 * rp**2)
-    N = 2 * mu * r_t * P / (R + r_t + rho)
-    premises = (k - N, r_t - 2 * rho, mu)
-    lem = Lemma("eq81_substitution_residual", (x, y, z, r_t, mu, k, *sorted(diff.free_symbols - {x, y, z, r_t, mu},
-                                                                           key=str)),
-                (rho - x) * k - sp.Abs(diff), premises,
-                "|eq. 81 - eq. 30| <= (|r_e| - x) k for k >= 2 mu r_t P/(r_c + r_t + |r_e|), r_t > 2 |r_e|: the "
-                "residual is exactly -(|r_e| - x) 2 mu r_t P/(r_c + r_t + |r_e|) (root relations), each factor >= 0",
-                lambda: prove_zero(diff + (rho - x) * N, []), strict=(False, True, False))
-    return lem, k
-
-
-def _form_eq30_x(st: Statement) -> Plan:
-    """The x-substitution residual bound: composed with :func:`_substitution_lemma` (k = 1.05 * 3 mu/r_t^3,
-    the statement's own factor), the goal is 0; the lemma's premises are certified on the box."""
-    x, y, z = (_sym(st, c) for c in "xyz")
-    r_t, mu = _sym(st, "r_t"), _sym(st, "mu")
-    lem, k = _substitution_lemma(st)
-    use = Use(lem, {k: sp.Rational(63, 20) * mu / r_t**3})
-    coords = (Coordinate(x, -100.0, 100.0, "m"), Coordinate(y, -100.0, 100.0, "m"), Coordinate(z, -100.0, 100.0, "m"),
-              Coordinate(r_t, 6.7e6, 5.9e7, "m"))
-    # the composed goal is the constant 0; the (redundant) hypothesis gives it a coordinate, since the prover
-    # needs at least one to hold a box
-    reg = Region(coords, {mu: sp.Integer(int(MU_EARTH))}, hypotheses=(r_t - sp.Rational(6.7e6),),
-                 describe="the search domain, r_t widened to its hull")
-    return Plan([reg], "x, y, z in [-100, 100] m, r_t in [6700, 59000] km (contains every radius of the Kepler "
-                       "orbits drawn: perigee 6700-43000 km, e <= 0.15, apogee <= 58176 km), mu = 3.986004418e14 "
-                       "m^3/s^2, n, n_dot any (they cancel)",
-                reduce=lambda g: sp.expand(g), uses=(use,))
-
-
 # --------------------------------------------------------------------------- the spacecraft V-dot bounds
 
-def _layer_lemma() -> Lemma:
-    """The per-axis step of eqs. 68-72 as a lemma: for S = s - d sat(s/d) (the code's layer, d >= 0) and
-    |delta| <= D, eps >= 0:  (delta - (D + eps) sign(s)) S <= -eps |S|."""
-    s, d, delta, D, eps = sp.symbols("s d delta D epsilon", real=True)
-    S = c.boundary_layer_surface(s, d)
-    gap = -eps * sp.Abs(S) - (delta - (D + eps) * sp.sign(s)) * S
 
-    def proof() -> bool:
-        v = sp.Symbol("v", positive=True)
-        dn, p, q = (sp.Symbol(n, nonnegative=True) for n in ("d_n", "p", "q"))
-        outside_pos = gap.xreplace({d: dn}).xreplace({s: dn + v}) - (D - delta) * v     # s > d: S = s - d
-        outside_neg = gap.xreplace({d: dn}).xreplace({s: -dn - v}) - (D + delta) * v    # s < -d: S = s + d
-        inside = gap.xreplace({d: (p + q) / 2, s: (q - p) / 2})                         # |s| <= d: S = 0
-        return all(sp.expand(e) == 0 for e in (outside_pos, outside_neg, inside))
-
-    return Lemma("boundary_layer_reaching", (s, d, delta, D, eps), gap, (D - delta, D + delta, eps, d),
-                 "(delta - (D + eps) sign(s)) S_aug <= -eps |S_aug| for |delta| <= D, eps >= 0, S_aug = "
-                 "max(s - d, 0) + min(s + d, 0), d >= 0: for s > d the gap is (D - delta)(s - d), for s < -d it is "
-                 "(D + delta)(-d - s), inside |s| <= d S_aug = 0 (each case an exact SymPy identity), products "
-                 "of nonnegative factors", proof)
-
-
-LAYER = _layer_lemma()
 
 
 def _att_spacecraft_bound(st: Statement) -> Plan:
@@ -323,5 +249,5 @@ def _tr_spacecraft_bound(st: Statement) -> Plan:
 
 
 PLANS = {"c000.convergence": _convergence, "c000.attitude.Vdot_bound": _att_Vdot_bound, **_TR_PLANS,
-         "c000.translation_x.form_eq30": _form_eq30_x, "c000.attitude.spacecraft_Vdot_bound": _att_spacecraft_bound,
+         "c000.attitude.spacecraft_Vdot_bound": _att_spacecraft_bound,
          "c000.translation.spacecraft_Vdot_bound": _tr_spacecraft_bound}

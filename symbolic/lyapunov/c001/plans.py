@@ -5,26 +5,16 @@ from __future__ import annotations
 import sympy as sp
 
 from ..certify import Coordinate, Plan, Region
-from ..certify.lemmas import Lemma
+from ..certify.lemmas import LDL2
 from ..certify.plan import Use
 from ..core import Statement
+
+_p, _u, _v, _x, _y = LDL2.symbols
 
 
 def _sym(st: Statement, name: str) -> sp.Symbol:
     (s,) = [s for s in st.free_symbols() if s.name == name]
     return s
-
-
-# --------------------------------------------------------------------------- lemmas of this paper
-
-_p, _u, _v, _x, _y = sp.symbols("p u v x y", real=True)
-
-LDL2 = Lemma(
-    "ldl_2", (_p, _u, _v, _x, _y), _p * _x**2 + 2 * _p * _u * _x * _y + (_p * _u**2 + _v) * _y**2, (_p, _v),
-    "p x^2 + 2 p u x y + (p u^2 + v) y^2 >= 0 for p, v >= 0: it is p (x + u y)^2 + v y^2 (the LDL^T "
-    "factorisation of a 2x2 quadratic form), a sum of nonnegative terms",
-    lambda: sp.expand(_p * _x**2 + 2 * _p * _u * _x * _y + (_p * _u**2 + _v) * _y**2
-                      - (_p * (_x + _u * _y) ** 2 + _v * _y**2)) == 0)
 
 
 # --------------------------------------------------------------------------- Proposition 1 (ESO)
