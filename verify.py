@@ -1,9 +1,13 @@
 #!/usr/bin/env python3
 """Check the controllers' Lyapunov claims on the SymPy model in ``symbolic/`` and write the report.
 
-    python verify.py                     # check every claim and mutation, write docs/verification.{md,json}
-    python verify.py --check             # check every claim; exit 1 if a status differs from the committed
-                                         # docs/verification.json or a claim about rpo's code fails
+    python verify.py                     # check every claim and mutation, write docs/verification.{md,json};
+                                         # certificates re-checked, derived where missing or stale
+    python verify.py --rederive          # the same, every certificate derived from scratch
+    python verify.py --check             # check every claim, re-check every certificate (re-deriving only
+                                         # those whose sources changed); exit 1 if a status differs from the
+                                         # committed docs/verification.json, a certificate fails its
+                                         # re-check, or a claim about rpo's code fails
     python verify.py --controller c004   # check one controller's claims and print them (writes nothing)
 
 Claims live in ``symbolic/lyapunov/<controller>/``, discovered (a controller without one is not checked);
@@ -40,6 +44,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--jobs", type=int, default=min(2, os.cpu_count() or 1),
                     help="claims checked in parallel (default: min(2, cores))")
     ap.add_argument("--no-mutations", action="store_true", help="skip the mutation check when writing")
+    ap.add_argument("--rederive", action="store_true",
+                    help="derive every certificate from scratch (default: re-check the committed ones)")
     args = ap.parse_args(argv)
     if args.jobs < 1:
         print(f"verify.py: --jobs must be >= 1 (got {args.jobs})", file=sys.stderr)
@@ -49,11 +55,19 @@ def main(argv: list[str] | None = None) -> int:
 
     t0 = time.perf_counter()
     print(f"checking claims ({args.jobs} process{'es' if args.jobs > 1 else ''}) ...")
-    records = report.run_claims(args.controller, jobs=args.jobs)
+    mode = "check" if args.check else ("derive" if args.rederive else "reuse")
+    if args.check and args.rederive:
+        print("verify.py: --check re-checks the committed certificates; --rederive is for writing", file=sys.stderr)
+        return 2
+    records = report.run_claims(args.controller, jobs=args.jobs, certify=mode)
     elapsed = time.perf_counter() - t0
     bad = [r for r in records if not r["implementation_ok"]]
     for r in bad:
         print(f"IMPLEMENTATION CLAIM FAILS: {r['id']} (eq. {r['equations']}): {report._why(r)}")
+    t = report.totals(records)
+    print(f"{t['claims']} claims in {elapsed:.0f} s: {t['sampled_only']} sampled only; {t['certificates']} "
+          f"certificates ({t['certificate_boxes']} boxes), {t['certificates_rechecked']} re-checked "
+          f"({t['recheck_seconds']:.0f} s), {t['certificates_failing_recheck']} failing the re-check")
 
     if args.check:
         return check_against(records, args.against, args.controller, elapsed)
@@ -81,6 +95,9 @@ def check_against(records: list[dict], against: Path, controller: str | None = N
     from rpo.symbolic.lyapunov import report
 
     bad = [r for r in records if not r["implementation_ok"]]
+    failing = [r for r in records if (r.get("certificate") or {}).get("recheck", "").startswith("failed")]
+    for r in failing:
+        print(f"CERTIFICATE FAILS ITS RE-CHECK: {r['id']} (eq. {r['equations']}): {r['certificate']['recheck']}")
     if not against.exists():
         print(f"verify.py --check: {against} is missing; run `python verify.py` and commit it")
         return 1
@@ -94,9 +111,10 @@ def check_against(records: list[dict], against: Path, controller: str | None = N
     changes = report.compare(records, committed)
     for msg in changes:
         print(f"STATUS CHANGE: {msg}")
-    if changes or bad:
+    if changes or bad or failing:
         print(f"verify.py --check: FAILED ({len(changes)} status changes, {len(bad)} implementation claims "
-              f"failing). If the change is intended, run `python verify.py` and commit docs/verification.*")
+              f"failing, {len(failing)} certificates failing their re-check). If the change is intended, run "
+              f"`python verify.py` and commit docs/verification.* and docs/certificates/")
         return 1
     took = f" ({elapsed:.0f} s)" if elapsed is not None else ""
     print(f"verify.py --check: {len(records)} claims, statuses as committed{took}")

@@ -11,10 +11,14 @@ from pathlib import Path
 from . import claims as all_claims
 from . import mutations as all_mutations
 from . import title
-from .check import LOCAL_ONLY, Outcome, check_claim, check_statement
-from .core import Mutation
+from .check import LOCAL_ONLY, ClaimResult, Outcome, check_claim, check_statement
+from .core import Claim, Mutation, Statement
 
-FORMAT = 1
+FORMAT = 2
+
+#: the statuses of the report: a numeric search result is never called proved
+STATUSES = ("proved (symbolic)", "proved (certified)", "holds-with-stated-correction", "not-disproved", "fails")
+EVIDENCE = ("symbolic", "certified", "sampled", "counterexample")
 
 
 def _claim_record(cl, res) -> dict:
@@ -36,29 +40,115 @@ def _claim_record(cl, res) -> dict:
             "seconds": round(res.seconds, 2), "paper": out(res.paper), "corrected": out(res.corrected)}
 
 
+def evidence_tag(res: ClaimResult) -> str | None:
+    """The statement whose proof decides the claim's status: the implementation's (``corrected``) where the
+    printed step fails or is absent, else the printed one (see ``check.check_claim``)."""
+    if res.corrected is not None and (res.paper is None or not res.paper.holds):
+        return "corrected"
+    return "paper" if res.paper is not None else None
+
+
+def domain_text(st: Statement) -> str:
+    """The search domain as the samplers draw it: each variable's symbols and set, then the assumptions."""
+    parts = []
+    for v in st.domain:
+        names = ", ".join(str(s) for s in v.symbols)
+        parts.append(f"{names}: {v.describe}" if v.describe else names)
+    text = "; ".join(parts)
+    if st.assumptions:
+        text += " (assumptions: " + "; ".join(st.assumptions) + ")"
+    return text
+
+
+def classify(rec: dict) -> dict:
+    """Final status and evidence of a record from the checker's status and the certificate (in place)."""
+    base, cert = rec["status"], rec.get("certificate")
+    tag = rec.get("evidence_statement")
+    o = rec.get(tag) if tag else None
+    certified = bool(cert and cert["status"] == "certified" and cert["recheck"] == "passed")
+    if base == "fails":
+        rec["evidence"] = "counterexample"
+    elif cert and cert["status"] == "counterexample":
+        # the prover found a point the search missed, evaluated rigorously: the statement fails
+        rec["status"], rec["evidence"] = "fails", "counterexample"
+        if o is not None:
+            o["holds"] = False
+            o["counterexample"] = cert["counterexample"]
+        if rec["about"] == "implementation" and tag == ("corrected" if rec["corrected"] else "paper"):
+            rec["implementation_ok"] = False
+    elif o is not None and o["proved"]:
+        rec["evidence"] = "symbolic"
+        if base == "proved":
+            rec["status"] = "proved (symbolic)"
+    elif certified:
+        rec["evidence"] = "certified"
+        if base == "not-disproved":
+            rec["status"] = "proved (certified)"
+    else:
+        rec["evidence"] = "sampled"
+    if base == "proved" and rec["status"] == "proved":
+        rec["status"] = "proved (symbolic)"
+    return rec
+
+
+def _certify(cl: Claim, res: ClaimResult, mode: str, log) -> tuple[str | None, dict | None, str]:
+    """(evidence statement, certificate record or None, domain text) of one checked claim."""
+    from .certify import certify, plan_for
+
+    tag = evidence_tag(res)
+    if tag is None:
+        return None, None, ""
+    st = (cl.corrected if tag == "corrected" else cl.paper)()
+    domain = domain_text(st)
+    o = getattr(res, tag)
+    if mode == "off" or not o.holds or o.proved or st.relation == "==" or plan_for(cl) is None:
+        return tag, None, domain
+    cert = certify(cl, tag, st, mode=mode, log=log)
+    return tag, (cert.to_json() if cert is not None else None), domain
+
+
 def _run_one(args) -> dict:
-    cid, symbolic, seed = args
+    cid, symbolic, seed, cert_mode = args
     cl = next(c for c in all_claims() if c.id == cid)
-    return _claim_record(cl, check_claim(cl, seed=seed, symbolic=symbolic))
+    res = check_claim(cl, seed=seed, symbolic=symbolic)
+    rec = _claim_record(cl, res)
+    t0 = time.perf_counter()
+    tag, cert, domain = _certify(cl, res, cert_mode, log=lambda *a: None)
+    rec["evidence_statement"], rec["certificate"], rec["domain"] = tag, cert, domain
+    if cert is not None:
+        rec["domain"] = cert["domain"]
+        rec["search_domain"] = domain
+    rec["seconds"] = round(rec["seconds"] + time.perf_counter() - t0, 2)
+    return classify(rec)
 
 
 def run_claims(controller: str | None = None, symbolic: bool = True, jobs: int = 1, seed: int = 0,
-               log=print) -> list[dict]:
-    """Check every claim (of one controller); records in registry order."""
+               log=print, certify: str = "reuse") -> list[dict]:
+    """Check every claim (of one controller); records in registry order.  ``certify``: what to do with the
+    certificates of the claims that have a plan (``certify.MODES``: derive, reuse, check, off)."""
     ids = [c.id for c in all_claims(controller)]
-    work = [(cid, symbolic, seed) for cid in ids]
+    work = [(cid, symbolic, seed, certify) for cid in ids]
     out: dict[str, dict] = {}
     if jobs > 1:
         with ProcessPoolExecutor(max_workers=jobs) as ex:
             for rec in ex.map(_run_one, work):
                 out[rec["id"]] = rec
-                log(f"  {rec['id']:55s} {rec['status']:30s} {rec['seconds']:7.1f} s")
+                log(_line(rec))
     else:
         for w in work:
             rec = _run_one(w)
             out[rec["id"]] = rec
-            log(f"  {rec['id']:55s} {rec['status']:30s} {rec['seconds']:7.1f} s")
+            log(_line(rec))
     return [out[i] for i in ids]
+
+
+def _line(rec: dict) -> str:
+    cert = rec.get("certificate")
+    extra = ""
+    if cert:
+        extra = f"  [certificate: {cert['status']}, {cert['boxes']} boxes"
+        extra += f", re-check {cert['recheck']}]" if cert["recheck"] else "]"
+    return f"  {rec['id']:55s} {rec['status']:30s} {rec['seconds']:7.1f} s{extra}"
 
 
 def run_mutations(controller: str | None = None, log=print) -> list[dict]:
@@ -100,18 +190,35 @@ def identities_failing(m: Mutation) -> list[str]:
 
 
 def summary(records: list[dict]) -> dict:
+    """Per controller: claims per status, per evidence, the sampled-only count and implementation failures."""
     out: dict[str, dict] = {}
     for r in records:
-        s = out.setdefault(r["controller"], {"proved": 0, "holds-with-stated-correction": 0,
-                                             "not-disproved": 0, "fails": 0, "implementation_failures": 0})
+        s = out.setdefault(r["controller"], {**dict.fromkeys(STATUSES, 0), **dict.fromkeys(EVIDENCE, 0),
+                                             "sampled_only": 0, "implementation_failures": 0})
         s[r["status"]] += 1
+        s[r["evidence"]] += 1
+        s["sampled_only"] += int(r["evidence"] == "sampled")
         s["implementation_failures"] += int(not r["implementation_ok"])
     return out
 
 
+def totals(records: list[dict]) -> dict:
+    """Whole-report figures: sampled-only claims, certificates and their re-check."""
+    certs = [r["certificate"] for r in records if r.get("certificate")]
+    certified = [c for c in certs if c["status"] == "certified"]
+    return {"claims": len(records),
+            "sampled_only": sum(r["evidence"] == "sampled" for r in records),
+            "certificates": len(certified),
+            "certificates_rechecked": sum(c["recheck"] == "passed" for c in certified),
+            "certificates_failing_recheck": sum(c["recheck"].startswith("failed") for c in certified),
+            "certificate_boxes": sum(c["boxes"] for c in certified),
+            "derive_seconds": round(sum(c["seconds"] for c in certified), 1),
+            "recheck_seconds": round(sum(c["recheck_seconds"] for c in certified), 1)}
+
+
 def to_json(records: list[dict], mutations: list[dict] | None) -> dict:
     return {"format": FORMAT, "generated_by": "python verify.py", "summary": summary(records),
-            "claims": records, "mutations": mutations}
+            "totals": totals(records), "claims": records, "mutations": mutations}
 
 
 def compare(records: list[dict], committed: dict) -> list[str]:
@@ -132,6 +239,11 @@ def compare(records: list[dict], committed: dict) -> list[str]:
 
 
 def _why(r: dict) -> str:
+    cert = r.get("certificate")
+    if cert and cert["status"] == "counterexample":
+        return f"the prover found a counterexample: {cert['reason']} at {cert['counterexample']}"
+    if cert and cert["recheck"].startswith("failed"):
+        return f"certificate re-check {cert['recheck']}"
     for tag in ("corrected", "paper"):
         o = r.get(tag)
         if o and not o["holds"]:
@@ -149,14 +261,22 @@ def _why(r: dict) -> str:
 
 
 
-def _evidence(o: dict | None) -> str:
+def _evidence(o: dict | None, rec: dict | None = None) -> str:
     if o is None:
         return "-"
+    cert = rec.get("certificate") if rec else None
+    if rec is not None and rec.get("evidence") == "certified" and cert:
+        methods = ", ".join(f"{k} {v}" for k, v in sorted(cert["methods"].items()))
+        return (f"certified: {cert['boxes']} boxes ({methods}), {cert['goals']} goals, "
+                f"{cert['seconds']:.1f} s; re-check {cert['recheck']} ({cert['recheck_seconds']:.1f} s)")
     if not o["holds"]:
         return f"counterexample (violation {o['max_violation']:.3g})"
     if o["proved"]:
         return "symbolic"
-    return f"no counterexample in {o['trials']} trials"
+    text = f"sampled: no counterexample in {o['trials']} trials"
+    if cert:
+        text += f"; certificate: {cert['status']} ({cert['reason'] or cert['recheck']})"
+    return text
 
 
 def _cx(o: dict, n: int = 14) -> str:
@@ -177,19 +297,29 @@ def markdown(data: dict) -> str:
          "changes). Every V-dot is V differentiated along the closed loop built from the functions in",
          "`symbolic/controllers/` that generate the C code; claims are in `symbolic/lyapunov/<controller>/`,",
          "the checker in `symbolic/lyapunov/check.py` (method: `docs/verification_method.md`).", "",
-         "Statuses: **proved** (symbolic); **holds-with-stated-correction** (the printed step fails with the",
-         "counterexample shown, the corrected step that rpo implements holds); **not-disproved** (numeric",
-         "adversarial search only: no counterexample in N trials, not a proof); **fails** (counterexample). A",
-         "failing claim marked *paper* is a finding about the paper's own data or assumptions; a failing",
-         "*implementation* claim would be a defect in rpo and fails the tests.", "",
+         "Statuses: **proved (symbolic)** (a symbolic proof: identities by Groebner reduction, sign facts by",
+         "SymPy); **proved (certified)** (a certificate of rigorous interval arithmetic over the stated domain,",
+         "re-checked independently; `symbolic/lyapunov/certify/`); **holds-with-stated-correction** (the printed",
+         "step fails with the counterexample shown, the corrected step that rpo implements holds; the evidence",
+         "column says by what); **not-disproved** (numeric adversarial search only: no counterexample in N",
+         "trials, not a proof); **fails** (counterexample). A failing claim marked *paper* is a finding about",
+         "the paper's own data or assumptions; a failing *implementation* claim would be a defect in rpo and",
+         "fails the tests. Evidence *sampled* means the numeric search alone: such a claim is not proved.", "",
          "## Summary", "",
-         "| controller | claims | proved | holds with correction | not-disproved | fails (paper findings) "
-         "| implementation failures |",
-         "| --- | --- | --- | --- | --- | --- | --- |"]
+         "| controller | claims | proved (symbolic) | proved (certified) | holds with correction "
+         "| not-disproved | fails (paper findings) | sampled only | implementation failures |",
+         "| --- | --- | --- | --- | --- | --- | --- | --- | --- |"]
     for ctrl, s in data["summary"].items():
-        n = sum(s[k] for k in ("proved", "holds-with-stated-correction", "not-disproved", "fails"))
-        L.append(f"| {ctrl} | {n} | {s['proved']} | {s['holds-with-stated-correction']} | {s['not-disproved']} "
-                 f"| {s['fails']} | {s['implementation_failures']} |")
+        n = sum(s[k] for k in STATUSES)
+        L.append(f"| {ctrl} | {n} | {s['proved (symbolic)']} | {s['proved (certified)']} "
+                 f"| {s['holds-with-stated-correction']} | {s['not-disproved']} | {s['fails']} | {s['sampled_only']} "
+                 f"| {s['implementation_failures']} |")
+    t = data.get("totals")
+    if t:
+        L += ["", f"Claims whose only evidence is the numeric search (*sampled only*): **{t['sampled_only']}** of "
+              f"{t['claims']}. Certificates: {t['certificates']} ({t['certificate_boxes']} boxes, derived in "
+              f"{t['derive_seconds']:.0f} s), re-checked independently: {t['certificates_rechecked']} "
+              f"({t['recheck_seconds']:.0f} s), failing the re-check: {t['certificates_failing_recheck']}."]
     total = sum(r["seconds"] for r in recs)
     L += ["", f"Checking time, sum over claims: {total:.0f} s.", ""]
     if muts is not None:
@@ -202,9 +332,18 @@ def markdown(data: dict) -> str:
               "| --- | --- | --- | --- | --- | --- | --- |"]
         rs = [r for r in recs if r["controller"] == ctrl]
         for r in rs:
-            impl = r["corrected"] if r["corrected"] is not None else r["paper"]
+            ev = r.get(r.get("evidence_statement") or "") or (r["corrected"] if r["corrected"] is not None
+                                                              else r["paper"])
             L.append(f"| `{r['id']}`: {_cell(r['title'])} | {r['equations']} | {r['layer']} | {r['about']} | "
-                     f"**{r['status']}** | {_evidence(impl)} | {r['seconds']:.1f} s |")
+                     f"**{r['status']}** | {_cell(_evidence(ev, r))} | {r['seconds']:.1f} s |")
+        L.append("")
+        L += ["Domains (the certified domain where a certificate exists, else the search domain):", ""]
+        for r in rs:
+            cert = r.get("certificate")
+            dom = r.get("domain") or "-"
+            if cert and not cert.get("covers_search_domain", True):
+                dom += f" (smaller than the search domain: {cert.get('note', '')})"
+            L.append(f"- `{r['id']}`: {_cell(dom)}")
         L.append("")
         for r in rs:
             p, c = r["paper"], r["corrected"]
