@@ -37,7 +37,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy as sp
 
-from .intervals import Program, compile_exprs, down, i_add, i_mul, up
+from .intervals import Program, Unsupported, compile_exprs, down, i_add, i_mul, up
 
 LEAF = {"X": 255, "N": 254, "M": 253, "H": 252, "C": 251}
 LEAF_NAME = {v: k for k, v in LEAF.items()}
@@ -144,7 +144,12 @@ def prove(g: sp.Expr, coords: list, hypotheses: list[sp.Expr] = (), equilibria: 
     syms = [c[0] for c in coords]
     if len(syms) > MAX_DIM:
         return BnbResult("cannot", reason=f"{len(syms)} coordinates (at most {MAX_DIM})")
-    eng = _Engine(sp.sympify(g), syms, [sp.sympify(h) for h in hypotheses], list(equilibria))
+    try:
+        eng = _Engine(sp.sympify(g), syms, [sp.sympify(h) for h in hypotheses], list(equilibria))
+        if syms:    # the gradient compiled now, so that an unsupported derivative is reported, not raised later
+            _ = eng.grad
+    except Unsupported as exc:
+        return BnbResult("cannot", reason=f"no interval rule for {exc}", seconds=time.perf_counter() - t0)
     if not syms:
         # a constant goal: one evaluation, a one-leaf tree over the empty box
         lo_c, hi_c, _ = eng.prog.evaluate(np.zeros((1, 0)), np.zeros((1, 0)))

@@ -327,6 +327,11 @@ class Program:
                     a = slots[op[2]]
                     slots[out] = i_sign(a)
                     smooth &= ~((a[0] <= 0) & (a[1] >= 0))
+                elif kind == "dirac":
+                    a = slots[op[2]]
+                    at = (a[0] <= 0) & (a[1] >= 0)
+                    slots[out] = (np.where(at, -INF, 0.0), np.where(at, INF, 0.0))
+                    smooth &= ~at
                 elif kind == "step":
                     a = slots[op[2]]
                     slots[out] = i_step(a, op[3])
@@ -483,6 +488,12 @@ def compile_exprs(exprs: Sequence[sp.Expr], variables: Sequence[sp.Symbol]) -> P
             inner = emit(e.args[0])
             k = new()
             ops.append(("step", k, inner, 1.0))
+            return k
+        if isinstance(e, sp.DiracDelta):
+            # the derivative of a step: 0 away from its point, no bound where the box contains it
+            inner = emit(e.args[0])
+            k = new()
+            ops.append(("dirac", k, inner))
             return k
         if isinstance(e, (sp.Max, Fmax)):
             args = [emit(a) for a in e.args]

@@ -153,6 +153,8 @@ class IvProgram:
         if isinstance(e, (sp.Heaviside, Step)):
             h0 = (e.args[1] if len(e.args) > 1 else sp.Rational(1, 2)) if isinstance(e, sp.Heaviside) else 1
             return self._new(lambda st, a, h=float(h0): _op_step(st, a, h), [em(e.args[0])])
+        if isinstance(e, sp.DiracDelta):
+            return self._new(_op_dirac, [em(e.args[0])])
         if isinstance(e, (sp.Max, Fmax, sp.Min)):
             is_max = not isinstance(e, sp.Min)
             return self._new(lambda st, *a, m=is_max: _op_maxmin(st, a, m), [em(a) for a in e.args])
@@ -202,6 +204,13 @@ def _op_sign(st, a):
     if _straddles(a, closed=True):
         st[0] = False
     return iv.mpf([(-1 if v < 0 else (1 if v > 0 else 0)) for v in (a.a, a.b)])
+
+
+def _op_dirac(st, a):
+    if _straddles(a, closed=True):
+        st[0] = False
+        return iv.mpf(["-inf", "inf"])
+    return iv.mpf(0)
 
 
 def _op_step(st, a, h0: float):
