@@ -151,22 +151,55 @@ def _line(rec: dict) -> str:
     return f"  {rec['id']:55s} {rec['status']:30s} {rec['seconds']:7.1f} s{extra}"
 
 
-def run_mutations(controller: str | None = None, log=print) -> list[dict]:
-    """Apply each mutation and check the claims it names (numeric search only)."""
+def certify_under_mutation(cl: Claim) -> str:
+    """The certification of ``cl``'s evidence statement as the sources are now (under a patched mutation), never
+    written: "certified", "counterexample", "cannot" (a plan that no longer applies counts as "cannot"), or ""
+    when the claim has no plan."""
+    from .certify import certificate, plan_for
+
+    make = plan_for(cl)
+    if make is None:
+        return ""
+    tag = "corrected" if cl.corrected is not None else "paper"
+    st = (cl.corrected if tag == "corrected" else cl.paper)()
+    if st.relation == "==":
+        return ""
+    try:
+        plan = make(st)
+        res, _ = certificate.derive(cl, tag, st, plan, log=lambda *a: None)
+    except Exception as exc:  # noqa: BLE001 - a plan written for the true statement may not fit a mutated one
+        return f"cannot (the plan does not apply: {type(exc).__name__})"
+    return res.status
+
+
+def run_mutations(controller: str | None = None, log=print, certify: bool = True) -> list[dict]:
+    """Apply each mutation and check the claims it names: the numeric search must fail each of them, or,
+    for a claim with a proof plan, the prover must refuse it (a counterexample or "cannot certify"): a
+    mutation is caught when no affected claim both passes the search and gets a certificate."""
     by_id = {c.id: c for c in all_claims()}
     recs = []
     for m in all_mutations(controller):
         t0 = time.perf_counter()
-        failed, held = [], []
+        failed, held, certified, refused = [], [], [], {}
         with m:
             for cid in m.affects:
                 r = check_claim(by_id[cid], symbolic=False)
                 impl = r.corrected if r.corrected is not None else r.paper
-                (failed if not impl.holds else held).append(cid)
-        caught = bool(m.affects) and not held
+                if not impl.holds:
+                    failed.append(cid)
+                    continue
+                got = certify_under_mutation(by_id[cid]) if certify else ""
+                if got == "certified":
+                    certified.append(cid)
+                elif got:
+                    refused[cid] = got
+                else:
+                    held.append(cid)
+        caught = bool(m.affects) and not held and not certified
         recs.append({"name": m.name, "target": f"{m.module.__name__.rsplit('.', 1)[1]}.{m.attr}",
                      "description": m.description, "affects": list(m.affects), "failed": failed,
-                     "held": held, "caught": caught, "seconds": round(time.perf_counter() - t0, 2)})
+                     "refused": refused, "held": held + certified, "certified": certified, "caught": caught,
+                     "seconds": round(time.perf_counter() - t0, 2)})
         log(f"  mutation {m.name:60s} {'caught' if caught else 'NOT CAUGHT'}")
     return recs
 
@@ -375,11 +408,14 @@ def markdown(data: dict) -> str:
     if muts is not None:
         L += ["## Mutations", "",
               "Each row injects one defect into a function of `symbolic/controllers/` and re-checks the claims it",
-              "names (numeric search); every one must fail.", "",
-              "| mutation | function | claims that fail | caught |", "| --- | --- | --- | --- |"]
+              "names: each must fail the numeric search, or, where the claim has a proof plan, the prover must",
+              "refuse it (a counterexample or 'cannot certify'); a certificate for a mutated claim is a miss.", "",
+              "| mutation | function | claims that fail | refused by the prover | caught |",
+              "| --- | --- | --- | --- | --- |"]
         for m in muts:
+            refused = ", ".join(f"`{k}` ({v})" for k, v in (m.get("refused") or {}).items()) or "-"
             L.append(f"| {_cell(m['name'])} | `{m['target']}` | {', '.join(f'`{x}`' for x in m['failed']) or '-'} | "
-                     f"{'yes' if m['caught'] else '**no**: ' + ', '.join(m['held'])} |")
+                     f"{_cell(refused)} | {'yes' if m['caught'] else '**no**: ' + ', '.join(m['held'])} |")
         L.append("")
     return "\n".join(L)
 
