@@ -1,13 +1,118 @@
-"""002: proof plans of the inequality claims (certified domains; see ``symbolic/lyapunov/certify``)."""
+"""002: proof plans of the inequality claims (certified domains; see ``symbolic/lyapunov/certify``).
+
+Most of these proofs are symbolic compositions: the gap of a claim is the weighted sum of proved lemmas
+(Lemma 1 of the paper, ``s d <= |s| D``, Young, the identity cosh^2 = 1/(1 - tanh^2)), the remainder is
+an exact rewriting that the boxes close at once, and the boxes certify the weights and the premises.
+"""
 
 from __future__ import annotations
 
 import sympy as sp
 
 from ..certify import Coordinate, Plan, Region
+from ..certify.lemmas import ABS_PRODUCT, YOUNG, Lemma  # noqa: F401 (YOUNG: V3 plans)
+from ..certify.plan import Use
 from ..core import Statement
+from .common import DELTA
 from .plans_v1 import PLANS as _PLANS_V1
 
+
+def _sym(name: str, **kw) -> sp.Symbol:
+    return sp.Symbol(name, real=True, **kw)
+
+
+def _by_name(st: Statement) -> dict:
+    return {s.name: s for s in st.free_symbols()}
+
+
+def _zero_goal(raw: sp.Expr, anchor: sp.Symbol) -> sp.Expr:
+    """The remainder of a proof by composition that cancels exactly: 0, written ``0 * anchor`` (unevaluated)
+    so that the goal keeps one box coordinate (the prover needs at least one; 0 >= 0 on any box).  The
+    identity raw = 0 is the plan's reduction step, re-verified symbolically at every check."""
+    if sp.expand(raw) != 0:
+        return sp.expand(raw)            # not a cancellation: hand the expanded remainder to the boxes
+    return sp.Mul(sp.S.Zero, anchor, evaluate=False)
+
+
+# =========================================================================== lemmas of this paper
+
+_x, _y = _sym("x"), _sym("y")
+
+
+def _lemma1_proof() -> bool:
+    """The steps of :data:`LEMMA1` (see its text)."""
+    gap = DELTA - sp.Abs(_x) + _x * sp.tanh(_x)
+    t, u = sp.Symbol("t", positive=True), sp.Symbol("u", real=True)
+    even = sp.expand(gap.xreplace({_x: -_x}) - gap) == 0
+    # t >= 0: delta - t + t tanh t = (delta (e^{2t} + 1) - 2t) / (e^{2t} + 1)
+    form = (DELTA * (sp.exp(2 * t) + 1) - 2 * t) / (sp.exp(2 * t) + 1)
+    ident = sp.simplify((gap.xreplace({_x: t}) - form).rewrite(sp.exp)) == 0
+    # e^u >= T_10(u) for u >= 0, and p(u) = delta (1 + T_10(u)) - u has no real root and p(0) > 0
+    p = sp.Poly(DELTA * (1 + sum(u**k / sp.factorial(k) for k in range(11))) - u, u)
+    poly = p.count_roots() == 0 and p.eval(0) > 0
+    return bool(even and ident and poly)
+
+
+LEMMA1 = Lemma(
+    "lemma1_scalar", (_x,), DELTA - sp.Abs(_x) + _x * sp.tanh(_x), (),
+    "Lemma 1 (mu = 1): |x| - x tanh(x) <= delta = 0.2785 for every real x.  The gap is even, and for "
+    "t = |x| >= 0 it equals (delta (e^{2t} + 1) - 2t)/(e^{2t} + 1); with u = 2t, e^u >= T_10(u) (the "
+    "degree-10 Taylor polynomial, all terms >= 0 for u >= 0), so the numerator is >= p(u) = delta (1 + "
+    "T_10(u)) - u, a polynomial with rational coefficients that has no real root (Sturm count) and "
+    "p(0) = 2 delta > 0.  (The maximum of t (1 - tanh t) is 0.27846 at t = 0.639.)",
+    _lemma1_proof)
+
+COSH_TANH = Lemma(
+    "cosh_sq_tanh", (_x, _y), _y * sp.cosh(_x) ** 2 - _y / (1 - sp.tanh(_x) ** 2), (),
+    "y cosh^2(x) - y/(1 - tanh^2(x)) = 0 >= 0 for all real x, y: cosh^2 (1 - tanh^2) = cosh^2 - sinh^2 = 1",
+    lambda: sp.simplify((sp.cosh(_x) ** 2 - 1 / (1 - sp.tanh(_x) ** 2)).rewrite(sp.exp)) == 0)
+
+# Theorem 1 ii's step outside Omega_2, on one axis: x = (k delta + y)/(k - p) >= k delta/(k - p) and
+# |e| <= p give x (k tanh x - e) >= 0; here e = p w with |w| <= 1.
+_k, _p, _w = _sym("k"), _sym("p"), _sym("w")
+_X = (_k * DELTA + _y) / (_k - _p)
+
+
+def _outside_proof() -> bool:
+    if not LEMMA1.verify():
+        return False
+    gap = _X * (_k * sp.tanh(_X) - _p * _w)
+    parts = _k * (DELTA - _X + _X * sp.tanh(_X)) + _p * _X * (1 - _w) + _y
+    return sp.cancel(sp.expand(gap - parts)) == 0
+
+
+OUTSIDE = Lemma(
+    "lemma1_outside", (_y, _w, _k, _p), _X * (_k * sp.tanh(_X) - _p * _w),
+    (_y, 1 - sp.Abs(_w), _p, _k - _p),
+    "x (k tanh x - p w) >= 0 for x = (k delta + y)/(k - p), y >= 0, |w| <= 1, p >= 0, k - p > 0: the gap "
+    "is k (delta - x + x tanh x) + p x (1 - w) + y (exact, since (k - p) x - k delta = y), with k > 0, x > 0 "
+    "(so |x| = x and the first bracket is Lemma 1, lemma1_scalar), p x (1 - w) >= 0 and y >= 0",
+    _outside_proof, strict=(False, False, False, True))
+
+
+def _rate_lemma() -> Lemma:
+    """Eqs. 42-43 on one axis, in unit coordinates: |-K P v + G tanh(C y) + A w| <= A + K P + G tanh C."""
+    A, K, P, G, C, w, v, y = (_sym(n) for n in ("A", "K", "P", "G", "C", "w", "v", "y"))
+    gap = A + K * P + G * sp.tanh(C) - sp.Abs(-K * P * v + G * sp.tanh(C * y) + A * w)
+
+    def proof() -> bool:
+        odd = sp.tanh(-y) + sp.tanh(y) == 0
+        slope = sp.simplify((sp.diff(sp.tanh(y), y) - 1 / sp.cosh(y) ** 2).rewrite(sp.exp)) == 0
+        return bool(odd and slope)
+
+    return Lemma(
+        "rate_axis", (A, K, P, G, C, w, v, y), gap,
+        (A, K, P, G, C, 1 - sp.Abs(w), 1 - sp.Abs(v), 1 - sp.Abs(y)),
+        "|-K P v + G tanh(C y) + A w| <= A + K P + G tanh(C) for A, K, P, G, C >= 0 and |w|, |v|, |y| <= 1: "
+        "the triangle inequality gives <= K P |v| + G |tanh(C y)| + A |w|, and |tanh(C y)| = tanh(C |y|) <= "
+        "tanh(C) since tanh is odd and increasing (its derivative is 1/cosh^2 > 0); |v|, |w| <= 1",
+        proof)
+
+
+RATE = _rate_lemma()
+
+
+# =========================================================================== V2 (eqs. 35-38)
 
 def _v2_lemma1(st: Statement) -> Plan:
     """Lemma 1 (mu = 1) summed over the three axes: kappa_1 > 0 factored out, the rest on the box."""
@@ -23,4 +128,58 @@ def _v2_lemma1(st: Statement) -> Plan:
     return Plan([reg], "chi1_i in [-4, 4] (i = 1..3), kappa_1 in [0.01, 5] 1/s", reduce=reduce)
 
 
-PLANS = {"c002.V2.lemma1": _v2_lemma1, **_PLANS_V1}
+def _axes(n: dict):
+    """Per axis (j, i) of the auxiliary systems: chi, e, kappa, varpi, the inertia (J_i or m)."""
+    for j in (1, 2):
+        for i in (1, 2, 3):
+            yield (j, i, n[f"chi{j}_{i}"], n[f"e_{j}_{i}"], n[f"kappa_{j}"], n[f"varpi_{j}"],
+                   n[f"J_{i}"] if j == 1 else n["m"])
+
+
+def _v2_bound(st: Statement) -> Plan:
+    """Eq. 38 as corrected (axis by axis).  Per axis, with A = 1/(J (1 - tanh^2 chi)) = cosh^2(chi)/J:
+    gap = kappa A (delta - |chi| + chi tanh chi) + A (varpi |chi| - chi e) + [cosh^2 - 1/(1 - tanh^2)]
+    chi (kappa tanh chi - e)/J, exactly; Lemma 1, s d <= |s| D (|e_i| <= varpi) and the cosh/tanh identity
+    leave 0.  The boxes certify the weights (>= 0) and the premises varpi - |e_i| >= 0."""
+    n = _by_name(st)
+    coords, subs, uses = [], {}, []
+    for j in (1, 2):
+        coords += [Coordinate(n[f"kappa_{j}"], 0.1, 5.0), Coordinate(n[f"varpi_{j}"], 0.0, 5.0)]
+    coords += [Coordinate(n[f"J_{i}"], 5.0, 40.0, "kg m^2") for i in (1, 2, 3)]
+    coords += [Coordinate(n["m"], 20.0, 200.0, "kg")]
+    for j, i, chi, e, kap, vp, inertia in _axes(n):
+        w = _sym(f"w_{j}_{i}")
+        coords += [Coordinate(chi, -3.0, 3.0), Coordinate(w, -1.0, 1.0)]
+        subs[e] = vp * w
+        a = 1 / (inertia * (1 - sp.tanh(chi) ** 2))
+        uses += [Use(LEMMA1, {_x: chi}, kap * a),
+                 Use(ABS_PRODUCT, dict(zip(ABS_PRODUCT.symbols, (chi, e, vp), strict=True)), a),
+                 Use(COSH_TANH, {_x: chi, _y: chi * (kap * sp.tanh(chi) - e) / inertia})]
+    reg = Region(tuple(coords), subs, describe="e_j = varpi_j w_j, w_j in the cube [-1, 1]^3 (contains the ball)")
+    anchor = n["kappa_1"]
+    return Plan([reg], "kappa_j in [0.1, 5], varpi_j in [0, 5], chi_ji in [-3, 3], |e_ji| <= varpi_j (the box "
+                       "e_j = varpi_j w_j, w_j in [-1, 1]^3, which contains the search's ball ||e_j|| <= varpi_j), "
+                       "J_i in [5, 40] kg m^2, m in [20, 200] kg",
+                reduce=lambda g: _zero_goal(g, anchor), uses=tuple(uses),
+                note="Lemma 1 and the cosh/tanh identity hold for every real chi: the chi box only bounds the "
+                     "weights' enclosures.")
+
+
+# =========================================================================== V3 (eqs. 39-43)
+
+def _v3_upper(st: Statement) -> Plan:
+    """Eq. 40: the gap is 4 - (1 - q0)^2 >= 0 for q0 in [-1, 1]; certified on the cube q in [-1, 1]^4,
+    which contains the unit sphere (every unit quaternion)."""
+    n = _by_name(st)
+    coords = [Coordinate(n[f"q_{i}"], -1.0, 1.0) for i in (1, 2, 3, 0)]
+    coords += [Coordinate(n[f"r_{i}"], -20.0, 20.0, "m") for i in (1, 2, 3)]
+    return Plan([Region(tuple(coords), describe="the cube [-1, 1]^4 around the unit quaternions")],
+                "q in [-1, 1]^4 (contains every unit quaternion), r~ in [-20, 20]^3 m")
+
+
+PLANS = {
+    "c002.V2.lemma1": _v2_lemma1,
+    "c002.V2.bound": _v2_bound,
+    "c002.V3.upper_bound": _v3_upper,
+    **_PLANS_V1,
+}
