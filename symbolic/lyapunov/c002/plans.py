@@ -22,7 +22,10 @@ def _sym(name: str, **kw) -> sp.Symbol:
 
 
 def _by_name(st: Statement) -> dict:
-    return {s.name: s for s in st.free_symbols()}
+    """The statement's symbols and its domain's (a bound such as varpi_j may appear in the domain only)."""
+    out = {s.name: s for v in st.domain for s in v.symbols}
+    out.update({s.name: s for s in st.free_symbols()})
+    return out
 
 
 def _zero_goal(raw: sp.Expr, anchor: sp.Symbol) -> sp.Expr:
@@ -165,6 +168,61 @@ def _v2_bound(st: Statement) -> Plan:
                      "weights' enclosures.")
 
 
+def _v2_invariant_set(st: Statement) -> Plan:
+    """Theorem 1 ii per axis (corrected): chi_ji chi_ji_dot <= 0 where |chi_ji| >= kappa_j delta/(kappa_j -
+    varpi_j).  Each component is -cosh^2(chi)/(J k) times chi (e - kappa tanh chi) and is certified by the
+    lemma ``lemma1_outside`` (Lemma 1 plus |e| <= varpi), with weight cosh^2(chi)/(J k) >= 0.
+
+    Domain map: varpi_j = kappa_j (1 - u_j) (u_j in [0.05, 1]: varpi_j in [0, 0.95 kappa_j]), chi_ji =
+    sigma (kappa_j delta + y_ji)/(kappa_j u_j) with y_ji in [0, 15], so |chi_ji| = c_j + y_ji/(kappa_j u_j)
+    runs from the threshold c_j = kappa_j delta/(kappa_j - varpi_j) to beyond c_j + 3 (the sampler's range:
+    kappa_j u_j <= 5), and e_ji = sigma varpi_j w_ji with w_ji in [-1, 1] (the box that contains the ball
+    ||e_j|| <= varpi_j; the sign sigma of chi_ji only reorders it).  The two signs of each of the six
+    chi_ji make 2^6 regions."""
+    n = _by_name(st)
+    base = [Coordinate(n[f"k_{k}"], 0.001, 1.0) for k in (2, 6)]
+    base += [Coordinate(n[f"J_{i}"], 5.0, 40.0, "kg m^2") for i in (1, 2, 3)] + [Coordinate(n["m"], 20.0, 200.0, "kg")]
+    us, axes = {}, list(_axes(n))
+    for j in (1, 2):
+        us[j] = sp.Symbol(f"u_{j}", positive=True)
+        base += [Coordinate(n[f"kappa_{j}"], 0.1, 5.0), Coordinate(us[j], 0.05, 1.0)]
+    ys, ws = {}, {}
+    for j, i, chi, _e, _kap, _vp, _inertia in axes:
+        ys[chi] = sp.Symbol(f"y_{j}_{i}", nonnegative=True)
+        ws[chi] = _sym(f"w_{j}_{i}")
+        base += [Coordinate(ys[chi], 0.0, 15.0), Coordinate(ws[chi], -1.0, 1.0)]
+    regions = []
+    for mask in range(64):
+        subs = {n[f"varpi_{j}"]: n[f"kappa_{j}"] * (1 - us[j]) for j in (1, 2)}
+        signs = ""
+        for b, (j, _i, chi, e, kap, _vp, _inertia) in enumerate(axes):
+            sg = -1 if mask >> b & 1 else 1
+            signs += "+" if sg > 0 else "-"
+            # expanded, so that tanh(chi) and cosh(chi) take the sign out when built (the identity check
+            # canonicalises function arguments by expanding them)
+            subs[chi] = sg * sp.expand((kap * DELTA + ys[chi]) / (kap * us[j]))
+            subs[e] = sg * kap * (1 - us[j]) * ws[chi]
+        regions.append(Region(tuple(base), subs, describe="signs of chi_ji: " + signs))
+    uses = []
+    for ci, (j, _i, chi, _e, kap, vp, inertia) in enumerate(axes):
+        gain = n["k_2"] if j == 1 else n["k_6"]
+        # y and w are the regions' coordinates y_ji, w_ji (the same in every region: with e = sigma varpi w
+        # and chi = sigma x the component is the lemma's x (kappa tanh x - varpi w) in both signs); a lemma
+        # holds for any real values of its symbols, so an instance in coordinates is as valid as one in the
+        # statement's symbols, and the main goal's identity ties it to the statement
+        mapping = {_y: ys[chi], _w: ws[chi], _k: kap, _p: vp}
+        uses.append(Use(OUTSIDE, mapping, sp.cosh(chi) ** 2 / (inertia * gain), component=ci))
+    anchor = n["kappa_1"]
+    return Plan(regions, "kappa_j in [0.1, 5], varpi_j in [0, 0.95 kappa_j], |e_ji| <= varpi_j (the box, which "
+                         "contains the ball ||e_j|| <= varpi_j), |chi_ji| = kappa_j delta/(kappa_j - varpi_j) + "
+                         "y_ji/(kappa_j - varpi_j) with y_ji in [0, 15] (covers the sampler's |chi_ji| <= "
+                         "kappa_j delta/(kappa_j - varpi_j) + 3), both signs; k2, k6 in [0.001, 1], "
+                         "J_i in [5, 40] kg m^2, m in [20, 200] kg",
+                reduce=lambda g: _zero_goal(g, anchor), uses=tuple(uses),
+                note="The lemma holds for every |chi| beyond the threshold; the cap y_ji <= 15 only bounds the "
+                     "box (it covers the search domain).")
+
+
 # =========================================================================== V3 (eqs. 39-43)
 
 def _v3_upper(st: Statement) -> Plan:
@@ -180,6 +238,7 @@ def _v3_upper(st: Statement) -> Plan:
 PLANS = {
     "c002.V2.lemma1": _v2_lemma1,
     "c002.V2.bound": _v2_bound,
+    "c002.V2.invariant_set": _v2_invariant_set,
     "c002.V3.upper_bound": _v3_upper,
     **_PLANS_V1,
 }
