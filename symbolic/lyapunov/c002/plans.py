@@ -10,7 +10,7 @@ from __future__ import annotations
 import sympy as sp
 
 from ..certify import Coordinate, Plan, Region
-from ..certify.lemmas import ABS_PRODUCT, YOUNG, Lemma  # noqa: F401 (YOUNG: V3 plans)
+from ..certify.lemmas import ABS_PRODUCT, YOUNG, Lemma
 from ..certify.plan import Use
 from ..core import Statement
 from .common import DELTA
@@ -113,6 +113,17 @@ def _rate_lemma() -> Lemma:
 
 
 RATE = _rate_lemma()
+
+
+def _min_proof() -> bool:
+    y, t = _sym("y"), sp.Symbol("t", positive=True)
+    return bool(sp.Min(y + t, y) == y and sp.Min(y, y + t) == y and sp.Min(_x, y) == sp.Min(y, _x))
+
+
+MIN_LE = Lemma(
+    "min_le", (_x, _y), _x - sp.Min(_x, _y), (),
+    "Min(x, y) <= x: Min(x, y) is y where x = y + t (t > 0) and x where y = x + t (t > 0), or x = y",
+    _min_proof)
 
 
 # =========================================================================== V2 (eqs. 35-38)
@@ -235,10 +246,73 @@ def _v3_upper(st: Statement) -> Plan:
                 "q in [-1, 1]^4 (contains every unit quaternion), r~ in [-20, 20]^3 m")
 
 
+def _ball_charts(s: sp.Matrix, radius: sp.Symbol, tag: str):
+    """The ball ||s|| <= radius as two regions' maps: s = radius rho u, rho in [0, 1], u on the unit sphere by
+    the stereographic chart u = (2a, 2b, +-(1 - a^2 - b^2))/(1 + a^2 + b^2), (a, b) in [-1, 1]^2: each sign
+    covers the closed hemisphere +-u_3 >= 0 (its points have a^2 + b^2 <= 1).  Rational, so ||u|| = 1 is
+    an identity of rational functions."""
+    rho = sp.Symbol(f"rho_{tag}", nonnegative=True)
+    a, b = _sym(f"a_{tag}"), _sym(f"b_{tag}")
+    coords = (Coordinate(rho, 0.0, 1.0), Coordinate(a, -1.0, 1.0), Coordinate(b, -1.0, 1.0))
+    den = 1 + a**2 + b**2
+    out = []
+    for sg in (1, -1):
+        u = (2 * a / den, 2 * b / den, sg * (1 - a**2 - b**2) / den)
+        out.append((coords, {s[i]: radius * rho * u[i] for i in range(3)}, "+" if sg > 0 else "-"))
+    return rho, out
+
+
+def _v3_tracking(st: Statement, exponential: bool) -> Plan:
+    """Eq. 41 as corrected: V3_dot = q~_v.(s1 - k1 q~_v + k2 tanh chi1) + r~.(s2 - k5 r~ + k6 tanh chi2) (the
+    C_t = W^x terms cancel: r~^T W^x r~ = 0).  Young (ab <= a^2/4 + b^2) on q~_i s1_i, q~_i k2 tanh chi1_i
+    and the same for r~ leaves exactly o1^2 - ||s1||^2 + k2^2 (3 - sum tanh^2 chi1_i) + (the same for 2),
+    >= 0 on the balls ||s_j|| <= o_j (a chart each: s_j = o_j rho_j u_j, so o_j^2 - ||s_j||^2 =
+    o_j^2 (1 - rho_j^2)).  The exponential form adds -min(k1 - 1/2, 2 k5 - 1) V3: Min <= each argument
+    (weights q~_v^T q~_v + (1 - q~0)^2 and r~^T r~/2) leaves (k1 - 1/2)(4 - (1 - q~0)^2) >= 0.
+
+    q is certified on the cube [-1, 1]^4, which contains the unit quaternions (the gap does not need
+    ||q|| = 1: q~0 enters only through (1 - q~0)^2 <= 4)."""
+    n = _by_name(st)
+    q = [n[f"q_{i}"] for i in (1, 2, 3)]
+    r = [n[f"r_{i}"] for i in (1, 2, 3)]
+    c1 = [n[f"chi1_{i}"] for i in (1, 2, 3)]
+    c2 = [n[f"chi2_{i}"] for i in (1, 2, 3)]
+    s1 = sp.Matrix([n[f"s_1_{i}"] for i in (1, 2, 3)])
+    s2 = sp.Matrix([n[f"s_2_{i}"] for i in (1, 2, 3)])
+    k1, k2, k5, k6, o1, o2, q0 = (n[k] for k in ("k_1", "k_2", "k_5", "k_6", "o_1", "o_2", "q_0"))
+    base = [Coordinate(x, -1.0, 1.0) for x in (*q, q0)] + [Coordinate(x, -20.0, 20.0, "m") for x in r]
+    base += [Coordinate(x, -3.0, 3.0) for x in (*c1, *c2)] + [Coordinate(x, 0.001, 1.0) for x in (o1, o2)]
+    base += [Coordinate(x, 0.5, 5.0) for x in (k1, k5)] + [Coordinate(x, 0.001, 1.0) for x in (k2, k6)]
+    base += [Coordinate(n[f"W_{i}"], -0.5, 0.5, "rad/s") for i in (1, 2, 3)]
+    rho1, ch1 = _ball_charts(s1, o1, "1")
+    rho2, ch2 = _ball_charts(s2, o2, "2")
+    regions = [Region(tuple(base) + cs1 + cs2, {**m1, **m2}, describe=f"s1 hemisphere {t1}, s2 hemisphere {t2}")
+               for cs1, m1, t1 in ch1 for cs2, m2, t2 in ch2]
+    ya, yb, ye = YOUNG.symbols
+    uses = []
+    for i in range(3):
+        for a, b in ((q[i], s1[i]), (q[i], k2 * sp.tanh(c1[i])), (r[i], s2[i]), (r[i], k6 * sp.tanh(c2[i]))):
+            uses.append(Use(YOUNG, {ya: a, yb: b, ye: 2}))
+    target = (o1**2 * (1 - rho1**2) + k2**2 * (3 - sum(sp.tanh(x) ** 2 for x in c1))
+              + o2**2 * (1 - rho2**2) + k6**2 * (3 - sum(sp.tanh(x) ** 2 for x in c2)))
+    if exponential:
+        half = sp.S.Half
+        qq, rr = sum(x**2 for x in q), sum(x**2 for x in r)
+        uses.append(Use(MIN_LE, {_x: k1 - half, _y: 2 * k5 - 1}, qq + (1 - q0) ** 2))
+        uses.append(Use(MIN_LE, {_x: 2 * k5 - 1, _y: k1 - half}, rr / 2))
+        target += (k1 - half) * (4 - (1 - q0) ** 2)
+    dom = ("q in [-1, 1]^4 (contains every unit quaternion), r~ in [-20, 20]^3 m, chi_j in [-3, 3]^3, "
+           "o_j in [0.001, 1], ||s_j|| <= o_j (two stereographic hemisphere charts each), k1, k5 in [0.5, 5], "
+           "k2, k6 in [0.001, 1], W in [-0.5, 0.5]^3 rad/s")
+    return Plan(regions, dom, reduce=lambda g: target, uses=tuple(uses))
+
+
 PLANS = {
     "c002.V2.lemma1": _v2_lemma1,
     "c002.V2.bound": _v2_bound,
     "c002.V2.invariant_set": _v2_invariant_set,
     "c002.V3.upper_bound": _v3_upper,
+    "c002.V3.bound": lambda st: _v3_tracking(st, False),
+    "c002.V3.exponential": lambda st: _v3_tracking(st, True),
     **_PLANS_V1,
 }
