@@ -93,26 +93,36 @@ OUTSIDE = Lemma(
     _outside_proof, strict=(False, False, False, True))
 
 
-def _rate_lemma() -> Lemma:
-    """Eqs. 42-43 on one axis, in unit coordinates: |-K P v + G tanh(C y) + A w| <= A + K P + G tanh C."""
-    A, K, P, G, C, w, v, y = (_sym(n) for n in ("A", "K", "P", "G", "C", "w", "v", "y"))
-    gap = A + K * P + G * sp.tanh(C) - sp.Abs(-K * P * v + G * sp.tanh(C * y) + A * w)
-
-    def proof() -> bool:
-        odd = sp.tanh(-y) + sp.tanh(y) == 0
-        slope = sp.simplify((sp.diff(sp.tanh(y), y) - 1 / sp.cosh(y) ** 2).rewrite(sp.exp)) == 0
-        return bool(odd and slope)
-
-    return Lemma(
-        "rate_axis", (A, K, P, G, C, w, v, y), gap,
-        (A, K, P, G, C, 1 - sp.Abs(w), 1 - sp.Abs(v), 1 - sp.Abs(y)),
-        "|-K P v + G tanh(C y) + A w| <= A + K P + G tanh(C) for A, K, P, G, C >= 0 and |w|, |v|, |y| <= 1: "
-        "the triangle inequality gives <= K P |v| + G |tanh(C y)| + A |w|, and |tanh(C y)| = tanh(C |y|) <= "
-        "tanh(C) since tanh is odd and increasing (its derivative is 1/cosh^2 > 0); |v|, |w| <= 1",
-        proof)
+_a, _b, _c = _sym("a"), _sym("b"), _sym("c")
 
 
-RATE = _rate_lemma()
+def _triangle_proof() -> bool:
+    n1 = sp.Abs(_a) + sp.Abs(_b) + sp.Abs(_c)
+    sq = {sp.Abs(v) ** 2: v**2 for v in (_a, _b, _c)}
+    cross = 2 * sum(sp.Abs(u) * sp.Abs(v) - u * v for u, v in ((_a, _b), (_a, _c), (_b, _c)))
+    return sp.expand(sp.expand(n1**2).subs(sq) - (_a + _b + _c) ** 2 - cross) == 0
+
+
+TRIANGLE3 = Lemma(
+    "triangle_3", (_a, _b, _c), sp.Abs(_a) + sp.Abs(_b) + sp.Abs(_c) - sp.Abs(_a + _b + _c), (),
+    "|a + b + c| <= |a| + |b| + |c|: (|a| + |b| + |c|)^2 - (a + b + c)^2 = 2 sum_{u<v} (|u| |v| - u v) >= 0 "
+    "(|u| |v| = |u v| >= u v), and both sides are >= 0",
+    _triangle_proof)
+
+_C = _sym("C")
+
+
+def _tanh_proof() -> bool:
+    odd = sp.tanh(-_y) + sp.tanh(_y) == 0
+    slope = sp.simplify((sp.diff(sp.tanh(_y), _y) - 1 / sp.cosh(_y) ** 2).rewrite(sp.exp)) == 0
+    return bool(odd and slope)
+
+
+TANH_MONO = Lemma(
+    "tanh_unit", (_C, _y), sp.tanh(_C) - sp.Abs(sp.tanh(_C * _y)), (_C, 1 - sp.Abs(_y)),
+    "|tanh(C y)| <= tanh(C) for C >= 0, |y| <= 1: tanh is odd and increasing (its derivative is "
+    "1/cosh^2 > 0), so |tanh(C y)| = tanh(C |y|) <= tanh(C) as C |y| <= C",
+    _tanh_proof)
 
 
 def _min_proof() -> bool:
@@ -307,6 +317,40 @@ def _v3_tracking(st: Statement, exponential: bool) -> Plan:
     return Plan(regions, dom, reduce=lambda g: target, uses=tuple(uses))
 
 
+def _v3_rate_bounds(st: Statement) -> Plan:
+    """Eqs. 42-43 per axis, |-k q~_i + g tanh(chi_i) + s_i| <= o + k o3 + g tanh(c): the triangle inequality
+    (``triangle_3``) and |tanh(chi_i)| <= tanh(c) (``tanh_unit``, weight g) leave o (1 - |w|) + k o3 (1 - |v|)
+    in the unit coordinates of the map s_j = o_j w, q~_v = o3 v, r~ = o4 v, chi_j = c_j y.  Certified on the
+    boxes |s_ji| <= o_j, |q~_i| <= o3, |r~_i| <= o4, |chi_ji| <= c_j, which contain the search's balls."""
+    n = _by_name(st)
+    o = [n[f"o_{i}"] for i in (1, 2, 3, 4)]
+    c1, c2, k1, k2, k5, k6 = (n[k] for k in ("c_1", "c_2", "k_1", "k_2", "k_5", "k_6"))
+    coords = [Coordinate(x, 0.001, 1.0) for x in o] + [Coordinate(x, 0.01, 3.0) for x in (c1, c2)]
+    coords += [Coordinate(x, 0.5, 5.0) for x in (k1, k5)] + [Coordinate(x, 0.001, 1.0) for x in (k2, k6)]
+    subs, uses, rest = {}, [], {}
+    axes = [(n[f"s_1_{i}"], n[f"q_{i}"], n[f"chi1_{i}"], o[0], k1, o[2], k2, c1) for i in (1, 2, 3)]
+    axes += [(n[f"s_2_{i}"], n[f"r_{i}"], n[f"chi2_{i}"], o[1], k5, o[3], k6, c2) for i in (1, 2, 3)]
+    for ci, (s_, x_, chi, a_, k_, p_, g_, c_) in enumerate(axes):
+        uw, uv, uy = _sym(f"w_{s_.name}"), _sym(f"v_{x_.name}"), _sym(f"y_{chi.name}")
+        coords += [Coordinate(uw, -1.0, 1.0), Coordinate(uv, -1.0, 1.0), Coordinate(uy, -1.0, 1.0)]
+        subs.update({s_: a_ * uw, x_: p_ * uv, chi: c_ * uy})
+        uses += [Use(TRIANGLE3, {_a: -k_ * x_, _b: g_ * sp.tanh(chi), _c: s_}, component=ci),
+                 Use(TANH_MONO, {_C: c_, _y: chi / c_}, g_, component=ci)]
+        rest[sp.Abs(uw)] = (a_, k_ * p_, sp.Abs(uv))
+
+    def reduce(g):
+        # what the lemmas leave: o - o |w| + k o3 - k o3 |v|, written o (1 - |w|) + k o3 (1 - |v|)
+        for aw, (a_, kp, av) in rest.items():
+            if g.has(aw):
+                return a_ * (1 - aw) + kp * (1 - av)
+        return g
+
+    reg = Region(tuple(coords), subs, describe="s_j = o_j w, q~_v = o3 v, r~ = o4 v, chi_j = c_j y (unit boxes)")
+    return Plan([reg], "o_1..4 in [0.001, 1], c_j in [0.01, 3], k1, k5 in [0.5, 5], k2, k6 in [0.001, 1]; "
+                       "|s_ji| <= o_j, |q~_i| <= o3, |r~_i| <= o4, |chi_ji| <= c_j (boxes that contain the "
+                       "search's balls)", reduce=reduce, uses=tuple(uses))
+
+
 PLANS = {
     "c002.V2.lemma1": _v2_lemma1,
     "c002.V2.bound": _v2_bound,
@@ -314,5 +358,6 @@ PLANS = {
     "c002.V3.upper_bound": _v3_upper,
     "c002.V3.bound": lambda st: _v3_tracking(st, False),
     "c002.V3.exponential": lambda st: _v3_tracking(st, True),
+    "c002.V3.rate_bounds": _v3_rate_bounds,
     **_PLANS_V1,
 }
