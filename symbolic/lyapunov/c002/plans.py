@@ -314,6 +314,7 @@ def _v3_tracking(st: Statement, exponential: bool) -> Plan:
     dom = ("q in [-1, 1]^4 (contains every unit quaternion), r~ in [-20, 20]^3 m, chi_j in [-3, 3]^3, "
            "o_j in [0.001, 1], ||s_j|| <= o_j (two stereographic hemisphere charts each), k1, k5 in [0.5, 5], "
            "k2, k6 in [0.001, 1], W in [-0.5, 0.5]^3 rad/s")
+    # the remainder is the same expression in every chart (a_j, b_j cancel); the check verifies raw = target
     return Plan(regions, dom, reduce=lambda g: target, uses=tuple(uses))
 
 
