@@ -10,7 +10,9 @@ from __future__ import annotations
 import sympy as sp
 
 from ..certify import Coordinate, Plan, Region
-from ..certify.lemmas import ABS_PRODUCT, YOUNG, Lemma
+from ..certify.lemmas import ABS_PRODUCT, COSH_TANH, MIN_LE, TANH_MONO, TRIANGLE3, YOUNG
+from ..certify.lemmas import LEMMA1_002 as LEMMA1
+from ..certify.lemmas import OUTSIDE_002 as OUTSIDE
 from ..certify.plan import Use
 from ..core import Statement
 from .common import DELTA
@@ -37,103 +39,13 @@ def _zero_goal(raw: sp.Expr, anchor: sp.Symbol) -> sp.Expr:
     return sp.Mul(sp.S.Zero, anchor, evaluate=False)
 
 
-# =========================================================================== lemmas of this paper
+# =========================================================================== lemma symbols
+# (the lemmas themselves are in the reviewed library, certify/lemmas.py; a mapping's keys are their symbols)
 
 _x, _y = _sym("x"), _sym("y")
-
-
-def _lemma1_proof() -> bool:
-    """The steps of :data:`LEMMA1` (see its text)."""
-    gap = DELTA - sp.Abs(_x) + _x * sp.tanh(_x)
-    t, u = sp.Symbol("t", positive=True), sp.Symbol("u", real=True)
-    even = sp.expand(gap.xreplace({_x: -_x}) - gap) == 0
-    # t >= 0: delta - t + t tanh t = (delta (e^{2t} + 1) - 2t) / (e^{2t} + 1)
-    form = (DELTA * (sp.exp(2 * t) + 1) - 2 * t) / (sp.exp(2 * t) + 1)
-    ident = sp.simplify((gap.xreplace({_x: t}) - form).rewrite(sp.exp)) == 0
-    # e^u >= T_10(u) for u >= 0, and p(u) = delta (1 + T_10(u)) - u has no real root and p(0) > 0
-    p = sp.Poly(DELTA * (1 + sum(u**k / sp.factorial(k) for k in range(11))) - u, u)
-    poly = p.count_roots() == 0 and p.eval(0) > 0
-    return bool(even and ident and poly)
-
-
-LEMMA1 = Lemma(
-    "lemma1_scalar", (_x,), DELTA - sp.Abs(_x) + _x * sp.tanh(_x), (),
-    "Lemma 1 (mu = 1): |x| - x tanh(x) <= delta = 0.2785 for every real x.  The gap is even, and for "
-    "t = |x| >= 0 it equals (delta (e^{2t} + 1) - 2t)/(e^{2t} + 1); with u = 2t, e^u >= T_10(u) (the "
-    "degree-10 Taylor polynomial, all terms >= 0 for u >= 0), so the numerator is >= p(u) = delta (1 + "
-    "T_10(u)) - u, a polynomial with rational coefficients that has no real root (Sturm count) and "
-    "p(0) = 2 delta > 0.  (The maximum of t (1 - tanh t) is 0.27846 at t = 0.639.)",
-    _lemma1_proof)
-
-COSH_TANH = Lemma(
-    "cosh_sq_tanh", (_x, _y), _y * sp.cosh(_x) ** 2 - _y / (1 - sp.tanh(_x) ** 2), (),
-    "y cosh^2(x) - y/(1 - tanh^2(x)) = 0 >= 0 for all real x, y: cosh^2 (1 - tanh^2) = cosh^2 - sinh^2 = 1",
-    lambda: sp.simplify((sp.cosh(_x) ** 2 - 1 / (1 - sp.tanh(_x) ** 2)).rewrite(sp.exp)) == 0)
-
-# Theorem 1 ii's step outside Omega_2, on one axis: x = (k delta + y)/(k - p) >= k delta/(k - p) and
-# |e| <= p give x (k tanh x - e) >= 0; here e = p w with |w| <= 1.
 _k, _p, _w = _sym("k"), _sym("p"), _sym("w")
-_X = (_k * DELTA + _y) / (_k - _p)
-
-
-def _outside_proof() -> bool:
-    if not LEMMA1.verify():
-        return False
-    gap = _X * (_k * sp.tanh(_X) - _p * _w)
-    parts = _k * (DELTA - _X + _X * sp.tanh(_X)) + _p * _X * (1 - _w) + _y
-    return sp.cancel(sp.expand(gap - parts)) == 0
-
-
-OUTSIDE = Lemma(
-    "lemma1_outside", (_y, _w, _k, _p), _X * (_k * sp.tanh(_X) - _p * _w),
-    (_y, 1 - sp.Abs(_w), _p, _k - _p),
-    "x (k tanh x - p w) >= 0 for x = (k delta + y)/(k - p), y >= 0, |w| <= 1, p >= 0, k - p > 0: the gap "
-    "is k (delta - x + x tanh x) + p x (1 - w) + y (exact, since (k - p) x - k delta = y), with k > 0, x > 0 "
-    "(so |x| = x and the first bracket is Lemma 1, lemma1_scalar), p x (1 - w) >= 0 and y >= 0",
-    _outside_proof, strict=(False, False, False, True))
-
-
 _a, _b, _c = _sym("a"), _sym("b"), _sym("c")
-
-
-def _triangle_proof() -> bool:
-    n1 = sp.Abs(_a) + sp.Abs(_b) + sp.Abs(_c)
-    sq = {sp.Abs(v) ** 2: v**2 for v in (_a, _b, _c)}
-    cross = 2 * sum(sp.Abs(u) * sp.Abs(v) - u * v for u, v in ((_a, _b), (_a, _c), (_b, _c)))
-    return sp.expand(sp.expand(n1**2).subs(sq) - (_a + _b + _c) ** 2 - cross) == 0
-
-
-TRIANGLE3 = Lemma(
-    "triangle_3", (_a, _b, _c), sp.Abs(_a) + sp.Abs(_b) + sp.Abs(_c) - sp.Abs(_a + _b + _c), (),
-    "|a + b + c| <= |a| + |b| + |c|: (|a| + |b| + |c|)^2 - (a + b + c)^2 = 2 sum_{u<v} (|u| |v| - u v) >= 0 "
-    "(|u| |v| = |u v| >= u v), and both sides are >= 0",
-    _triangle_proof)
-
 _C = _sym("C")
-
-
-def _tanh_proof() -> bool:
-    odd = sp.tanh(-_y) + sp.tanh(_y) == 0
-    slope = sp.simplify((sp.diff(sp.tanh(_y), _y) - 1 / sp.cosh(_y) ** 2).rewrite(sp.exp)) == 0
-    return bool(odd and slope)
-
-
-TANH_MONO = Lemma(
-    "tanh_unit", (_C, _y), sp.tanh(_C) - sp.Abs(sp.tanh(_C * _y)), (_C, 1 - sp.Abs(_y)),
-    "|tanh(C y)| <= tanh(C) for C >= 0, |y| <= 1: tanh is odd and increasing (its derivative is "
-    "1/cosh^2 > 0), so |tanh(C y)| = tanh(C |y|) <= tanh(C) as C |y| <= C",
-    _tanh_proof)
-
-
-def _min_proof() -> bool:
-    y, t = _sym("y"), sp.Symbol("t", positive=True)
-    return bool(sp.Min(y + t, y) == y and sp.Min(y, y + t) == y and sp.Min(_x, y) == sp.Min(y, _x))
-
-
-MIN_LE = Lemma(
-    "min_le", (_x, _y), _x - sp.Min(_x, _y), (),
-    "Min(x, y) <= x: Min(x, y) is y where x = y + t (t > 0) and x where y = x + t (t > 0), or x = y",
-    _min_proof)
 
 
 # =========================================================================== V2 (eqs. 35-38)

@@ -147,8 +147,117 @@ def _layer_lemma() -> Lemma:
 
 LAYER = _layer_lemma()
 
+# --------------------------------------------------------------------------- paper 002's Lemma 1 and companions
+# (written for the V2/V3 claims of controller c002; each is a general fact with its own proof)
+
+DELTA_002 = sp.Rational(2785, 10000)     # Lemma 1's delta (mu = 1); the same as c002/common.py's DELTA
+
+
+def _sym(name: str) -> sp.Symbol:
+    return sp.Symbol(name, real=True)
+
+
+
+_xs, _ys = _sym("x"), _sym("y")
+
+
+def _lemma1_proof() -> bool:
+    """The steps of :data:`LEMMA1_002` (see its text)."""
+    gap = DELTA_002 - sp.Abs(_xs) + _xs * sp.tanh(_xs)
+    t, u = sp.Symbol("t", positive=True), sp.Symbol("u", real=True)
+    even = sp.expand(gap.xreplace({_xs: -_xs}) - gap) == 0
+    # t >= 0: delta - t + t tanh t = (delta (e^{2t} + 1) - 2t) / (e^{2t} + 1)
+    form = (DELTA_002 * (sp.exp(2 * t) + 1) - 2 * t) / (sp.exp(2 * t) + 1)
+    ident = sp.simplify((gap.xreplace({_xs: t}) - form).rewrite(sp.exp)) == 0
+    # e^u >= T_10(u) for u >= 0, and p(u) = delta (1 + T_10(u)) - u has no real root and p(0) > 0
+    p = sp.Poly(DELTA_002 * (1 + sum(u**k / sp.factorial(k) for k in range(11))) - u, u)
+    poly = p.count_roots() == 0 and p.eval(0) > 0
+    return bool(even and ident and poly)
+
+
+LEMMA1_002 = Lemma(
+    "lemma1_scalar", (_xs,), DELTA_002 - sp.Abs(_xs) + _xs * sp.tanh(_xs), (),
+    "Lemma 1 (mu = 1): |x| - x tanh(x) <= delta = 0.2785 for every real x.  The gap is even, and for "
+    "t = |x| >= 0 it equals (delta (e^{2t} + 1) - 2t)/(e^{2t} + 1); with u = 2t, e^u >= T_10(u) (the "
+    "degree-10 Taylor polynomial, all terms >= 0 for u >= 0), so the numerator is >= p(u) = delta (1 + "
+    "T_10(u)) - u, a polynomial with rational coefficients that has no real root (Sturm count) and "
+    "p(0) = 2 delta > 0.  (The maximum of t (1 - tanh t) is 0.27846 at t = 0.639.)",
+    _lemma1_proof)
+
+COSH_TANH = Lemma(
+    "cosh_sq_tanh", (_xs, _ys), _ys * sp.cosh(_xs) ** 2 - _ys / (1 - sp.tanh(_xs) ** 2), (),
+    "y cosh^2(x) - y/(1 - tanh^2(x)) = 0 >= 0 for all real x, y: cosh^2 (1 - tanh^2) = cosh^2 - sinh^2 = 1",
+    lambda: sp.simplify((sp.cosh(_xs) ** 2 - 1 / (1 - sp.tanh(_xs) ** 2)).rewrite(sp.exp)) == 0)
+
+# Theorem 1 ii's step outside Omega_2, on one axis: x = (k delta + y)/(k - p) >= k delta/(k - p) and
+# |e| <= p give x (k tanh x - e) >= 0; here e = p w with |w| <= 1.
+_ks, _ps, _ws = _sym("k"), _sym("p"), _sym("w")
+_Xs = (_ks * DELTA_002 + _ys) / (_ks - _ps)
+
+
+def _outside_proof() -> bool:
+    if not LEMMA1_002.verify():
+        return False
+    gap = _Xs * (_ks * sp.tanh(_Xs) - _ps * _ws)
+    parts = _ks * (DELTA_002 - _Xs + _Xs * sp.tanh(_Xs)) + _ps * _Xs * (1 - _ws) + _ys
+    return sp.cancel(sp.expand(gap - parts)) == 0
+
+
+OUTSIDE_002 = Lemma(
+    "lemma1_outside", (_ys, _ws, _ks, _ps), _Xs * (_ks * sp.tanh(_Xs) - _ps * _ws),
+    (_ys, 1 - sp.Abs(_ws), _ps, _ks - _ps),
+    "x (k tanh x - p w) >= 0 for x = (k delta + y)/(k - p), y >= 0, |w| <= 1, p >= 0, k - p > 0: the gap "
+    "is k (delta - x + x tanh x) + p x (1 - w) + y (exact, since (k - p) x - k delta = y), with k > 0, x > 0 "
+    "(so |x| = x and the first bracket is Lemma 1, lemma1_scalar), p x (1 - w) >= 0 and y >= 0",
+    _outside_proof, strict=(False, False, False, True))
+
+
+_as, _bs, _cs = _sym("a"), _sym("b"), _sym("c")
+
+
+def _triangle_proof() -> bool:
+    n1 = sp.Abs(_as) + sp.Abs(_bs) + sp.Abs(_cs)
+    sq = {sp.Abs(v) ** 2: v**2 for v in (_as, _bs, _cs)}
+    cross = 2 * sum(sp.Abs(u) * sp.Abs(v) - u * v for u, v in ((_as, _bs), (_as, _cs), (_bs, _cs)))
+    return sp.expand(sp.expand(n1**2).subs(sq) - (_as + _bs + _cs) ** 2 - cross) == 0
+
+
+TRIANGLE3 = Lemma(
+    "triangle_3", (_as, _bs, _cs), sp.Abs(_as) + sp.Abs(_bs) + sp.Abs(_cs) - sp.Abs(_as + _bs + _cs), (),
+    "|a + b + c| <= |a| + |b| + |c|: (|a| + |b| + |c|)^2 - (a + b + c)^2 = 2 sum_{u<v} (|u| |v| - u v) >= 0 "
+    "(|u| |v| = |u v| >= u v), and both sides are >= 0",
+    _triangle_proof)
+
+_Cs = _sym("C")
+
+
+def _tanh_proof() -> bool:
+    odd = sp.tanh(-_ys) + sp.tanh(_ys) == 0
+    slope = sp.simplify((sp.diff(sp.tanh(_ys), _ys) - 1 / sp.cosh(_ys) ** 2).rewrite(sp.exp)) == 0
+    return bool(odd and slope)
+
+
+TANH_MONO = Lemma(
+    "tanh_unit", (_Cs, _ys), sp.tanh(_Cs) - sp.Abs(sp.tanh(_Cs * _ys)), (_Cs, 1 - sp.Abs(_ys)),
+    "|tanh(C y)| <= tanh(C) for C >= 0, |y| <= 1: tanh is odd and increasing (its derivative is "
+    "1/cosh^2 > 0), so |tanh(C y)| = tanh(C |y|) <= tanh(C) as C |y| <= C",
+    _tanh_proof)
+
+
+def _min_proof() -> bool:
+    y, t = _sym("y"), sp.Symbol("t", positive=True)
+    return bool(sp.Min(y + t, y) == y and sp.Min(y, y + t) == y and sp.Min(_xs, y) == sp.Min(y, _xs))
+
+
+MIN_LE = Lemma(
+    "min_le", (_xs, _ys), _xs - sp.Min(_xs, _ys), (),
+    "Min(x, y) <= x: Min(x, y) is y where x = y + t (t > 0) and x where y = x + t (t > 0), or x = y",
+    _min_proof)
+
+
 LIBRARY: dict[str, Lemma] = {lem.name: lem for lem in (YOUNG, ABS_PRODUCT, CAUCHY_SCHWARZ3, NORM2_LE_NORM1,
-                                                       DOT_BALL3, LDL2, LAYER)}
+                                                       DOT_BALL3, LDL2, LAYER, LEMMA1_002, COSH_TANH,
+                                                       OUTSIDE_002, TRIANGLE3, TANH_MONO, MIN_LE)}
 
 
 def vector_mapping(lemma: Lemma, **vectors) -> dict:
