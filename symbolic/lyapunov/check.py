@@ -9,7 +9,9 @@ symbolic proof is attempted under a time limit:
 * ``==``: the residual lhs - rhs, with ``Abs(x)`` written ``x sign(x)`` and every non-polynomial function
   application replaced by a fresh symbol (after expanding its argument, so equal arguments become the
   same symbol), is brought over a common denominator; the numerator is reduced modulo a Groebner basis
-  of the statement's equality constraints (unit quaternions ...).  Remainder zero: proved.
+  of the statement's equality constraints (unit quaternions ...).  Remainder zero: proved.  Failing that,
+  piecewise residuals (sign, Abs, Max/Min, Heaviside, Step, Piecewise) are split exhaustively on the sign
+  of their switching arguments (:func:`prove_zero_cases`), each case reduced the same way.
 * ``<=``/``>=``: after the stated assumption substitutions (``D = dbar + delta``), SymPy's assumption
   system must find rhs - lhs (resp. lhs - rhs) nonnegative with the listed symbols positive.
 * ``>`` (definiteness in ``zero_at``): lhs - rhs expanded must be a sum of terms each a positive
@@ -441,8 +443,9 @@ def _split_argument(apps):
 
 def _linear_in(u, splits):
     """``(x, c, r)`` with u = c x + r, c a nonzero number, r free of x: a symbol to solve for, preferring
-    symbols without a sign assumption, then those of earlier splits, then the others (their sign
-    assumption is kept as a hypothesis when they are substituted)."""
+    symbols without a sign assumption, then those of earlier splits (``splits``: the fresh symbols, each
+    with its value in the statement's symbols), then the others (their sign assumption is kept as a
+    hypothesis when they are substituted)."""
     u = sp.expand(u)
 
     def rank(x):
@@ -543,8 +546,9 @@ def prove_zero_cases(expr: sp.Expr, constraints=(), hypotheses=(), positive=(),
             raise _CaseLimit
         u = _sign_form(_split_argument(apps))
         lin = _linear_in(u, splits)
+        u_orig = sp.expand(u.xreplace(splits))      # in the statement's symbols, for the note
         for s in (1, 0, -1):
-            w = [*where, f"{u} {'>' if s > 0 else '=' if s == 0 else '<'} 0"]
+            w = [*where, f"{u_orig} {'>' if s > 0 else '=' if s == 0 else '<'} 0"]
             if lin is not None:
                 x, c, r = lin
                 t = sp.Dummy("t", positive=True)
@@ -555,7 +559,7 @@ def prove_zero_cases(expr: sp.Expr, constraints=(), hypotheses=(), positive=(),
                     return sp.sympify(z).xreplace(rep)
 
                 ok = case(put(e), [put(c_) for c_ in cons], [put(h) for h in hyps + _sign_hypotheses(x)],
-                          [(put(a), sa) for a, sa in facts], [put(z) for z in cands], splits | {t}, w)
+                          [(put(a), sa) for a, sa in facts], [put(z) for z in cands], {**splits, t: s * u_orig}, w)
             else:
                 if s == 0:
                     ok = case(e, [*cons, u], hyps, [*facts, (u, 0)], cands, splits, w)
@@ -569,7 +573,7 @@ def prove_zero_cases(expr: sp.Expr, constraints=(), hypotheses=(), positive=(),
         return True
 
     try:
-        ok = case(e, cons, hyps, [], _nonnegative_radicands(e), set(), [])
+        ok = case(e, cons, hyps, [], _nonnegative_radicands(e), {}, [])
     except _CaseLimit:
         return False, f"case split gave up after {max_leaves} cases"
     return ok, ("" if ok else f"residual does not reduce to 0 where {failed[0]}")
