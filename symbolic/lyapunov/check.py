@@ -423,7 +423,7 @@ def _decide(e, facts):
             sw = _switch(x)
             if sw is not None and x not in rep:
                 s = _known_sign(sw[0], facts)
-                if s is not None:
+                if s is not None and sw[1](s) != x:
                     rep[x] = sw[1](s)
         if not rep:
             return e
@@ -472,12 +472,12 @@ def _rename_real(exprs, positive):
     real ones, the listed ones positive (never merging two symbols of one name)."""
     syms = set().union(*[getattr(e, "free_symbols", set()) for e in exprs])
     names = [s.name for s in syms if isinstance(s, sp.Symbol)]
-    pos = {str(p) for p in positive}
+    pos = set(positive)
     rep = {}
     for s in syms:
         if not isinstance(s, sp.Symbol) or isinstance(s, sp.Dummy) or names.count(s.name) > 1:
             continue
-        if s.name in pos and not s.is_positive:
+        if s in pos and not s.is_positive:
             rep[s] = sp.Symbol(s.name, positive=True)
         elif s.is_real is None:
             rep[s] = sp.Symbol(s.name, real=True)
