@@ -20,6 +20,7 @@ from rpo.symbolic.lyapunov.check import (
     check_claim,
     check_statement,
     numeric_search,
+    prove_zero_cases,
 )
 from rpo.symbolic.lyapunov.core import Claim, Statement
 from rpo.symbolic.lyapunov.domains import ball, box, unit_quaternion
@@ -190,6 +191,60 @@ def test_roots_and_function_constraints_share_their_symbols():
     s = sp.Symbol("s", real=True)
     st = Statement(sp.sign(s) ** 2 * a, "==", a, [box([s, a], 0.1, 2)], constraints=[sp.sign(s) ** 2 - 1])
     assert check_statement(st).proved
+
+
+# --------------------------------------------------------------------------- piecewise identities (case split)
+
+_H = sp.Symbol("h", real=True)      # any value of Heaviside at 0
+
+
+@pytest.mark.parametrize("lhs, rhs", [
+    (sp.sign(x) * x, sp.Abs(x)),
+    (sp.Max(x, 0), (x + sp.Abs(x)) / 2),
+    (sp.Heaviside(x, _H) * x, sp.Max(x, 0)),                  # whatever Heaviside(0) is
+    (sp.sign(x), 2 * sp.Heaviside(x) - 1),                    # SymPy's Heaviside(0) = 1/2
+    (sp.Abs(x - 1) + sp.Abs(x + 1), 2 * sp.Max(sp.Abs(x), 1)),
+    (sp.Max(x - d, 0) + sp.Min(x + d, 0), x - d * sp.Max(-1, sp.Min(1, x / d))),    # s - d sat(s/d)
+    (sp.Piecewise((0, sp.Abs(x) <= d), (x - d * sp.sign(x), True)), sp.Max(x - d, 0) + sp.Min(x + d, 0)),
+])
+def test_case_split_proves_true_piecewise_identities(lhs, rhs):
+    assert prove_zero_cases(lhs - rhs, positive=[d]) == (True, "")
+    assert check_statement(Statement(lhs, "==", rhs, [box(x, -2, 2), box([d, _H], 0.1, 1)])).proved
+
+
+@pytest.mark.parametrize("lhs, rhs, where", [
+    (sp.sign(x), 2 * sp.Heaviside(x, 1) - 1, "x = 0"),                    # false at the switching point only
+    (sp.Max(x, 0), sp.Piecewise((x, x > 0), (1, sp.Eq(x, 0)), (0, True)), "x = 0"),
+    (sp.Max(x, 0), x * sp.Heaviside(x - sp.Rational(1, 10**6)), "= 0"),   # false on 0 < x <= 1e-6
+    (sp.Abs(x - 1) + sp.Abs(x + 1), 2 * sp.Max(sp.Abs(x), 1) + sp.Max(0, sp.Rational(1, 10**6) - sp.Abs(x)),
+     " 0"),                                                                   # false on |x| < 1e-6
+])
+def test_case_split_refuses_identities_false_on_a_small_set(lhs, rhs, where):
+    """The numeric search cannot see these (a point, or a set of measure 1e-6): it reports them as holding,
+    and the case split must not call them proved; its note names the case that fails."""
+    ok, note = prove_zero_cases(lhs - rhs)
+    assert not ok and where in note
+    o = check_statement(Statement(lhs, "==", rhs, [box(x, -2, 2)]))
+    assert o.holds and not o.proved                           # not-disproved, never proved
+
+
+def test_case_split_uses_the_stated_hypotheses_and_only_those():
+    """S = max(s - d, 0) + min(s + d, 0) is 0 inside the layer |s| <= d only: the cases outside are empty
+    under the hypothesis, and not without it."""
+    S = sp.Max(x - d, 0) + sp.Min(x + d, 0)
+    assert prove_zero_cases(S, hypotheses=[sp.Abs(x) <= d])[0]
+    assert not prove_zero_cases(S)[0]
+    assert not prove_zero_cases(S, hypotheses=[sp.Abs(x) <= 2 * d])[0]
+
+
+def test_case_split_decides_a_nonlinear_switch_modulo_the_constraints():
+    """sqrt(max(q^T q - 1 + a^2 + b^2, 0)) = sqrt(a^2 + b^2) on unit quaternions: the radicands agree modulo
+    q^T q = 1, and the case q^T q - 1 + a^2 + b^2 < 0 is empty because it equals a^2 + b^2 >= 0 there."""
+    q = core.symbols_vec("q", 4)
+    u = rot.dot(q, q) - 1 + a**2 + b**2
+    for lhs in (sp.sqrt(sp.Max(u, 0)), sp.sqrt(u * sp.Heaviside(u, 1))):
+        assert prove_zero_cases(lhs - sp.sqrt(a**2 + b**2), [core.quat_norm_constraint(q)])[0]
+        assert not prove_zero_cases(lhs - sp.sqrt(a**2 + b**2))[0]       # the constraint is needed
 
 
 # --------------------------------------------------------------------------- violations in small regions

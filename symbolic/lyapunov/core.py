@@ -49,6 +49,9 @@ class Statement:
     positive: Sequence[sp.Symbol] = ()   # symbols the symbolic proof may take as > 0 (gains, masses)
     substitutions: dict = field(default_factory=dict)  # assumption as equality, e.g. {D: dbar + delta}
     zero_at: Sequence[sp.Symbol] = ()    # ">" (definiteness): the state coordinates; lhs - rhs = 0 only there
+    # "==": inequalities (SymPy relationals, e.g. Abs(s) <= d) that every point of the domain satisfies (its draw
+    # must enforce them); the symbolic case split drops a case in which one of them is false
+    hypotheses: list = field(default_factory=list)
     symbolic: bool = True                # try a symbolic proof (False: numeric only, too large)
     trials: int = 2000                   # random points before local optimisation
     residual_seconds: float = 10.0       # time allowed to simplify a counterexample's residual for the report

@@ -35,7 +35,7 @@ def _bl_sign(printed: bool):
         s, d = _layer_symbols()
         S = (_paper_layer if printed else c.boundary_layer_surface)(s, d)
         return Statement(sp.sign(s) * S, "==", sp.Abs(S), [box(d, 0.001, 0.5), box(s, -1.5, 1.5)],
-                         symbolic=False, assumptions=["d > 0"])
+                         assumptions=["d > 0"])
     return build
 
 
@@ -45,7 +45,7 @@ def _bl_zero_inside(printed: bool):
         s, d = _layer_symbols()
         S = (_printed_layer if printed else c.boundary_layer_surface)(s, d)
         inside = custom([s], 1, lambda z, env: z * env[d][:, None], "|s| <= d")
-        return Statement(S, "==", 0, [box(d, 0.001, 0.5), inside], symbolic=False,
+        return Statement(S, "==", 0, [box(d, 0.001, 0.5), inside], hypotheses=[sp.Abs(s) <= d],
                          assumptions=["|s| <= d (inside the layer)"])
     return build
 
@@ -54,7 +54,7 @@ def _bl_derivative():
     """S_aug dS_aug/ds = S_aug: S_aug S_aug_dot = S_aug s_dot everywhere (eqs. 57-59)."""
     s, d = _layer_symbols()
     S = c.boundary_layer_surface(s, d)
-    return Statement(S * sp.diff(S, s), "==", S, [box(d, 0.001, 0.5), box(s, -1.5, 1.5)], symbolic=False)
+    return Statement(S * sp.diff(S, s), "==", S, [box(d, 0.001, 0.5), box(s, -1.5, 1.5)])
 
 
 def _convergence(printed: bool):

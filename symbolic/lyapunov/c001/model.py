@@ -59,10 +59,8 @@ def _pose_kinematics() -> Statement:
     rhs = c.pose_rate(q, c.relative_dual_velocity(WSI, WT, q))
     dom = [_unit_dq_var(qT, 7e6), _unit_dq_var(qS, 7e6), box(wt6[0:3, :], -0.01, 0.01),
            box(wt6[3:6, :], -8000, 8000), box(wsi6[0:3, :], -0.01, 0.01), box(wsi6[3:6, :], -8000, 8000)]
-    # symbolic=False: the Groebner reduction over 16 variables takes ~50 s (proved that way during development);
-    # the residual is exactly (q q* - 1) omega_T/I^T q / 2
+    # the residual is exactly (q q* - 1) omega_T/I^T q / 2: zero modulo the constraints (output by output, ~10 s)
     return Statement(lhs, "==", rhs, dom, constraints=_unit_dq_constraints(qT) + _unit_dq_constraints(qS),
-                     symbolic=False,
                      assumptions=["q_T/I, q_S/I unit dual quaternions (q_r o q_r = 1, q_r o q_d = 0)"])
 
 
@@ -81,21 +79,22 @@ def _constraint_dq_forms() -> Statement:
 
 
 def _fov_dq_form() -> Statement:
-    """Eq. 46 = eq. 41 at r^S = 2 q_r* q_d (its square root: numeric)."""
+    """Eq. 46 = eq. 41 at r^S = 2 q_r* q_d: the radicands agree modulo the unit-dual-quaternion constraints, and
+    the case split on eq. 46's max(., 0) finds its negative branch empty (the radicand equals |U r|^2 >= 0)."""
     q = sp.Matrix(sp.symbols("q_1:9", real=True))
     K_u = c.camera_axis_matrix(sp.Matrix([0, 0, 1]))
     z_Np = c.fov_vertex_offset(Z_N, R_T, THETA)
     _, r = c.position_from_dq(q)
     lhs = c.beta_fov_dq(q, K_u, THETA, z_Np).replace(Step, lambda a: sp.Heaviside(a, 1))
-    return Statement(lhs, "==", c.beta_fov_vector(r, THETA, z_Np), [_unit_dq_var(q)], symbolic=False,
+    return Statement(lhs, "==", c.beta_fov_vector(r, THETA, z_Np), [_unit_dq_var(q)],
+                     constraints=_unit_dq_constraints(q),
                      assumptions=["unit dual quaternion", "theta, z_N, R_T of sec. 7"])
 
 
 CLAIMS = [
     claim("model.pose_kinematics", MODEL, "spacecraft", "12-15",
         "d/dt (q_T/I* q_S/I) = q_S/T omega_S/T^S / 2 with omega_S/T^S of eq. 14", _pose_kinematics,
-        note="Identity modulo the unit-dual-quaternion constraints (residual (q q* - 1) omega_T/I^T q / 2); "
-             "checked numerically here, the Groebner proof takes ~50 s."),
+        note="Identity modulo the unit-dual-quaternion constraints (residual (q q* - 1) omega_T/I^T q / 2)."),
     claim("model.relative_acceleration", MODEL, "spacecraft", "14, 17, 19-20",
         "d/dt omega_S/T^S (eq. 14) along eqs. 15, 17 (S) and any omega_T/I-dot^T is eq. 20", _relative_velocity_rate,
         note="Proves the reconstructed signs of eqs. 19-20 (- q* omega_T/I-dot q, + omega_S/T x omega_S/I)."),

@@ -331,7 +331,7 @@ def _law_identity(part: str) -> Statement:
            box(k["k8"], 0.1, 50), box(eps, 0.0001, 0.1), box(k["beta"], 0.001, 10), box(k["gamma"], 0.1, 2),
            box(Jn, 5, 40), box(k["m_nom"], 20, 200), box(k["tau_max"], 0.2, 2),
            box(k["f_max"], 1, 200), box(chi1, -2, 2), box(chi2, -2, 2), box(a, -1, 5)]
-    return statement(lhs, "==", rhs, dom, symbolic=False, residual_seconds=0,
+    return statement(lhs, "==", rhs, dom, residual_seconds=0,
                       assumptions=["C002.law as generated (J_nom diagonal)", "cosh^2 = 1/(1 - tanh^2)"])
 
 
