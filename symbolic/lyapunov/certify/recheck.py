@@ -321,9 +321,12 @@ class LeafChecker:
     def _mean_value(self, box) -> tuple[mpf | None, list | None]:
         """Lower bound of the mean-value form (None where g is not differentiable on the box), and the
         gradient enclosure."""
-        out, smooth = self.grad.evaluate(box)
+        # differentiability is the goal's own (a non-smooth operation of g switching inside the box); its
+        # derivative may hold sign(x) with x = 0 at an end point only, a valid enclosure of the interior
+        (_,), smooth = self.prog.evaluate(box)
         if not smooth:
             return None, None
+        out, _ = self.grad.evaluate(box)
         grads = out[1:]
         centre = [iv.mpf([(b.a + b.b) / 2, (b.a + b.b) / 2]) for b in box]
         (gc,), _ = self.prog.evaluate(centre)
@@ -351,9 +354,10 @@ class LeafChecker:
                 return "the goal is not differentiable on the box"
             return "" if self._ok(lo) else f"mean-value lower bound {lo} too low"
         if method == "C":
-            out, smooth = self.grad.evaluate(box)
+            (_,), smooth = self.prog.evaluate(box)
             if not smooth:
                 return "the goal is not differentiable on the box"
+            out, _ = self.grad.evaluate(box)
             grads = out[1:]
             face = []
             for d, b in zip(grads, box, strict=True):
