@@ -5,6 +5,7 @@ from __future__ import annotations
 import sympy as sp
 
 from ...controllers import c002 as c
+from ...rotations import skew
 from ..core import (
     Mutation,
     drop_terms,
@@ -28,6 +29,26 @@ def _plus_gravity(out, R, w_t, w_t_dot, v_t, v_t_dot, sigma_t, g_p):
 def _unrotated_target_acceleration(out, R, w_t, w_t_dot, v_t, v_t_dot, sigma_t, g_p):
     return out - R * v_t_dot + v_t_dot
 
+
+def _coriolis_without_RwtJ(out, J, R, w_t, w_rel):
+    return out - skew(R * w_t) * J
+
+
+def _nr_without_gyro(out, J, R, w_t, w_t_dot):
+    return out - skew(R * w_t) * J * R * w_t
+
+
+def _nr_without_target_acceleration(out, J, R, w_t, w_t_dot):
+    return out - J * R * w_t_dot
+
+
+def _q0_rate_sign(out, q_rel, w_rel):
+    out = sp.Matrix(out)
+    out[3] = -out[3]
+    return out
+
+
+_PLANT_RATE = "c002.plant.relative_rate_dynamics"
 
 MUTATIONS = [
     Mutation("c002: k4 -> -k4 in eq. 23", c, "attitude_control", scale_argument("k4", -1),
@@ -83,4 +104,17 @@ MUTATIONS = [
              ("c002.model.remark5_nt", "c002.model.lumped_bound_position"), inequality_only=True,
              description="target-axes acceleration used in pursuer axes: a frame error of size g where the "
                          "attitudes differ"),
+    # the proof model against the plant (c002/plant.py): functions only the proofs use
+    Mutation("c002: (R w_t)^x J dropped from C_r (eq. 4)", c, "attitude_coriolis_matrix",
+             replace_output(_coriolis_without_RwtJ), (_PLANT_RATE,),
+             description="the proof's Coriolis matrix drifts from the rigid body; the Lyapunov claims only lose a "
+                         "proof (remark4_Cr), the plant identity fails"),
+    Mutation("c002: (R w_t)^x J R w_t dropped from n_r (eq. 4)", c, "attitude_nonlinear_term",
+             replace_output(_nr_without_gyro), (_PLANT_RATE,)),
+    Mutation("c002: J R omega_t_dot dropped from n_r (eq. 4)", c, "attitude_nonlinear_term",
+             replace_output(_nr_without_target_acceleration), (_PLANT_RATE,)),
+    Mutation("c002: sign of tau_d in eq. 11", c, "relative_angular_acceleration",
+             scale_argument("tau_d", -1), (_PLANT_RATE,)),
+    Mutation("c002: sign of dq~_0/dt (eqs. 2-3)", c, "relative_quaternion_rate", replace_output(_q0_rate_sign),
+             ("c002.plant.quaternion_kinematics", "c002.plant.dcm_rate")),
 ]
