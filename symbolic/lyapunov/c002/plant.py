@@ -87,6 +87,54 @@ def _relative_rate_dynamics() -> Statement:
                                   "omega_t, omega_t_dot any (exogenous)"])
 
 
+def _body_axes_rate() -> Statement:
+    """The transport theorem from rpo's rotations: x^B = C_{B<-I}(Q) x^I along q_dot = 1/2 Q (x) [omega, 0]
+    (:func:`quat_rate`) and x^I_dot has d/dt x^B = C_{B<-I} x^I_dot - omega^x x^B (omega: body rate, body
+    axes).  Used below to write each body's Newton equation in its own axes, as eqs. 5-9 do."""
+    Q = sp.Matrix(sp.symbols("Q_1:5", real=True))
+    w, x, xd = symbols_vec("omega"), symbols_vec("x"), symbols_vec("xdot")
+    C = quat_to_dcm(Q).T                                 # C_{B<-I}
+    lhs = _vec_lie(C * x, [Q, x], [quat_rate(Q, w), xd])
+    return Statement(lhs, "==", C * xd - skew(w) * (C * x),
+                     [unit_quaternion(Q), box(w, -1, 1), box(x, -100, 100), box(xd, -10, 10)],
+                     constraints=[quat_norm_constraint(Q)], assumptions=["|Q| = 1"])
+
+
+def _relative_translation() -> Statement:
+    """d/dt (r~, v~) of the plant equals the code's eq. 7 and eqs. 9, 12 (C_t, n_t) [m/s, m/s^2].
+
+    r~, v~ are the code's eqs. 5-6 (the functions the C code uses) of r_p, v_p (the pursuer's inertial
+    position and velocity in p axes), r_t, v_t (the target's, t axes), Q~ and omega_t.  The plant: Newton
+    for the pursuer in its own axes (``c002.plant.body_axes_rate``), r_p_dot = v_p - omega_p^x r_p,
+    v_p_dot = (f + f_d)/m + g_p - omega_p^x v_p (f, f_d, g_p: force [N], disturbance force [N], gravity
+    [m/s^2], p axes), omega_p = omega~ + R~ omega_t; the target's r_t_dot = v_t - omega_t^x r_t and any
+    v_t_dot (the component derivative of eq. 9, gravity included), omega_t_dot; Q~ along the code's dQ~/dt
+    (``c002.plant.quaternion_kinematics``).  sigma_t [m] is fixed in the target body."""
+    q = sp.Matrix(sp.symbols("q_1 q_2 q_3 q_0", real=True))     # Q~, scalar last
+    w = symbols_vec("omega")                                    # omega~
+    r_p, v_p, r_t, v_t = (symbols_vec(n) for n in ("r_p", "v_p", "r_t", "v_t"))
+    w_t, wd_t, vd_t = symbols_vec("omega_t"), symbols_vec("omegadot_t"), symbols_vec("vdot_t")
+    f, f_d, g_p, sig = symbols_vec("f"), symbols_vec("f_d"), symbols_vec("g_p"), symbols_vec("sigma_t")
+    m = sp.Symbol("m", positive=True)
+    R = c.dcm_pursuer_from_target(q)
+    w_p = w + R * w_t
+    r = c.relative_position(r_p, R, r_t, sig)                   # eq. 5
+    v = c.relative_velocity(v_p, R, v_t, w_t, sig)              # eq. 6
+    states = [q, r_p, v_p, r_t, v_t, w_t]
+    rates = [c.relative_quaternion_rate(q, w), v_p - skew(w_p) * r_p, (f + f_d) / m + g_p - skew(w_p) * v_p,
+             v_t - skew(w_t) * r_t, vd_t, wd_t]
+    lhs = sp.Matrix.vstack(_vec_lie(r, states, rates), _vec_lie(v, states, rates))
+    C_t = c.translation_rate_matrix(w, R, w_t)
+    n_t = c.translation_nonlinear_term(R, w_t, wd_t, v_t, vd_t, sig, g_p)
+    rhs = sp.Matrix.vstack(c.relative_position_rate(v, C_t, r), c.relative_acceleration(m, C_t, v, n_t, f, f_d))
+    dom = [unit_quaternion(q), box(w, -1, 1), box(r_p, -100, 100), box(v_p, -2, 2), box(r_t, -100, 100),
+           box(v_t, -2, 2), box(w_t, -0.2, 0.2), box(wd_t, -0.05, 0.05), box(vd_t, -10, 10), box(f, -100, 100),
+           box(f_d, -0.01, 0.01), box(g_p, -10, 10), box(sig, -5, 5), box(m, 20, 200)]
+    return Statement(lhs, "==", rhs, dom, constraints=[quat_norm_constraint(q)],
+                     assumptions=["|Q~| = 1", "sigma_t fixed in the target body",
+                                  "omega_t, omega_t_dot, v_t_dot, g_p any (exogenous)"])
+
+
 CLAIMS = [
     claim("plant.quaternion_kinematics", "attitude", "spacecraft", "1-3",
           "eqs. 2-3: dQ~/dt of the code is d/dt (Q_t^-1 (x) Q_p) along rpo's quaternion kinematics (000 eq. 24)",
@@ -102,4 +150,15 @@ CLAIMS = [
           _relative_rate_dynamics,
           note="Ties the proof's C_r, n_r and relative_angular_acceleration (not in the generated C) to "
                "rigid_body.chaser_angular_acceleration: a term dropped from C_r or n_r fails here."),
+    claim("plant.body_axes_rate", "position", "spacecraft", "5-9",
+          "d/dt (C_{B<-I} x) = C_{B<-I} x_dot - omega^x C_{B<-I} x along rpo's quaternion kinematics (000 eq. 24)",
+          _body_axes_rate,
+          note="The transport theorem each body's Newton equation is written in (eqs. 5-9), from rotations.py."),
+    claim("plant.relative_translation", "position", "spacecraft", "5-7, 9, 12",
+          "eqs. 7, 9, 12: r~_dot = v~ - C_t r~ and m v~_dot = -m C_t v~ - m n_t + f + f_d of the code are Newton's "
+          "law for both bodies, differentiated through eqs. 5-6",
+          _relative_translation,
+          note="Ties the proof's C_t, n_t, relative_position_rate and relative_acceleration (not in the generated C) "
+               "to the plant, through the eqs. 5-6 functions the C code uses; the symbolic counterpart of "
+               "tests/test_c002.py's integrated bodies."),
 ]
