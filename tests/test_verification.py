@@ -127,9 +127,10 @@ def test_inequality_only_mutation_leaves_every_identity_true(mutation):
 
 
 def test_there_are_inequality_only_mutations_in_several_controllers():
+    # 002's two n_t mutations left this list when c002.plant.relative_translation tied n_t to Newton's law
     ineq = [m for m in MUTATIONS if m.inequality_only]
-    assert len(ineq) >= 4
-    assert len({m.module.__name__ for m in ineq}) >= 3
+    assert len(ineq) >= 2
+    assert len({m.module.__name__ for m in ineq}) >= 2
 
 
 def test_controllers_are_discovered_and_one_without_claims_is_fine(tmp_path, monkeypatch):

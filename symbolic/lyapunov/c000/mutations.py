@@ -59,6 +59,10 @@ def _transpose_rotation(out, q_cL, F_L):
     return quat_to_dcm(q_cL) * F_L
 
 
+def _drop_target_torque(out, j, I_c, I_t, C_tc, M_c, M_t):
+    return M_c[j] / I_c[j]
+
+
 MUTATIONS = [
     Mutation("c000: switching term sign flipped (eq. 55)", c, "attitude_control_axis",
              replace_output(_flip_switching), (_AI, _AS, "c000.attitude.Vdot_bound")),
@@ -96,4 +100,12 @@ MUTATIONS = [
              scale_argument("omega_c", -1), ("c000.attitude.principal_axes",), inequality_only=True,
              description="the law's model of omega_e_dot with the chaser's rate of the wrong sign: the residual "
                          "against the rigid bodies exceeds D_att"),
+    # the proof model against the plant: eq. 49's disturbance and eq. 48's form are used only by the proofs,
+    # c000.attitude.table1 holds them against relative_attitude.rate_error_dynamics (the two rigid bodies)
+    Mutation("c000: target torque term dropped from d_j (eqs. 49, 51)", c, "attitude_disturbance_axis",
+             replace_output(_drop_target_torque), ("c000.attitude.table1",)),
+    Mutation("c000: b_j u_j sign flipped in eq. 48", c, "attitude_model_axis", scale_argument("u", -1),
+             ("c000.attitude.table1", _AI)),
+    Mutation("c000: b u dropped from the per-axis translation form (eqs. 81, 105)", c, "translation_model_axis",
+             scale_argument("b", 0), tuple(_t(ax, "form_eq30") for ax in AXES)),
 ]

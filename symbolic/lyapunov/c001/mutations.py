@@ -44,6 +44,10 @@ def _model_without_fG(out, J, f_G, f_applied, w_SI, w_ST):
     return out - c.J_E_inv_times(J, f_G)
 
 
+def _relative_without_transport(out, J, f_G, f_D, f_C, w_SI, w_ST, q_ST, wdot_TI_T):
+    return out - c.dq_cross(w_ST, w_SI)
+
+
 _LAW = ("c001.pose.Vdot_eq60", "c001.pose.Vdot_identity")
 _ESO = ("c001.eso.error_dynamics", "c001.eso.time_scaling")
 
@@ -76,4 +80,7 @@ MUTATIONS = [
              _ESO + ("c001.eso.phi_w_theta", "c001.eso.eta_dynamics")),
     Mutation("c001: Phi with -kappa1^2/2 sign(x) (eq. 24)", c, "sta_phi", replace_output(_phi_sign_flip),
              _ESO + ("c001.eso.phi_w_theta",)),
+    # the proof model (eq. 20) against its derivation from eqs. 14, 15, 17 (c001.model.relative_acceleration)
+    Mutation("c001: eq. 20 without omega_S/T x omega_S/I", c, "relative_dual_acceleration",
+             replace_output(_relative_without_transport), ("c001.model.relative_acceleration",)),
 ]

@@ -5,6 +5,7 @@ from __future__ import annotations
 import sympy as sp
 
 from ...controllers import c002 as c
+from ...rotations import skew
 from ..core import (
     Mutation,
     drop_terms,
@@ -28,6 +29,32 @@ def _plus_gravity(out, R, w_t, w_t_dot, v_t, v_t_dot, sigma_t, g_p):
 def _unrotated_target_acceleration(out, R, w_t, w_t_dot, v_t, v_t_dot, sigma_t, g_p):
     return out - R * v_t_dot + v_t_dot
 
+
+def _coriolis_without_RwtJ(out, J, R, w_t, w_rel):
+    return out - skew(R * w_t) * J
+
+
+def _nr_without_gyro(out, J, R, w_t, w_t_dot):
+    return out - skew(R * w_t) * J * R * w_t
+
+
+def _nr_without_target_acceleration(out, J, R, w_t, w_t_dot):
+    return out - J * R * w_t_dot
+
+
+def _q0_rate_sign(out, q_rel, w_rel):
+    out = sp.Matrix(out)
+    out[3] = -out[3]
+    return out
+
+
+def _nt_without_centripetal(out, R, w_t, w_t_dot, v_t, v_t_dot, sigma_t, g_p):
+    wt = R * w_t
+    return out - skew(wt) * skew(wt) * R * sigma_t
+
+
+_PLANT_RATE = "c002.plant.relative_rate_dynamics"
+_PLANT_TRANSLATION = "c002.plant.relative_translation"
 
 MUTATIONS = [
     Mutation("c002: k4 -> -k4 in eq. 23", c, "attitude_control", scale_argument("k4", -1),
@@ -72,15 +99,38 @@ MUTATIONS = [
              scale_argument("w_t", -1), ("c002.model.law_kinematics",)),
     Mutation("c002: sign of r~_dot (eq. 7)", c, "relative_position_rate", negate_output(),
              ("c002.model.s2dot_identity", "c002.V3.derivative_identity")),
-    # inequality-only: n_t enters the identity claims as opaque symbols; only the lumped bounds (eqs. 9, 22,
-    # Remark 5) evaluate the code's n_t
+    # n_t enters the Lyapunov identities as opaque symbols; the lumped bounds (eqs. 9, 22, Remark 5) evaluate
+    # the code's n_t, and c002.plant.relative_translation holds it against Newton's law (so these two are no
+    # longer inequality-only: the plant identity catches them too)
     Mutation("c002: pursuer gravity sign in n_t (eq. 9: + g_p)", c, "translation_nonlinear_term",
-             replace_output(_plus_gravity), ("c002.model.remark5_nt", "c002.model.lumped_bound_position"),
-             inequality_only=True,
+             replace_output(_plus_gravity),
+             ("c002.model.remark5_nt", "c002.model.lumped_bound_position", _PLANT_TRANSLATION),
              description="the gravities add instead of cancelling: ||R v_t_dot + g_p|| ~ 2 g, not the differential a4"),
     Mutation("c002: v_t_dot not rotated into pursuer axes in n_t (eq. 9)", c, "translation_nonlinear_term",
              replace_output(_unrotated_target_acceleration),
-             ("c002.model.remark5_nt", "c002.model.lumped_bound_position"), inequality_only=True,
+             ("c002.model.remark5_nt", "c002.model.lumped_bound_position", _PLANT_TRANSLATION),
              description="target-axes acceleration used in pursuer axes: a frame error of size g where the "
                          "attitudes differ"),
+    # the proof model against the plant (c002/plant.py): functions only the proofs use
+    Mutation("c002: (R w_t)^x J dropped from C_r (eq. 4)", c, "attitude_coriolis_matrix",
+             replace_output(_coriolis_without_RwtJ), (_PLANT_RATE,),
+             description="the proof's Coriolis matrix drifts from the rigid body; the Lyapunov claims only lose a "
+                         "proof (remark4_Cr), the plant identity fails"),
+    Mutation("c002: (R w_t)^x J R w_t dropped from n_r (eq. 4)", c, "attitude_nonlinear_term",
+             replace_output(_nr_without_gyro), (_PLANT_RATE,)),
+    Mutation("c002: J R omega_t_dot dropped from n_r (eq. 4)", c, "attitude_nonlinear_term",
+             replace_output(_nr_without_target_acceleration), (_PLANT_RATE,)),
+    Mutation("c002: sign of tau_d in eq. 11", c, "relative_angular_acceleration",
+             scale_argument("tau_d", -1), (_PLANT_RATE,)),
+    Mutation("c002: sign of dq~_0/dt (eqs. 2-3)", c, "relative_quaternion_rate", replace_output(_q0_rate_sign),
+             ("c002.plant.quaternion_kinematics", "c002.plant.dcm_rate")),
+    Mutation("c002: C_t = (w~ - R w_t)^x (under eq. 7)", c, "translation_rate_matrix", scale_argument("w_t", -1),
+             (_PLANT_TRANSLATION,),
+             description="still skew-symmetric (c002.model.Ct_skew holds): only the plant identity sees it"),
+    Mutation("c002: centripetal (R w_t)^x (R w_t)^x R sigma_t dropped from n_t (eq. 9 as printed)", c,
+             "translation_nonlinear_term", replace_output(_nt_without_centripetal), (_PLANT_TRANSLATION,)),
+    Mutation("c002: sign of f_d in eq. 12", c, "relative_acceleration", scale_argument("f_d", -1),
+             (_PLANT_TRANSLATION,)),
+    Mutation("c002: sign of r~_dot's C_t r~ (eq. 7)", c, "relative_position_rate", scale_argument("C_t", -1),
+             (_PLANT_TRANSLATION,)),
 ]
