@@ -136,7 +136,7 @@ def _statement_point(reg, point: dict) -> dict:
 def _check_steps(st: Statement, plan: Plan) -> None:
     """The symbolic steps of the plan, verified: every goal comes from the gap by an exact identity, and a
     '>' statement's margin is positive off the zero set."""
-    from ..check import prove_positive_definite, prove_zero
+    from ..check import prove_positive_definite
 
     if st.relation == ">":
         if plan.margin is None or not prove_positive_definite(plan.margin, st.zero_at, st.positive):
@@ -155,14 +155,33 @@ def _check_steps(st: Statement, plan: Plan) -> None:
     for (_ri, _ci), parts in by_raw.items():
         raw = parts[0].raw
         if parts[0].step == "identity":
-            if not prove_zero(raw - parts[0].expr, []):
+            if not identical(raw, parts[0].expr):
                 raise CheckError(f"the reduction of goal (region {_ri}, component {_ci}) is not an identity")
         elif parts[0].step == "factor":
             rest = next(p.expr for p in parts if p.part == 0)
             factor = next(p.expr for p in parts if p.part == 1)
-            if not prove_zero(raw - factor * rest, []):
+            if not identical(raw, factor * rest):
                 raise CheckError(f"the factorisation of goal (region {_ri}, component {_ci}) is not exact")
             # factor >= 0 and rest >= 0 give raw >= 0: both are goals of the certificate
+        for p in parts:
+            if p.part >= 2 and p.expr != p.raw and not identical(p.raw, p.expr):
+                raise CheckError(f"the rewriting of a {p.step} goal (region {_ri}, component {_ci}) is not an "
+                                 "identity")
+
+
+def identical(a: sp.Expr, b: sp.Expr, seconds: float = 30.0) -> bool:
+    """a == b for all values: the symbolic stage's canonical reduction (``check.prove_zero``), else SymPy's
+    ``simplify`` of the difference reaching 0 (roots whose radicands agree only as rational functions),
+    within ``seconds``."""
+    from ..check import _Timeout, prove_zero, time_limit
+
+    if prove_zero(a - b, []):
+        return True
+    try:
+        with time_limit(seconds):
+            return sp.simplify(sp.sympify(a - b)) == 0
+    except _Timeout:
+        return False
 
 
 def write(data: dict, store: Path = STORE) -> Path:

@@ -255,9 +255,21 @@ MIN_LE = Lemma(
     _min_proof)
 
 
-LIBRARY: dict[str, Lemma] = {lem.name: lem for lem in (YOUNG, ABS_PRODUCT, CAUCHY_SCHWARZ3, NORM2_LE_NORM1,
-                                                       DOT_BALL3, LDL2, LAYER, LEMMA1_002, COSH_TANH,
-                                                       OUTSIDE_002, TRIANGLE3, TANH_MONO, MIN_LE)}
+def _library() -> dict[str, Lemma]:
+    from . import lemmas_c000, lemmas_c001, lemmas_c002, lemmas_c004
+
+    lems = (YOUNG, ABS_PRODUCT, CAUCHY_SCHWARZ3, NORM2_LE_NORM1, DOT_BALL3, LDL2, LAYER, LEMMA1_002, COSH_TANH,
+            OUTSIDE_002, TRIANGLE3, TANH_MONO, MIN_LE, *lemmas_c000.LEMMAS, *lemmas_c001.LEMMAS,
+            *lemmas_c002.LEMMAS, *lemmas_c004.LEMMAS)
+    out: dict[str, Lemma] = {}
+    for lem in lems:
+        if lem.name in out:
+            raise ValueError(f"two lemmas named {lem.name}")
+        out[lem.name] = lem
+    return out
+
+
+LIBRARY: dict[str, Lemma] = _library()
 
 
 def vector_mapping(lemma: Lemma, **vectors) -> dict:

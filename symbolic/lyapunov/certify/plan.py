@@ -96,6 +96,10 @@ class Use:
     mapping: dict
     weight: sp.Expr = sp.S.One
     component: int = 0
+    region: int | None = None      # the region it applies to (None: every region)
+
+    def applies(self, region: int, component: int) -> bool:
+        return self.component == component and self.region in (None, region)
 
     def mapped(self, expr: sp.Expr) -> sp.Expr:
         return sp.sympify(expr).xreplace({k: sp.sympify(v) for k, v in self.mapping.items()})
@@ -114,6 +118,7 @@ class Plan:
     note: str = ""
     covers_search_domain: bool = True             # False: certified on a smaller domain (says ``note``)
     uses: tuple[Use, ...] = ()                    # proved lemmas the proof composes (see :class:`Use`)
+    reduce_side: Callable[[sp.Expr], sp.Expr] | None = None   # side goals -> equal expressions (checked)
 
 
 @dataclass
@@ -151,13 +156,16 @@ def gaps(st: Statement) -> list[sp.Expr]:
     raise ValueError(f"relation {st.relation!r} is not an inequality")
 
 
-def composed(st: Statement, plan: Plan, region: Region, component: int, gap: sp.Expr) -> sp.Expr:
-    """The gap of one component over one region, less the lemmas used (before ``reduce``)."""
+def composed(st: Statement, plan: Plan, region: Region | int, component: int, gap: sp.Expr) -> sp.Expr:
+    """The gap of one component over one region (the region or its index), less the lemmas used (before
+    ``reduce``)."""
+    ri = region if isinstance(region, int) else next(i for i, r in enumerate(plan.regions) if r is region)
+    reg = plan.regions[ri]
     g = gap - plan.margin if st.relation == ">" else gap
     for u in plan.uses:
-        if u.component == component:
+        if u.applies(ri, component):
             g = g - u.weight * u.mapped(u.lemma.gap)
-    return g.xreplace(region.subs) if region.subs else g
+    return g.xreplace(reg.subs) if reg.subs else g
 
 
 def goals(st: Statement, plan: Plan) -> list[Goal]:
@@ -173,7 +181,7 @@ def goals(st: Statement, plan: Plan) -> list[Goal]:
     out = []
     for ri, reg in enumerate(plan.regions):
         for ci, g in enumerate(gaps(st)):
-            raw = composed(st, plan, reg, ci, g)
+            raw = composed(st, plan, ri, ci, g)
             missing = raw.free_symbols - set(reg.symbols)
             if missing:
                 raise ValueError(f"region {ri}: the domain map leaves {sorted(map(str, missing))} free")
@@ -196,11 +204,11 @@ def goals(st: Statement, plan: Plan) -> list[Goal]:
                     if declared:
                         side_e = sp.sympify(sign * e)
                         if not (side_e.is_number and (side_e > 0 or (side_e >= 0 and not strict))):
-                            out.append(Goal(ri, ci, part, side_e, side_e, "assumption", strict))
+                            out.append(Goal(ri, ci, part, _side(plan, side_e), side_e, "assumption", strict))
                             part += 1
                         break
             for u in plan.uses:
-                if u.component != ci:
+                if not u.applies(ri, ci):
                     continue
                 side = [(u.weight, "weight", False)] + [
                     (u.mapped(h), "premise", u.lemma.strict_premise(k)) for k, h in enumerate(u.lemma.premises)]
@@ -208,9 +216,14 @@ def goals(st: Statement, plan: Plan) -> list[Goal]:
                     e = sp.sympify(e).xreplace(reg.subs) if reg.subs else sp.sympify(e)
                     if e.is_number and (e > 0 or (e >= 0 and not strict)):
                         continue          # a constant of the right sign needs no boxes
-                    out.append(Goal(ri, ci, part, e, e, kind, strict))
+                    out.append(Goal(ri, ci, part, _side(plan, e), e, kind, strict))
                     part += 1
     return out
+
+
+def _side(plan: Plan, e: sp.Expr) -> sp.Expr:
+    """A side goal as the plan rewrites it (``reduce_side``; the identity is re-verified)."""
+    return sp.sympify(plan.reduce_side(e)) if plan.reduce_side is not None else e
 
 
 def expr_hash(*exprs: sp.Basic | str) -> str:
