@@ -230,8 +230,92 @@ def _remark4_Cr(st: Statement) -> Plan:
                 reduce=lambda g: target, reduce_side=_small_factor, uses=tuple(uses))
 
 
+def _remark5_nt(st: Statement) -> Plan:
+    """Remark 5 (corrected, with gravity), eq. 9: with g_p = R v_t_dot - Deltag the claim's n_t is
+    n_t = (P R) v_t + Deltag + ((P P) R) sigma_t - (R sigma_t^x) omegadot_t, p = R omega_t, P = p^x.  Composed of
+    the lemmas of ``lemmas_c002``:
+
+    |m n_t| = m |n_t| <= m (|(P R) v_t| + |Deltag| + |((P P) R) sigma_t| + |(R sigma_t^x) omegadot_t|)
+    |(P R) v_t| <= |p| |R v_t|,  |((P P) R) sigma| <= |p| |(P R) sigma| <= |p|^2 |R sigma|   (cross products)
+    |(R sigma^x) omegadot| = |q|^2 |sigma^x omegadot| <= |q|^2 |sigma| |omegadot|             (rotation, cross)
+    |R x| = |q|^2 |x| (rotation), and the ball charts x = a y (scale: |a y| = a |y|)
+
+    which leaves m [a1 a3 (1 - Q^2 |y1| |y3|) + a4 (1 - |y5|) + sigmanorm a1 |w~| + sigmanorm a2 (1 - Q |y4| |y2|)
+    + a1^2 sigmanorm (1 - Q^3 |y4| |y1|^2)] with Q = |q|^2 = 1 - A and |y_k| = sqrt(1 - B_k), A, B_k products of
+    factors in [0, 1]: one natural enclosure.  Charts: omega_t = a1 y1, omegadot_t = a2 y2, v_t = a3 y3,
+    sigma_t = sigmanorm y4, Deltag = a4 y5 with y_k in the unit ball (cube charts), q in the unit ball of R^4,
+    b3 = m (the claim's domain)."""
+    n = {s_.name: s_ for s_ in st.free_symbols()}
+
+    def vec(name):
+        return sp.Matrix([n[f"{name}_{i}"] for i in (1, 2, 3)])
+
+    w, wt, wd, vt, sig, dg = (vec(x) for x in ("omega", "omega_t", "omegadot_t", "v_t", "sigma_t", "Deltag"))
+    q = sp.Matrix([n[f"q_{i}"] for i in (1, 2, 3, 0)])
+    a1, a2, a3, a4, m, b3, sn = (n[x] for x in ("a_1", "a_2", "a_3", "a_4", "m", "b_3", "sigmanorm"))
+    cys = [list(sp.symbols(f"cy{k}_1:4", real=True)) for k in range(1, 6)]
+    t = list(sp.symbols("t_1:4", real=True))
+    sg = sp.Symbol("sg", real=True)
+    ys = [sp.Matrix(_ball3(cy)) for cy in cys]
+    R = c.dcm_pursuer_from_target(q)
+    p = R * wt
+    P = skew(p)
+    Ks = skew(sig)
+    I3 = sp.eye(3)
+    nrm = lc._nrm
+    qc = _ball4(t, sg)
+    Q = dot(q, q)
+    Qc = Q.xreplace(dict(zip(q, qc, strict=True)))
+    pp = dot(p, p)
+    C = (R * Ks) * wd
+    nt = P * R * vt + dg + P * P * R * sig - C
+    radii = (a1, a2, a3, sn, a4)
+    scale = [_use(lc.SCALE, wk, s=r_, x=y) for wk, r_, y in (
+        (m * Qc**2 * nrm(vt), a1, ys[0]),                 # |omega_t| in Q^2 |omega_t| |v_t|
+        (m * Qc**2 * a1 * nrm(ys[0]), a3, ys[2]),         # |v_t|
+        (m, a4, ys[4]),                                   # |Deltag|
+        (m * Qc**3 * a1**2 * dot(ys[0], ys[0]), sn, ys[3]),   # |sigma|
+        (m * Qc * nrm(wd), sn, ys[3]),                    # |sigma| in Q |sigma| |omegadot|
+        (m * Qc * sn * nrm(ys[3]), a2, ys[1]))]           # |omegadot|
+    uses = [_use(lc.SCALE, sp.S.One, s=m, x=nt),
+            _use(lc.TRIANGLE_V4, m, x=P * R * vt, y=dg, z=P * P * R * sig, w=-C),
+            _use(lc.CROSS_M, m, a=p, K=P, M=R, b=vt),
+            _use(lc.CROSS_MN, m, a=p, K=P, M=P, N=R, b=sig),
+            _use(lc.CROSS_M, m * nrm(p), a=p, K=P, M=R, b=sig),
+            _use(lc.ROTATION, m, q=q, S=Ks, x=-wd),
+            _use(lc.CROSS_M, m * Q, a=sig, K=Ks, M=I3, b=-wd),
+            _use(lc.ROTATION, m * nrm(p), q=q, S=I3, x=vt),              # |R v_t|
+            _use(lc.ROTATION, m * Q * nrm(vt), q=q, S=I3, x=wt),         # |p|
+            _use(lc.ROTATION, m * pp, q=q, S=I3, x=sig),                 # |R sigma|
+            _use(lc.ROTATION, m * Q * nrm(sig) * nrm(p), q=q, S=I3, x=wt),   # |p|^2 = |p| |p|
+            _use(lc.ROTATION, m * Q**2 * nrm(sig) * nrm(wt), q=q, S=I3, x=wt),
+            *scale]
+    A = (1 - sg**2) * _prod1m(t)
+    Bs = [_prod1m(cy) for cy in cys]
+    ny = [sp.sqrt(1 - B) for B in Bs]
+    Qt = 1 - A
+    target = m * (a1 * a3 * (1 - Qt**2 * ny[0] * ny[2]) + a4 * (1 - ny[4]) + sn * a1 * nrm(w)
+                  + sn * a2 * (1 - Qt * ny[3] * ny[1]) + a1**2 * sn * (1 - Qt**3 * ny[3] * (1 - Bs[0])))
+    subs = {b3: m, **dict(zip(q, qc, strict=True))}
+    for vec_, r_, y in zip((wt, wd, vt, sig, dg), radii, ys, strict=True):
+        subs.update(dict(zip(vec_, [r_ * x for x in y], strict=True)))
+    coords = (*[Coordinate(x, -1.0, 1.0, "rad/s") for x in w],
+              *[Coordinate(x, 0.001, 0.5, u_) for x, u_ in ((a1, "rad/s"), (a2, "rad/s^2"))],
+              Coordinate(a3, 0.01, 10.0, "m/s"), Coordinate(a4, 0.01, 10.0, "m/s^2"),
+              Coordinate(m, 20.0, 200.0, "kg"), Coordinate(sn, 0.1, 10.0, "m"),
+              *[Coordinate(x, -1.0, 1.0, "1") for x in sum(cys, []) + t + [sg]])
+    reg = Region(coords, subs, describe="b3 = m; omega_t, omegadot_t, v_t, sigma_t, Deltag = radius times the "
+                                        "unit-ball chart; q in the unit ball of R^4")
+    return Plan([reg], "omega~ in [-1, 1]^3 rad/s, a1, a2 in [0.001, 0.5], a3, a4 in [0.01, 10], m = b3 in "
+                       "[20, 200] kg, sigmanorm in [0.1, 10] m, ||omega_t|| <= a1, ||omegadot_t|| <= a2, "
+                       "||v_t|| <= a3, ||sigma_t|| <= sigmanorm, ||Deltag|| <= a4, q any quaternion with |q| <= 1 "
+                       "(contains the unit ones), v_t_dot any (it cancels from R v_t_dot - g_p = Deltag)",
+                reduce=lambda g: target, reduce_side=_small_factor, uses=tuple(uses))
+
+
 PLANS: dict = {
     "c002.V1.lemma2_unit_terms": _lemma2_unit,
     "c002.V1.residual_set": _residual_set,
     "c002.model.remark4_Cr": _remark4_Cr,
+    "c002.model.remark5_nt": _remark5_nt,
 }

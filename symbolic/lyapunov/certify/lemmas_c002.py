@@ -8,7 +8,8 @@ identity), |J x| <= b1 |x| for J = C diag(d) C^T (C a rotation, 0 <= d_i <= b1),
 for the (unnormalised) rotation matrix of a quaternion q.  Norms are ``sqrt(x . x)``, written as the
 claims write them, and matrix-vector products keep the claims' association ((A B) x, not A (B x)), so
 that a plan composes the lemmas with the claim's expressions term by term; each proof checks the
-association identity (A B) x = A (B x) too.
+association identity (A B) x = A (B x) too.  Every gap is k times the fact (k A - k B, k >= 0 a premise:
+a nonnegative multiple of a nonnegative number), written term by term so that weighted instances cancel.
 """
 
 from __future__ import annotations
