@@ -11,8 +11,9 @@ from pathlib import Path
 import pytest
 
 from rpo.symbolic import lyapunov
+from rpo.symbolic.lyapunov.certify import plan_for
 from rpo.symbolic.lyapunov.check import check_claim
-from rpo.symbolic.lyapunov.report import compare
+from rpo.symbolic.lyapunov.report import certify_under_mutation, compare
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))     # verify.py (the CLI) is not part of the package
@@ -64,6 +65,11 @@ def test_mutation_is_caught(mutation):
         for cid in mutation.affects:
             r = check_claim(CLAIMS[cid], symbolic=False)
             impl = r.corrected if r.corrected is not None else r.paper
+            if impl.holds and plan_for(CLAIMS[cid]) is not None:
+                # a defect confined to a small region may evade the search: the prover must refuse the claim
+                got = certify_under_mutation(CLAIMS[cid])
+                assert got != "certified", f"{mutation.name}: {cid} certified under the mutation (not caught)"
+                continue
             assert not impl.holds, f"{mutation.name}: {cid} still holds (mutation not caught)"
     assert getattr(mutation.module, mutation.attr) is mutation._orig
 
@@ -168,10 +174,33 @@ def test_inequality_only_mutation_leaves_every_identity_true(mutation):
 
 
 def test_there_are_inequality_only_mutations_in_several_controllers():
-    # 002's two n_t mutations left this list when c002.plant.relative_translation tied n_t to Newton's law
     ineq = [m for m in MUTATIONS if m.inequality_only]
-    assert len(ineq) >= 2
-    assert len({m.module.__name__ for m in ineq}) >= 2
+    assert len(ineq) >= 4
+    assert len({m.module.__name__ for m in ineq}) >= 3
+
+
+def _planned(m) -> bool:
+    return any(plan_for(CLAIMS[cid]) is not None for cid in m.affects)
+
+
+#: the mutations that reach a claim with a proof plan: the inequality-only ones run by default, the others (the
+#: same check on more defects, a minute or more each) with ``-m slow``
+_PLANNED = [m for m in MUTATIONS if _planned(m)]
+
+
+@pytest.mark.parametrize("mutation", [m if m.inequality_only else pytest.param(m, marks=pytest.mark.slow)
+                                      for m in _PLANNED], ids=[m.name for m in _PLANNED])
+def test_mutated_claims_are_never_certified(mutation):
+    """With the defect applied, the prover certifies none of the affected claims that have a plan (a
+    counterexample or "cannot certify"), whether or not the numeric search also fails them: a certificate of a
+    claim the defect makes false would be a hole in the prover, and for a defect confined to a small region the
+    refusal is what catches it."""
+    with mutation:
+        for cid in mutation.affects:
+            if plan_for(CLAIMS[cid]) is not None:
+                got = certify_under_mutation(CLAIMS[cid])
+                assert got != "certified", f"{mutation.name}: {cid} certified under the mutation"
+    assert getattr(mutation.module, mutation.attr) is mutation._orig
 
 
 def test_controllers_are_discovered_and_one_without_claims_is_fine(tmp_path, monkeypatch):

@@ -63,6 +63,30 @@ def _drop_target_torque(out, j, I_c, I_t, C_tc, M_c, M_t):
     return M_c[j] / I_c[j]
 
 
+# ----- defects confined to |s| < 1e-3: harmless inside a layer of width d >= 1e-3 (S_aug = 0 there), so they
+# show only where the spacecraft claims allow thinner layers (d_att in [0, 0.01] rad/s, d_pos in [0, 0.05] m/s)
+
+_NARROW = sp.Rational(1, 1000)
+
+
+def _dead_zone_sign(x):
+    """sign(x) with a dead zone: 0 for |x| < 1e-3."""
+    return sp.Piecewise((0, sp.Abs(x) < _NARROW), (sp.sign(x), True))
+
+
+def _sat_sign(x):
+    """sat(x / 1e-3) = max(-1, min(1, x / 1e-3)) in place of sign(x)."""
+    return sp.Max(-1, sp.Min(1, x / _NARROW))
+
+
+def _att_dead_zone(out, b_hat, u1, D, eps, s, a_hat, f):
+    return -b_hat * (u1 + (D + eps) * _dead_zone_sign(s)) + sum(ai * fi for ai, fi in zip(a_hat, f, strict=True))
+
+
+def _tr_sat(out, h_hat, u1, D, eps, s, theta_hat, phi):
+    return -h_hat * (u1 + (D + eps) * _sat_sign(s)) - sum(ti * pi for ti, pi in zip(theta_hat, phi, strict=True))
+
+
 MUTATIONS = [
     Mutation("c000: switching term sign flipped (eq. 55)", c, "attitude_control_axis",
              replace_output(_flip_switching), (_AI, _AS, "c000.attitude.Vdot_bound")),
@@ -108,4 +132,17 @@ MUTATIONS = [
              ("c000.attitude.table1", _AI)),
     Mutation("c000: b u dropped from the per-axis translation form (eqs. 81, 105)", c, "translation_model_axis",
              scale_argument("b", 0), tuple(_t(ax, "form_eq30") for ax in AXES)),
+    # small-region defects of the switching term: the abstract V-dot bounds (d >= 1e-3) cannot see them, the
+    # spacecraft bounds (layers down to d = 0) can; the spacecraft_Vdot identities type sign(s) and are false in
+    # the same region, so these are not inequality-only
+    Mutation("c000: dead zone |s| < 1e-3 in eq. 55's sign(s)", c, "attitude_control_axis",
+             replace_output(_att_dead_zone), ("c000.attitude.spacecraft_Vdot_bound", _AS),
+             description="no switching torque for |s_j| < 1e-3 rad/s while b_hat_j still adapts with sign(s_j): "
+                         "for d_att,j < |s_j| < 1e-3, V_j-dot = (d_j - (D_j + eps_j)(1 - b_j b_hat_j) sign(s_j)) "
+                         "S_j exceeds -eps_j |S_j| whenever b_hat_j > 0"),
+    Mutation("c000: sign(s) -> sat(s / 1e-3) in eqs. 86, 108, 121", c, "translation_control_axis",
+             replace_output(_tr_sat), ("c000.translation.spacecraft_Vdot_bound",),
+             description="a second, inner boundary layer of width 1e-3 m/s in the force law only (h_hat still "
+                         "adapts with sign(s)): for d_pos,j < |s_j| < 1e-3 the switching force falls short by "
+                         "h_hat_j (D_j + eps_j)(1 - |s_j|/1e-3) and V_j-dot > -eps_j |S_j|"),
 ]

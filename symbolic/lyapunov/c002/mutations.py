@@ -5,7 +5,7 @@ from __future__ import annotations
 import sympy as sp
 
 from ...controllers import c002 as c
-from ...rotations import skew
+from ...rotations import dot, skew
 from ..core import (
     Mutation,
     drop_terms,
@@ -51,6 +51,33 @@ def _q0_rate_sign(out, q_rel, w_rel):
 def _nt_without_centripetal(out, R, w_t, w_t_dot, v_t, v_t_dot, sigma_t, g_p):
     wt = R * w_t
     return out - skew(wt) * skew(wt) * R * sigma_t
+
+
+def _tanh_offset(delta, axis):
+    """tanh(chi) with a constant offset on one component.  Its derivative is unchanged, so the identities that
+    differentiate tanh(chi) along eqs. 17-18 or carry the same tanh on both sides still hold; only
+    model.law_composition, which types eqs. 15-18 with tanh by hand, sees it among the identities."""
+    def f(out, chi):
+        out = sp.Matrix(out)
+        out[axis] = out[axis] + delta
+        return out
+    return f
+
+
+def _x_row_gain(out, *a, **kw):
+    out = sp.Matrix(out)
+    out[0] = sp.Rational(105, 100) * out[0]
+    return out
+
+
+def _rates_one_norm(out, s1, s2, w_rel, v_rel, r_rel, a_hat, beta, gamma):
+    def nrm(x):
+        return sp.sqrt(dot(x, x))
+
+    ns1, ns2 = (sum(sp.Abs(x) for x in s) for s in (s1, s2))       # ||s_j||_1 for ||s_j||_2
+    w, v, r = nrm(w_rel), nrm(v_rel), nrm(r_rel)
+    y = [ns1 * w**2, ns1 * w, ns1, ns2 * w * v, ns2 * w * r, ns2 * w, ns2 * v, ns2 * r, ns2]
+    return sp.Matrix([beta[i] * (y[i] - gamma[i] * a_hat[i]) for i in range(9)])
 
 
 _PLANT_RATE = "c002.plant.relative_rate_dynamics"
@@ -133,4 +160,20 @@ MUTATIONS = [
              (_PLANT_TRANSLATION,)),
     Mutation("c002: sign of r~_dot's C_t r~ (eq. 7)", c, "relative_position_rate", scale_argument("C_t", -1),
              (_PLANT_TRANSLATION,)),
+    # small-region and one-axis defects of the functions the certified V2 / V3 claims evaluate
+    Mutation("c002: tanh(chi_x) offset by +1e-3 (eqs. 15-18, 37)", c, "tanh_vec", replace_output(_tanh_offset(
+             sp.Rational(1, 1000), 0)), ("c002.V2.lemma1", "c002.V2.invariant_set", "c002.V3.rate_bounds",
+                                          "c002.model.law_composition"),
+             description="Lemma 1 is tight (delta = 0.2785 against max |x| - x tanh x = 0.27846 at |x| = 0.64): "
+                         "the offset breaks it for chi_x near -0.64 with chi_y, chi_z small; eq. 17's x axis then "
+                         "leaves Omega_2 near kappa tanh(c0) = varpi (varpi/kappa ~ 0.57); w~_x exceeds eq. 42's "
+                         "bound at the corner s1_x = o1, q~_x = -o3, chi_x = c1"),
+    Mutation("c002: eq. 17's x row 5 % high (one-axis gain)", c, "aux_attitude_rate", replace_output(_x_row_gain),
+             ("c002.V2.bound", "c002.V2.derivative_identity"),
+             description="chi1_x moves 5 % faster than J_x and k2 allow: where the saturation error pushes chi_x "
+                         "outward (varpi_1 > kappa_1 tanh|chi_x|) its V2 term exceeds eq. 38's"),
+    Mutation("c002: ||s_j||_1 for ||s_j||_2 in eq. 25", c, "adaptive_rates", replace_output(_rates_one_norm),
+             ("c002.V1.adaptation_cancels", "c002.V1.bound"),
+             description="the estimates grow with ||s||_1 >= ||s||_2: the cross term alpha~_i (||s||_2 - ||s||_1) "
+                         "y_i of V1_dot is positive when alpha^_i > alpha_i"),
 ]
