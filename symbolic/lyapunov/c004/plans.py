@@ -313,3 +313,23 @@ def _n2_bound(st: Statement) -> Plan:
 # dot_ball_3 equals the ball's hypothesis, 0 on its sphere, where no box closes).
 PLANS = {"c004.theorem.Vs_bound": _vs_bound, "c004.theorem.V_lower_bound": _v_lower_bound,
          "c004.position.n1_bound": _n1_bound, "c004.attitude.n2_bound": _n2_bound}
+
+_VDOT_WHY = ("no plan: the gap is the raw Lie derivative (eqs. 24-27, 33-36 along the closed loop) and every "
+             "rewriting is re-verified after the domain map; with R = R(sigma_e) and J_t = Q diag(d) Q^T "
+             "substituted, n1 and n2 are rational functions of high degree in the charts, so the identity that "
+             "separates the nominal part, s^T (d - m n) and the robust term (proved with n opaque in "
+             "{}_identity) cannot be re-verified by expansion there. Tried: the coupling bound alone "
+             "(certified, {}); needed: exact structural steps (distributivity lemmas) that split the "
+             "disturbance and coupling terms out of the nested products before the charts, and a chart of the "
+             "ball |d| <= rho (the premise of dot_ball_3 equals the ball's hypothesis, 0 on its sphere).")
+
+#: why each remaining claim has no certificate (the report prints it)
+UNCERTIFIED = {
+    "c004.position.V1dot_bound": _VDOT_WHY.format("position.V1dot", "position.n1_bound"),
+    "c004.attitude.V2dot_bound": _VDOT_WHY.format("attitude.V2dot", "attitude.n2_bound"),
+    "c004.theorem.Vdot_bound": ("no plan: the sum of the two V-dot bounds (70 coordinates, 3 components), a "
+                                "composition of position.V1dot_bound and attitude.V2dot_bound, which are not "
+                                "certified yet (see them); once they are, the first component is their sum and "
+                                "the other two are Min/ordering steps of the kind Vs_bound certifies."),
+}
+
