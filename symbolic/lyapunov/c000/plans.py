@@ -185,13 +185,18 @@ def _form_eq30_x(st: Statement) -> Plan:
             return w_form
         return _zero_if_identity(e)
 
-    boxes = ([(v, -100.0, 100.0, "m") for v in (x, y, z)]
-             + [(r_t, 6.7e6, 5.9e7, "m"), (fs.get("n"), 0.0, 1e-2, "rad/s")])
+    # the symbols that cancel from the residual keep their search boxes (hulls for n, n_dot): a defect that
+    # leaves one of them in (a mutation) then meets a goal over its box instead of a free symbol
+    boxes = ([(v, -100.0, 100.0, "m") for v in (x, y, z)] + [(r_t, 6.7e6, 5.9e7, "m")]
+             + [(fs.get(k), lo, hi, u) for k, lo, hi, u in (
+                 ("n", 0.0, 1e-2, "rad/s"), ("n_dot", -1e-5, 1e-5, "rad/s^2"), ("xdot", -6.0, 6.0, "m/s"),
+                 ("ydot", -6.0, 6.0, "m/s"), ("zdot", -6.0, 6.0, "m/s"), ("a_c1", -0.05, 0.05, "m/s^2"),
+                 ("a_d1", -1e-4, 1e-4, "m/s^2"))])
     coords = tuple(Coordinate(*b) for b in boxes if b[0] is not None)
     reg = Region(coords, subs, describe="r_e in [-100, 100]^3 m, r_t over the Kepler orbits drawn")
     return Plan([reg], "x, y, z in [-100, 100] m, r_t in [6.7e6, 5.9e7] m (contains every Kepler orbit drawn: "
                        "r_p 6700-43000 km, e <= 0.15), n in [0, 0.01] rad/s, mu = 3.986004418e14 m^3/s^2; v_e, "
-                       "n_dot, a_c, a_d cancel from the residual",
+                       "n_dot, a_c, a_d cancel from the residual (any value)",
                 reduce=_zero_if_identity, reduce_side=reduce_side, uses=uses)
 
 
