@@ -139,6 +139,67 @@ _TR_PLANS = {f"c000.translation_{ax}.Vdot_bound":
 
 # --------------------------------------------------------------------------- eq. 81's r_t = r_c - |r_e| (x row)
 
+def _form_eq30_x(st: Statement) -> Plan:
+    """|eq. 81 - eq. 30| (x row) <= 1.05 * 3 mu (|r_e| - x)/r_t^3 (the correction of form_eq30, eqs. 30, 81-83).
+
+    With rho = |r_e|, R = r_c = |r_t X_L + r_e| and r' = R - rho (eq. 81's r_t), the statement's residual E
+    (eq. 30 - eq. 81; n, v_e, a_c, a_d cancel) is exactly E = -K (rho - x) with
+    K = 2 mu r_t P/(R + r_t + rho) >= 0, P = 1/R^3 + (r' + r_t)/(r_t^2 r'^2): E = -mu (r_t - r') P and
+    r_t + rho - R = 2 r_t (rho - x)/(R + r_t + rho) (from R^2 = r_t^2 + 2 r_t x + rho^2).  The raw E is a
+    difference of terms ~mu/r_t^2 that cancel to ~mu |r_e|/r_t^3: no box ever sees it.  The proof composes:
+
+    * ``abs_le_norm_excess_3`` (a = E, k = K, u = -1, v = r_e): |E| <= K (rho - x); its premises are K >= 0
+      (boxes) and E = -K (rho - x) (two goals rewritten to 0: the identity above, re-verified with the root
+      relations of rho and R);
+    * ``norm_ge_component_3`` (v = r_e) with weight w = 3.15 mu/r_t^3 - K: the rest is
+      3.15 mu (rho - x)/r_t^3 - K (rho - x) - w (rho - x) = 0.
+
+    So the one inequality the boxes prove is w >= 0 (the bound's 5 % margin over the limit 3 mu/r_t^3 at
+    r_e = 0), written as (mu/r_t^3)(3.15 - 2 r_t^4 P/(R + r_t + rho)), with no cancellation."""
+    from ..certify.lemmas_c000 import ABS_NORM_EXCESS3, NORM_GE_COMPONENT3
+
+    fs = {x.name: x for x in st.free_symbols()}
+    x, y, z, r_t, mu = (fs[k] for k in ("x", "y", "z", "r_t", "mu"))
+    (E,) = st.lhs.args                     # the statement's |E|
+    rho = sp.sqrt(x**2 + y**2 + z**2)
+    R = sp.sqrt((r_t + x) ** 2 + y**2 + z**2)
+    rp = R - rho
+    P = 1 / R**3 + (rp + r_t) / (r_t**2 * rp**2)
+    K = 2 * mu * r_t * P / (R + r_t + rho)
+    c_b = sp.Rational(63, 20)              # 1.05 * 3
+    w = c_b * mu / r_t**3 - K
+    A = ABS_NORM_EXCESS3.symbols
+    uses = (Use(ABS_NORM_EXCESS3, {A[0]: E, A[1]: K, A[2]: -1, A[3]: x, A[4]: y, A[5]: z}),
+            Use(NORM_GE_COMPONENT3, dict(zip(NORM_GE_COMPONENT3.symbols, (x, y, z), strict=True)), weight=w))
+    mu_val = sp.Integer(int(MU_EARTH))
+    subs = {mu: mu_val}
+    w_reg = w.xreplace(subs)
+    # w in ratios to r_t: xi - 1 = R/r_t - 1 = (2 x + rho^2/r_t)/(R + r_t) and eta = rho/r_t are O(|r_e|/r_t), so
+    # intervals of r_t enter only through them (r_t^4 P/(R + r_t + rho) itself would be a ratio of large numbers)
+    d1, eta = (2 * x + rho**2 / r_t) / (R + r_t), rho / r_t
+    w_form = (mu_val / r_t**3) * (c_b - 2 * (1 / (1 + d1) ** 3 + (2 + d1 - eta) / (1 + d1 - eta) ** 2)
+                                  / (2 + d1 + eta))
+
+    def reduce_side(e):
+        if e == w_reg:
+            return w_form
+        return _zero_if_identity(e)
+
+    # the symbols that cancel from the residual keep their search boxes (hulls for n, n_dot): a defect that
+    # leaves one of them in (a mutation) then meets a goal over its box instead of a free symbol
+    boxes = ([(v, -100.0, 100.0, "m") for v in (x, y, z)] + [(r_t, 6.7e6, 5.9e7, "m")]
+             + [(fs.get(k), lo, hi, u) for k, lo, hi, u in (
+                 ("n", 0.0, 1e-2, "rad/s"), ("n_dot", -1e-5, 1e-5, "rad/s^2"), ("xdot", -6.0, 6.0, "m/s"),
+                 ("ydot", -6.0, 6.0, "m/s"), ("zdot", -6.0, 6.0, "m/s"), ("a_c1", -0.05, 0.05, "m/s^2"),
+                 ("a_d1", -1e-4, 1e-4, "m/s^2"))])
+    coords = tuple(Coordinate(*b) for b in boxes if b[0] is not None)
+    reg = Region(coords, subs, describe="r_e in [-100, 100]^3 m, r_t over the Kepler orbits drawn")
+    return Plan([reg], "x, y, z in [-100, 100] m, r_t in [6.7e6, 5.9e7] m (contains every Kepler orbit drawn: "
+                       "r_p 6700-43000 km, e <= 0.15), n in [0, 0.01] rad/s, mu = 3.986004418e14 m^3/s^2; v_e, "
+                       "n_dot, a_c, a_d cancel from the residual (any value)",
+                reduce=_zero_if_identity, reduce_side=reduce_side, uses=uses)
+
+
 # --------------------------------------------------------------------------- the spacecraft V-dot bounds
 
 
@@ -250,4 +311,5 @@ def _tr_spacecraft_bound(st: Statement) -> Plan:
 
 PLANS = {"c000.convergence": _convergence, "c000.attitude.Vdot_bound": _att_Vdot_bound, **_TR_PLANS,
          "c000.attitude.spacecraft_Vdot_bound": _att_spacecraft_bound,
-         "c000.translation.spacecraft_Vdot_bound": _tr_spacecraft_bound}
+         "c000.translation.spacecraft_Vdot_bound": _tr_spacecraft_bound,
+         "c000.translation_x.form_eq30": _form_eq30_x}
