@@ -313,3 +313,25 @@ PLANS = {"c000.convergence": _convergence, "c000.attitude.Vdot_bound": _att_Vdot
          "c000.attitude.spacecraft_Vdot_bound": _att_spacecraft_bound,
          "c000.translation.spacecraft_Vdot_bound": _tr_spacecraft_bound,
          "c000.translation_x.form_eq30": _form_eq30_x}
+
+_PRINTED_LAYER_WHY = (
+    "the printed step (printed V and laws, the paper's piecewise layer: 0 for |s| <= d, s - d sign(s) outside) "
+    "decides this claim's status; the implementation's statement (the code's layer) is certified with the "
+    "plan above. Tried on the printed step: the same regions; on |s| <= d the layer's condition "
+    "(p + q)/2 >= |p - q|/2 holds on the whole region but neither SymPy nor the case-split identity prover "
+    "decides it, and the interval hull of the two branches never closes the boxes at |s| = d (54,874 boxes).")
+
+#: why each remaining claim has no certificate (the report prints it)
+UNCERTIFIED = {
+    "c000.translation_y.Vdot_bound": _PRINTED_LAYER_WHY,
+    "c000.translation_z.Vdot_bound": _PRINTED_LAYER_WHY,
+    "c000.attitude.principal_axes": (
+        "no plan: 3 components of |E_j| <= D_att over 21 coordinates (~24k operations). The budget holds with ~8 % "
+        "margin when E_j is split into its T/h, M_c, M_t and kinematic target parts (numeric estimates x: "
+        "0.00157 + 0.00364 + 0.00166 <= 0.0075), but (1) the statement's inertias are Floats, so any regrouping "
+        "of E_j other than a partition of its own terms fails the exact identity check by ~1e-18; (2) each "
+        "identity check on a component takes ~50 s; (3) the kinematic target part is a difference of ~0.005 "
+        "terms that bounds only on a chart of q with omega_e = omega_c - C(q) omega_t. Next: partition E_j's own "
+        "terms and bound each by triangle, ball and rotation-row lemmas."),
+}
+
