@@ -78,7 +78,7 @@ def derive(claim: Claim, tag: str, st: Statement, plan: Plan, log=print) -> tupl
     """Run the prover on every goal; (result, certificate data or None)."""
     t0 = time.perf_counter()
     try:
-        _check_steps(st, plan)
+        _check_steps(st, plan, seconds=plan.seconds)
         gl = goals(st, plan)
     except (CheckError, ValueError) as exc:
         return Certification("cannot", plan.domain, plan.covers_search_domain, reason=f"the plan does not check: {exc}",
@@ -135,9 +135,20 @@ def _statement_point(reg, point: dict) -> dict:
     return out
 
 
-def _check_steps(st: Statement, plan: Plan) -> None:
+def _check_steps(st: Statement, plan: Plan, seconds: float | None = None) -> None:
     """The symbolic steps of the plan, verified: every goal comes from the gap by an exact identity, and a
-    '>' statement's margin is positive off the zero set."""
+    '>' statement's margin is positive off the zero set.  ``seconds``: a budget for all of it (CheckError when
+    it runs out), so that a plan that does not fit (a mutated statement) is refused quickly."""
+    deadline = None if seconds is None else time.perf_counter() + seconds
+
+    def identical(a, b) -> bool:
+        if deadline is None:
+            return _identical(a, b)
+        left = deadline - time.perf_counter()
+        if left <= 0:
+            raise CheckError(f"the plan's symbolic steps take more than {seconds:g} s")
+        return _identical(a, b, min(30.0, left))
+
     from ..check import prove_positive_definite
 
     if st.relation == ">":
@@ -171,7 +182,7 @@ def _check_steps(st: Statement, plan: Plan) -> None:
                                  "identity")
 
 
-def identical(a: sp.Expr, b: sp.Expr, seconds: float = 30.0) -> bool:
+def _identical(a: sp.Expr, b: sp.Expr, seconds: float = 30.0) -> bool:
     """a == b for all values: the symbolic stage's canonical reduction (``check.prove_zero``), else SymPy's
     ``simplify`` of the difference reaching 0 (roots whose radicands agree only as rational functions),
     within ``seconds``."""
