@@ -230,22 +230,10 @@ def _remark4_Cr(st: Statement) -> Plan:
                 reduce=lambda g: target, reduce_side=_small_factor, uses=tuple(uses))
 
 
-def _remark5_nt(st: Statement) -> Plan:
-    """Remark 5 (corrected, with gravity), eq. 9: with g_p = R v_t_dot - Deltag the claim's n_t is
-    n_t = (P R) v_t + Deltag + ((P P) R) sigma_t - (R sigma_t^x) omegadot_t, p = R omega_t, P = p^x.  Composed of
-    the lemmas of ``lemmas_c002``:
-
-    |m n_t| = m |n_t| <= m (|(P R) v_t| + |Deltag| + |((P P) R) sigma_t| + |(R sigma_t^x) omegadot_t|)
-    |(P R) v_t| <= |p| |R v_t|,  |((P P) R) sigma| <= |p| |(P R) sigma| <= |p|^2 |R sigma|   (cross products)
-    |(R sigma^x) omegadot| = |q|^2 |sigma^x omegadot| <= |q|^2 |sigma| |omegadot|             (rotation, cross)
-    |R x| = |q|^2 |x| (rotation), and the ball charts x = a y (scale: |a y| = a |y|)
-
-    which leaves m [a1 a3 (1 - Q^2 |y1| |y3|) + a4 (1 - |y5|) + sigmanorm a1 |w~| + sigmanorm a2 (1 - Q |y4| |y2|)
-    + a1^2 sigmanorm (1 - Q^3 |y4| |y1|^2)] with Q = |q|^2 = 1 - A and |y_k| = sqrt(1 - B_k), A, B_k products of
-    factors in [0, 1]: one natural enclosure.  Charts: omega_t = a1 y1, omegadot_t = a2 y2, v_t = a3 y3,
-    sigma_t = sigmanorm y4, Deltag = a4 y5 with y_k in the unit ball (cube charts), q in the unit ball of R^4,
-    b3 = m (the claim's domain)."""
-    n = {s_.name: s_ for s_ in st.free_symbols()}
+def _nt_chain(n: dict):
+    """The composition of Remark 5 (see :func:`_remark5_nt`) for |m n_t| as the lemmas bound it: the uses, the
+    rest they leave (``target``), the charts (``subs``, ``coords``) and the pieces the plans share (the
+    rotation R, p = R omega_t, the ball of q and |q|^2 on it)."""
 
     def vec(name):
         return sp.Matrix([n[f"{name}_{i}"] for i in (1, 2, 3)])
@@ -304,12 +292,105 @@ def _remark5_nt(st: Statement) -> Plan:
               Coordinate(a3, 0.01, 10.0, "m/s"), Coordinate(a4, 0.01, 10.0, "m/s^2"),
               Coordinate(m, 20.0, 200.0, "kg"), Coordinate(sn, 0.1, 10.0, "m"),
               *[Coordinate(x, -1.0, 1.0, "1") for x in sum(cys, []) + t + [sg]])
-    reg = Region(coords, subs, describe="b3 = m; omega_t, omegadot_t, v_t, sigma_t, Deltag = radius times the "
-                                        "unit-ball chart; q in the unit ball of R^4")
+    return {"uses": uses, "target": target, "subs": subs, "coords": coords, "R": R, "p": p, "q": q, "Qc": Qc,
+            "Qt": Qt, "y1": ys[0], "ny1": ny[0], "wt": wt, "w": w, "nt": nt}
+
+
+def _remark5_nt(st: Statement) -> Plan:
+    """Remark 5 (corrected, with gravity), eq. 9: with g_p = R v_t_dot - Deltag the claim's n_t is
+    n_t = (P R) v_t + Deltag + ((P P) R) sigma_t - (R sigma_t^x) omegadot_t, p = R omega_t, P = p^x.  Composed of
+    the lemmas of ``lemmas_c002`` (:func:`_nt_chain`):
+
+    |m n_t| = m |n_t| <= m (|(P R) v_t| + |Deltag| + |((P P) R) sigma_t| + |(R sigma_t^x) omegadot_t|)
+    |(P R) v_t| <= |p| |R v_t|,  |((P P) R) sigma| <= |p| |(P R) sigma| <= |p|^2 |R sigma|   (cross products)
+    |(R sigma^x) omegadot| = |q|^2 |sigma^x omegadot| <= |q|^2 |sigma| |omegadot|             (rotation, cross)
+    |R x| = |q|^2 |x| (rotation), and the ball charts x = a y (scale: |a y| = a |y|)
+
+    which leaves m [a1 a3 (1 - Q^2 |y1| |y3|) + a4 (1 - |y5|) + sigmanorm a1 |w~| + sigmanorm a2 (1 - Q |y4| |y2|)
+    + a1^2 sigmanorm (1 - Q^3 |y4| |y1|^2)] with Q = |q|^2 = 1 - A and |y_k| = sqrt(1 - B_k), A, B_k products of
+    factors in [0, 1]: one natural enclosure.  Charts: omega_t = a1 y1, omegadot_t = a2 y2, v_t = a3 y3,
+    sigma_t = sigmanorm y4, Deltag = a4 y5 with y_k in the unit ball (cube charts), q in the unit ball of R^4,
+    b3 = m (the claim's domain)."""
+    n = {s_.name: s_ for s_ in st.free_symbols()}
+    ch = _nt_chain(n)
+    reg = Region(ch["coords"], ch["subs"], describe="b3 = m; omega_t, omegadot_t, v_t, sigma_t, Deltag = radius "
+                                                    "times the unit-ball chart; q in the unit ball of R^4")
     return Plan([reg], "omega~ in [-1, 1]^3 rad/s, a1, a2 in [0.001, 0.5], a3, a4 in [0.01, 10], m = b3 in "
                        "[20, 200] kg, sigmanorm in [0.1, 10] m, ||omega_t|| <= a1, ||omegadot_t|| <= a2, "
                        "||v_t|| <= a3, ||sigma_t|| <= sigmanorm, ||Deltag|| <= a4, q any quaternion with |q| <= 1 "
                        "(contains the unit ones), v_t_dot any (it cancels from R v_t_dot - g_p = Deltag)",
+                reduce=lambda g, target=ch["target"]: target, reduce_side=_small_factor, uses=tuple(ch["uses"]))
+
+
+def _lumped_position(st: Statement) -> Plan:
+    """Eq. 22 (corrected alpha9, with gravity): Phi2 = a + b + d_t + e + f with a = -m C_t v~, b = -m n_t,
+    e = k5 m r~_dot (r~_dot = v~ - C_t r~), f = kappa2 tanh chi2, C_t = (w~ + p)^x, p = R omega_t (eq. 7).
+    Composed of the lemmas of ``lemmas_c002``:
+
+    |Phi2| <= |a| + |b| + |d_t| + |e + f|,  |e + f| <= |e| + |f|                 triangle
+    |a| = |(-m C_t) v~| <= |m (w~ + p)| |v~| <= m (|w~| + |p|) |v~|            cross, scale, triangle
+    |e| <= k5 m |r~_dot| <= k5 m (|v~| + |C_t r~|) <= k5 m (|v~| + (|w~| + |p|) |r~|)
+    |p| = |q|^2 |omega_t| <= |q|^2 a1 |y1|                                       rotation, scale
+    |b| <= Remark 5's chain (:func:`_nt_chain`),  |d_t| = D2 |y6|,  |f| = kappa2 |tanh chi2|   (scale)
+
+    which leaves m a1 (|v~| + k5 |r~|)(1 - Q |y1|) + Remark 5's rest + D2 (1 - |y6|) + kappa2 (sqrt 3 - |tanh chi2|),
+    a sum of nonnegative terms (|tanh chi_i| <= tanh 3 on the box): one natural enclosure each.  Charts as in
+    Remark 5, d_t = D2 y6 (unit-ball cube chart)."""
+    from .model import _Bounds
+
+    n = {s_.name: s_ for s_ in st.free_symbols()}
+    ch = _nt_chain(n)
+    B = _Bounds()
+    S = B.S
+    w, v, r, chi = S.w, S.v, S.r, S.chi2
+    m, k5, kap, D2, a1 = S.m, S.k5, S.kappa2, B.D2, n["a_1"]
+    R, p, q, wt = ch["R"], ch["p"], ch["q"], ch["wt"]
+    I3 = sp.eye(3)
+    nrm = lc._nrm
+    C_t = c.translation_rate_matrix(w, R, wt)
+    rdot = c.relative_position_rate(v, C_t, r)
+    a = -m * C_t * v
+    b = -m * ch["nt"]
+    e = k5 * m * rdot
+    f = kap * c.tanh_vec(chi)
+    cd = list(sp.symbols("cy6_1:4", real=True))
+    y6 = sp.Matrix(_ball3(cd))
+    Qc = ch["Qc"]
+    wp = -(w + p)
+    uses = [*ch["uses"],
+            _use(lc.TRIANGLE_V4, sp.S.One, x=a, y=b, z=S.d_t, w=e + f),
+            _use(lc.TRIANGLE_V2, sp.S.One, x=e, y=f),
+            # |a|
+            _use(lc.CROSS_M, sp.S.One, a=m * wp, K=skew(m * wp), M=I3, b=v),
+            _use(lc.SCALE, nrm(v), s=m, x=wp),
+            _use(lc.TRIANGLE_V2, m * nrm(v), x=-w, y=-p),
+            _use(lc.ROTATION, m * nrm(v), q=q, S=I3, x=-wt),
+            _use(lc.SCALE, m * nrm(v) * Qc, s=a1, x=ch["y1"]),
+            # |e|
+            _use(lc.SCALE, sp.S.One, s=k5 * m, x=rdot),
+            _use(lc.TRIANGLE_V2, k5 * m, x=v, y=-(C_t * r)),
+            _use(lc.CROSS_M, k5 * m, a=wp, K=-C_t, M=I3, b=r),
+            _use(lc.TRIANGLE_V2, k5 * m * nrm(r), x=-w, y=-p),
+            _use(lc.ROTATION, k5 * m * nrm(r), q=q, S=I3, x=-wt),
+            _use(lc.SCALE, k5 * m * nrm(r) * Qc, s=a1, x=ch["y1"]),
+            # |d_t|, |f|
+            _use(lc.SCALE, sp.S.One, s=D2, x=y6),
+            _use(lc.SCALE, sp.S.One, s=kap, x=c.tanh_vec(chi))]
+    target = (ch["target"] + m * a1 * (nrm(v) + k5 * nrm(r)) * (1 - ch["Qt"] * ch["ny1"])
+              + D2 * (1 - sp.sqrt(1 - _prod1m(cd))) + kap * (sp.sqrt(3) - nrm(c.tanh_vec(chi))))
+    subs = {**ch["subs"], **dict(zip(S.d_t, [D2 * x for x in y6], strict=True))}
+    coords = (*ch["coords"], *[Coordinate(x, -2.0, 2.0, "m/s") for x in v],
+              *[Coordinate(x, -20.0, 20.0, "m") for x in r], *[Coordinate(x, -3.0, 3.0, "1") for x in chi],
+              Coordinate(k5, 0.5, 3.0, "1/s"), Coordinate(kap, 0.01, 2.0, "N"),
+              Coordinate(D2, 1e-300, 0.01, "N"), *[Coordinate(x, -1.0, 1.0, "1") for x in cd])
+    reg = Region(coords, subs, describe="b3 = m; omega_t, omegadot_t, v_t, sigma_t, Deltag, d_t = radius times the "
+                                        "unit-ball chart; q in the unit ball of R^4")
+    return Plan([reg], "omega~ in [-1, 1]^3 rad/s, v~ in [-2, 2]^3 m/s, r~ in [-20, 20]^3 m, chi2 in [-3, 3]^3, "
+                       "k5 in [0.5, 3] 1/s, kappa2 in [0.01, 2] N, D2 in (0, 0.01] N (declared positive), a1, a2 in "
+                       "[0.001, 0.5], a3, a4 in [0.01, 10], m = b3 in [20, 200] kg, sigmanorm in [0.1, 10] m, "
+                       "||omega_t|| <= a1, ||omegadot_t|| <= a2, ||v_t|| <= a3, ||sigma_t|| <= sigmanorm, "
+                       "||Deltag|| <= a4, ||d_t|| <= D2, q any quaternion with |q| <= 1 (contains the unit ones), "
+                       "v_t_dot any (it cancels from R v_t_dot - g_p = Deltag)",
                 reduce=lambda g: target, reduce_side=_small_factor, uses=tuple(uses))
 
 
@@ -318,4 +399,5 @@ PLANS: dict = {
     "c002.V1.residual_set": _residual_set,
     "c002.model.remark4_Cr": _remark4_Cr,
     "c002.model.remark5_nt": _remark5_nt,
+    "c002.model.lumped_bound_position": _lumped_position,
 }
