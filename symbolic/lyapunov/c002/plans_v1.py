@@ -8,8 +8,15 @@ from ...controllers import c002 as c
 from ...rotations import dot, skew
 from ..certify import Coordinate, Plan, Region
 from ..certify import lemmas_c002 as lc
+from ..certify.lemmas import ABS_PRODUCT, DOT_BALL3
 from ..certify.plan import Use, composed, gaps
 from ..core import Statement
+from .common import PAPER_GAINS
+
+
+def _by_name(st: Statement) -> dict:
+    """The statement's symbols by name."""
+    return {s.name: s for s in st.free_symbols()}
 
 
 def _named(st: Statement, *names: str) -> list[sp.Symbol]:
@@ -156,6 +163,7 @@ _LEMMA_SYMBOLS = {
     ("c002_cross_m", "K"): list(lc._CK), ("c002_cross_mn", "K"): list(lc._CK),
     ("c002_cross_mn", "a"): list(lc._ca), ("c002_cross_mn", "M"): list(lc._CM),
     ("c002_cross_mn", "N"): list(lc._CN), ("c002_cross_mn", "b"): list(lc._cb),
+    ("c002_lemma2", "z"): [lc._lz], ("c002_lemma2", "eps"): [lc._le],
     ("c002_rotation", "q"): list(lc._rq), ("c002_rotation", "S"): list(lc._RS), ("c002_rotation", "x"): list(lc._rx),
     ("c002_spd_bound", "J"): [lc._JJ[i, j] for i in range(3) for j in range(i, 3)],
     ("c002_spd_bound", "c"): list(lc._jc), ("c002_spd_bound", "d"): list(lc._jd),
@@ -394,10 +402,93 @@ def _lumped_position(st: Statement) -> Plan:
                 reduce=lambda g: target, reduce_side=_small_factor, uses=tuple(uses))
 
 
+# --------------------------------------------------------------------------- eq. 29: the bound on V1_dot
+
+def _v1_bound(st: Statement) -> Plan:
+    """Eq. 29 (corrected 9 + k3 + k7, or the printed 11 at the paper's gains): after eq. 25 the parameter-error
+    terms of V1_dot cancel against sum gamma_i alpha~_i alpha^_i exactly (c002.V1.adaptation_cancels), the k4, k8
+    terms cancel, and what is left is, exactly,
+
+    sum_i [Lemma 2 at X_i = alpha^_i Y_i ||s_j||] + sum_i [|alpha^_i| - alpha^_i] ||s_j|| Y_i
+    + Lemma 2 (times k3, k7) at ||s_1||, ||s_2|| + sum_j [||s_j|| rho_j - s_j . Phi_j] + rest,
+
+    with Y_i the regressors of eq. 25 and rho_j the bounds of eqs. 21-22 (sum_i alpha_i Y_i): Lemma 2
+    (``c002_lemma2``, constant c = 0.31, with z = X_i^2 as the statement writes the root), s d <= |s| D
+    (``abs_product``) and the ball form of Cauchy-Schwarz (``dot_ball_3``, Phi_j in the ball of radius rho_j)
+    leave rest = (c_eps - 0.31 (9 + k3 + k7)) eps, >= 0 for c_eps = 9 + k3 + k7 and for 11 at k3 + k7 = 4.5.
+    The boxes certify the weights and premises (z_i >= 0, rho_j >= 0, rho_j^2 - |Phi_j|^2 >= 0: the chart
+    Phi_j = rho_j y, y in the unit ball (cube chart))."""
+    n = _by_name(st)
+
+    def vec(name):
+        return sp.Matrix([n[f"{name}_{i}"] for i in (1, 2, 3)])
+
+    w, v, r = vec("omega"), vec("v"), vec("r")
+    s1, s2, P1, P2 = vec("s_1"), vec("s_2"), vec("Phi1"), vec("Phi2")
+    ah = [n[f"alphahat_{i}"] for i in range(1, 10)]
+    al = [n[f"alpha_{i}"] for i in range(1, 10)]
+    ga = [n[f"gamma_{i}"] for i in range(1, 10)]
+    k3, k4, k7, k8, eps = (n[x] for x in ("k_3", "k_4", "k_7", "k_8", "varepsilon"))
+    nrm = lc._nrm
+    nw, nv, nr = nrm(w), nrm(v), nrm(r)
+    Y = [nw**2, nw, sp.S.One, nw * nv, nw * nr, nw, nv, nr, sp.S.One]
+    sj = [s1] * 3 + [s2] * 6
+    rho = [sum(al[i] * Y[i] for i in range(3)), sum(al[i] * Y[i] for i in range(3, 9))]
+    sa, da, Da = ABS_PRODUCT.symbols
+    uses = []
+    for i in range(9):
+        ss = dot(sj[i], sj[i])
+        uses.append(_use(lc.LEMMA2, sp.S.One, z=ah[i] ** 2 * Y[i] ** 2 * ss, eps=eps))
+        uses.append(Use(ABS_PRODUCT, {sa: ah[i], da: nrm(sj[i]) * Y[i], Da: nrm(sj[i]) * Y[i]}))
+    for k_, s_ in ((k3, s1), (k7, s2)):
+        uses.append(_use(lc.LEMMA2, k_, z=dot(s_, s_), eps=eps))
+    dx, dy, dr = DOT_BALL3.symbols[:3], DOT_BALL3.symbols[3:6], DOT_BALL3.symbols[6]
+    for s_, P_, rh in ((s1, P1, rho[0]), (s2, P2, rho[1])):
+        uses.append(Use(DOT_BALL3, {**dict(zip(dx, s_, strict=True)), **dict(zip(dy, P_, strict=True)), dr: rh}))
+    c_eps = sp.expand(gaps(st)[0]).coeff(eps).subs({x: 0 for x in (*s1, *s2, *w, *v, *r, *P1, *P2, *ah, *al, *ga,
+                                                                    k4, k8)})
+    cy = [list(sp.symbols(f"cphi{j}_1:4", real=True)) for j in (1, 2)]
+    ys = [_ball3(c_) for c_ in cy]
+    subs = {**dict(zip(P1, [rho[0] * x for x in ys[0]], strict=True)),
+            **dict(zip(P2, [rho[1] * x for x in ys[1]], strict=True))}
+    paper = k3 not in c_eps.free_symbols     # eq. 29 as printed, at the paper's gains (c002.gains.eq29_constant)
+    coords = []
+    for sym, lo, hi, unit in ((k3, 0.01, 40.0, "1/s"), (k7, 0.01, 40.0, "1/s"), (k4, 0.01, 10.0, "1/s"),
+                              (k8, 0.1, 50.0, "1/s"), (eps, 0.0001, 0.1, "1")):
+        if paper:
+            lo = hi = float(PAPER_GAINS[sym.name.replace("_", "").replace("varepsilon", "eps")])
+        coords.append(Coordinate(sym, lo, hi, unit))
+    coords += [Coordinate(x, -2.0, 2.0, "(unit of s1)") for x in s1]
+    coords += [Coordinate(x, -5.0, 5.0, "(unit of s2)") for x in s2]
+    coords += [Coordinate(x, -1.0, 1.0, "rad/s") for x in w] + [Coordinate(x, -2.0, 2.0, "m/s") for x in v]
+    coords += [Coordinate(x, -20.0, 20.0, "m") for x in r] + [Coordinate(x, -1.0, 5.0, "1") for x in ah]
+    coords += [Coordinate(x, 1e-300, 5.0, "1") for x in al] + [Coordinate(x, 0.1, 2.0, "1") for x in ga]
+    coords += [Coordinate(x, -1.0, 1.0, "1") for x in cy[0] + cy[1]]
+    reg = Region(tuple(coords), subs, describe="Phi_j = rho_j y_j, y_j in the unit ball (cube chart)")
+    target = (c_eps - lc.LEMMA2_C * (9 + k3 + k7)) * eps
+    ball_forms = [(rho[j] ** 2 * _prod1m(cy[j]), set(cy[j])) for j in range(2)]
+
+    def reduce_side(e):
+        for form, cs in ball_forms:
+            if e.free_symbols & cs and sp.expand(e - form) == 0:
+                return form
+        return _small_factor(e)
+
+    gains = ("k3 = 4, k4 = 0.5, k7 = 0.5, k8 = 20 1/s, eps = 0.001 (the paper's, eq. 46)" if paper else
+             "k3, k7 in [0.01, 40], k4 in [0.01, 10], k8 in [0.1, 50] 1/s, eps in [1e-4, 0.1]")
+    return Plan([reg], gains + ", s1 in "
+                       "[-2, 2]^3, s2 in [-5, 5]^3 (contain the search's balls), omega~ in [-1, 1]^3 rad/s, v~ in "
+                       "[-2, 2]^3 m/s, r~ in [-20, 20]^3 m, alpha^ in [-1, 5]^9, alpha in (0, 5]^9 (declared "
+                       "positive), gamma in [0.1, 2]^9, ||Phi1|| <= alpha1 |w|^2 + alpha2 |w| + alpha3, ||Phi2|| <= "
+                       "eq. 22's bound", reduce=lambda g: target, reduce_side=reduce_side, uses=tuple(uses))
+
+
 PLANS: dict = {
     "c002.V1.lemma2_unit_terms": _lemma2_unit,
     "c002.V1.residual_set": _residual_set,
     "c002.model.remark4_Cr": _remark4_Cr,
     "c002.model.remark5_nt": _remark5_nt,
     "c002.model.lumped_bound_position": _lumped_position,
+    "c002.V1.bound": _v1_bound,
+    "c002.gains.eq29_constant": _v1_bound,
 }
