@@ -8,7 +8,7 @@ from ...controllers import c002 as c
 from ...rotations import dot, skew
 from ..certify import Coordinate, Plan, Region
 from ..certify import lemmas_c002 as lc
-from ..certify.lemmas import ABS_PRODUCT, DOT_BALL3
+from ..certify.lemmas import ABS_PRODUCT, DOT_BALL3, MIN_LE, YOUNG
 from ..certify.plan import Use, composed, gaps
 from ..core import Statement
 from .common import PAPER_GAINS
@@ -483,6 +483,126 @@ def _v1_bound(st: Statement) -> Plan:
                        "eq. 22's bound", reduce=lambda g: target, reduce_side=reduce_side, uses=tuple(uses))
 
 
+# --------------------------------------------------------------------------- eqs. 30-33: exponential forms
+
+def _v1_exponential(st: Statement) -> Plan:
+    """Eqs. 30-33 as corrected, per subsystem (V1att, V1pos) or both: the chain of :func:`_v1_bound` on the
+    subsystem's terms (Lemma 2 per term with c = 0.31, s d <= |s| D, the ball form of Cauchy-Schwarz), then
+    Young (eq. 30, weight gamma_i: gamma alpha~ alpha^ <= -gamma (2l - 1)/(2l) alpha~^2 + gamma l alpha^2/2)
+    and Min(...) <= each of its arguments (``min_le``, y the Min of the others, which SymPy flattens into the
+    statement's Min), weights 1/2 s^T J s (or 1/2 m ||s2||^2) and alpha~_i^2/(2 beta_i).  What is left is, exactly,
+    k4 sum_{j != k} s1_j^2 d_j/a + k3 ||s1|| + 0.69 (3 + k3) eps (attitude) and k7 ||s2|| + 0.69 (6 + k7) eps
+    (position), where J_k = a = max(J) and J_j = a - d_j (one region per index k of the maximum, so that
+    Max(J_1, J_2, J_3) is a): sums of nonnegative terms."""
+    n = _by_name(st)
+
+    def vec(name):
+        return sp.Matrix([n[f"{name}_{i}"] for i in (1, 2, 3)])
+
+    parts = [j for j, key in ((0, "s_1_1"), (1, "s_2_1")) if key in n]
+    idx = [i for j in parts for i in ((0, 1, 2) if j == 0 else (3, 4, 5, 6, 7, 8))]
+    w = vec("omega")
+    v, r = (vec("v"), vec("r")) if 1 in parts else (sp.zeros(3, 1), sp.zeros(3, 1))     # (position only)
+    sv = [vec("s_1") if 0 in parts else None, vec("s_2") if 1 in parts else None]
+    Pv = [vec("Phi1") if 0 in parts else None, vec("Phi2") if 1 in parts else None]
+    g = lambda name: {i: n[f"{name}_{i + 1}"] for i in idx}          # noqa: E731
+    ah, al, ga, be, ll = g("alphahat"), g("alpha"), g("gamma"), g("beta"), g("l")
+    eps = n["varepsilon"]
+    kk = [(n["k_3"], n["k_4"]) if 0 in parts else None, (n["k_7"], n["k_8"]) if 1 in parts else None]
+    nrm = lc._nrm
+    nw, nv, nr = nrm(w), nrm(v), nrm(r)
+    Y = [nw**2, nw, sp.S.One, nw * nv, nw * nr, nw, nv, nr, sp.S.One]
+    sa, da, Da = ABS_PRODUCT.symbols
+    ya, yb, ye = YOUNG.symbols
+    mx, my = MIN_LE.symbols
+    dx, dy, dr = DOT_BALL3.symbols[:3], DOT_BALL3.symbols[3:6], DOT_BALL3.symbols[6]
+    J = [n[f"J_{i}"] for i in (1, 2, 3)] if 0 in parts else []
+    m = n["m"] if 1 in parts else None
+    uses, subs, cys, rhos = [], {}, {}, {}
+    for j in parts:
+        ij = [i for i in idx if (i < 3) == (j == 0)]
+        s_, P_ = sv[j], Pv[j]
+        k_lin, k_quad = kk[j]
+        rho = sum(al[i] * Y[i] for i in ij)
+        for i in ij:
+            uses.append(_use(lc.LEMMA2, sp.S.One, z=ah[i] ** 2 * Y[i] ** 2 * dot(s_, s_), eps=eps))
+            uses.append(Use(ABS_PRODUCT, {sa: ah[i], da: nrm(s_) * Y[i], Da: nrm(s_) * Y[i]}))
+            uses.append(Use(YOUNG, {ya: al[i] - ah[i], yb: al[i], ye: ll[i]}, ga[i]))
+        uses.append(_use(lc.LEMMA2, k_lin, z=dot(s_, s_), eps=eps))
+        uses.append(Use(DOT_BALL3, {**dict(zip(dx, s_, strict=True)), **dict(zip(dy, P_, strict=True)), dr: rho}))
+        rates = {i: be[i] * ga[i] * (2 * ll[i] - 1) / ll[i] for i in ij}
+        first = 2 * k_quad / (sp.Max(*J) if j == 0 else m)
+        energy = sum(J[i] * s_[i] ** 2 for i in range(3)) / 2 if j == 0 else m * dot(s_, s_) / 2
+        args = [first, *rates.values()]
+        for a_, wgt in [(first, energy), *[(rates[i], (al[i] - ah[i]) ** 2 / (2 * be[i])) for i in ij]]:
+            others = [x for x in args if x is not a_]
+            uses.append(Use(MIN_LE, {mx: a_, my: sp.Min(*others)}, wgt))
+        cy = list(sp.symbols(f"cphi{j + 1}_1:4", real=True))
+        cys[j], rhos[j] = cy, rho
+        subs.update(dict(zip(P_, [rho * x for x in _ball3(cy)], strict=True)))
+    base = []
+    for j in parts:
+        k_lin, k_quad = kk[j]
+        base += [Coordinate(k_lin, 0.01, 40.0, "1/s"),
+                 Coordinate(k_quad, *((0.01, 10.0) if j == 0 else (0.1, 50.0)), "1/s")]
+        base += [Coordinate(x, -(2.0 if j == 0 else 5.0), 2.0 if j == 0 else 5.0, f"(unit of s{j + 1})") for x in sv[j]]
+        base += [Coordinate(x, -1.0, 1.0, "1") for x in cys[j]]
+    base += [Coordinate(eps, 0.0001, 0.1, "1")]
+    base += [Coordinate(x, -1.0, 1.0, "rad/s") for x in w]
+    if 1 in parts:
+        base += [Coordinate(x, -2.0, 2.0, "m/s") for x in v] + [Coordinate(x, -20.0, 20.0, "m") for x in r]
+        base += [Coordinate(m, 20.0, 200.0, "kg")]
+    for i in idx:
+        base += [Coordinate(ah[i], -1.0, 5.0, "1"), Coordinate(al[i], 1e-300, 5.0, "1"),
+                 Coordinate(ga[i], 0.1, 2.0, "1"), Coordinate(be[i], 0.001, 10.0, "1"),
+                 Coordinate(ll[i], 0.5, 5.0, "1")]
+    c = lc.LEMMA2_C
+    pos_rest = 0
+    if 1 in parts:
+        k7 = kk[1][0]
+        pos_rest = k7 * nrm(sv[1]) + (1 - c) * (6 + k7) * eps
+    regions, forms = [], {}
+    a_ = sp.Symbol("Jmax", positive=True)
+    d_ = [sp.Symbol(f"dJ_{i + 1}", nonnegative=True) for i in range(3)]
+    for k in (range(3) if 0 in parts else [None]):
+        sub = dict(subs)
+        coords = list(base)
+        hyps = ()
+        target = pos_rest
+        if k is not None:
+            others = [i for i in range(3) if i != k]
+            sub.update({J[k]: a_, **{J[i]: a_ - d_[i] for i in others}})
+            coords += [Coordinate(a_, 5.0, 40.0, "kg m^2"), *[Coordinate(d_[i], 0.0, 35.0, "kg m^2") for i in others]]
+            hyps = tuple(a_ - d_[i] - 5 for i in others)
+            k3, k4 = kk[0]
+            target += (k4 * sum(sv[0][i] ** 2 * d_[i] for i in others) / a_ + k3 * nrm(sv[0])
+                       + (1 - c) * (3 + k3) * eps)
+        regions.append(Region(tuple(coords), sub, hyps, describe=(f"max(J) = J_{k + 1}; " if k is not None else "")
+                              + "Phi_j = rho_j y_j, y_j in the unit ball (cube chart)"))
+        forms[(len(regions) - 1, 0)] = target
+    ball_forms = [(rhos[j] ** 2 * _prod1m(cys[j]), set(cys[j])) for j in parts]
+
+    def reduce_side(e):
+        for form, cs in ball_forms:
+            if e.free_symbols & cs and sp.expand(e - form) == 0:
+                return form
+        return _small_factor(e)
+
+    dom = []
+    if 0 in parts:
+        dom.append("k3 in [0.01, 40], k4 in [0.01, 10] 1/s, J = diag(J_1, J_2, J_3), J_i in [5, 40] kg m^2, "
+                   "s1 in [-2, 2]^3")
+    if 1 in parts:
+        dom.append("k7 in [0.01, 40], k8 in [0.1, 50] 1/s, m in [20, 200] kg, s2 in [-5, 5]^3, v~ in [-2, 2]^3 "
+                   "m/s, r~ in [-20, 20]^3 m")
+    dom.append("eps in [1e-4, 0.1], omega~ in [-1, 1]^3 rad/s, alpha^_i in [-1, 5], alpha_i in (0, 5] (declared "
+               "positive), gamma_i in [0.1, 2], beta_i in [0.001, 10], l_i in [0.5, 5], ||Phi_j|| <= the bounds of "
+               "eqs. 21-22 (the s_j boxes contain the search's balls)")
+    plan = Plan(regions, "; ".join(dom), reduce_side=reduce_side, uses=tuple(uses))
+    _table_reduce(st, plan, forms)
+    return plan
+
+
 PLANS: dict = {
     "c002.V1.lemma2_unit_terms": _lemma2_unit,
     "c002.V1.residual_set": _residual_set,
@@ -491,4 +611,7 @@ PLANS: dict = {
     "c002.model.lumped_bound_position": _lumped_position,
     "c002.V1.bound": _v1_bound,
     "c002.gains.eq29_constant": _v1_bound,
+    "c002.V1.exponential_att": _v1_exponential,
+    "c002.V1.exponential_pos": _v1_exponential,
+    "c002.V1.exponential": _v1_exponential,
 }
