@@ -492,8 +492,8 @@ def _v1_exponential(st: Statement) -> Plan:
     and Min(...) <= each of its arguments (``min_le``, y the Min of the others, which SymPy flattens into the
     statement's Min), weights 1/2 s^T J s (or 1/2 m ||s2||^2) and alpha~_i^2/(2 beta_i).  What is left is, exactly,
     k4 sum_{j != k} s1_j^2 d_j/a + k3 ||s1|| + 0.69 (3 + k3) eps (attitude) and k7 ||s2|| + 0.69 (6 + k7) eps
-    (position), where J_k = a = max(J) and J_j = a - d_j (one region per index k of the maximum, so that
-    Max(J_1, J_2, J_3) is a): sums of nonnegative terms."""
+    (position), where J_k = a = max(J) and J_j = a - d_j, d_j = a h_j (one region per index k of the maximum,
+    so that Max(J_1, J_2, J_3) is a): sums of nonnegative terms."""
     n = _by_name(st)
 
     def vec(name):
@@ -561,9 +561,9 @@ def _v1_exponential(st: Statement) -> Plan:
     if 1 in parts:
         k7 = kk[1][0]
         pos_rest = k7 * nrm(sv[1]) + (1 - c) * (6 + k7) * eps
-    regions, forms = [], {}
+    regions, forms, side_forms = [], {}, []
     a_ = sp.Symbol("Jmax", positive=True)
-    d_ = [sp.Symbol(f"dJ_{i + 1}", nonnegative=True) for i in range(3)]
+    h_ = [sp.Symbol(f"hJ_{i + 1}", nonnegative=True) for i in range(3)]
     for k in (range(3) if 0 in parts else [None]):
         sub = dict(subs)
         coords = list(base)
@@ -571,11 +571,13 @@ def _v1_exponential(st: Statement) -> Plan:
         target = pos_rest
         if k is not None:
             others = [i for i in range(3) if i != k]
-            sub.update({J[k]: a_, **{J[i]: a_ - d_[i] for i in others}})
-            coords += [Coordinate(a_, 5.0, 40.0, "kg m^2"), *[Coordinate(d_[i], 0.0, 35.0, "kg m^2") for i in others]]
-            hyps = tuple(a_ - d_[i] - 5 for i in others)
+            # J_j = a - a h_j in [a/8, a] (contains J_j in [5, 40] for a = max J); SymPy orders a - a h_j <= a
+            sub.update({J[k]: a_, **{J[i]: a_ - a_ * h_[i] for i in others}})
+            coords += [Coordinate(a_, 5.0, 40.0, "kg m^2"), *[Coordinate(h_[i], 0.0, 0.875, "1") for i in others]]
             k3, k4 = kk[0]
-            target += (k4 * sum(sv[0][i] ** 2 * d_[i] for i in others) / a_ + k3 * nrm(sv[0])
+            # the weight 1/2 s1^T J s1 of min_le, written so that each term encloses >= 0
+            side_forms.append(a_ * (sv[0][k] ** 2 + sum((1 - h_[i]) * sv[0][i] ** 2 for i in others)) / 2)
+            target += (k4 * sum(sv[0][i] ** 2 * h_[i] for i in others) + k3 * nrm(sv[0])
                        + (1 - c) * (3 + k3) * eps)
         regions.append(Region(tuple(coords), sub, hyps, describe=(f"max(J) = J_{k + 1}; " if k is not None else "")
                               + "Phi_j = rho_j y_j, y_j in the unit ball (cube chart)"))
@@ -586,7 +588,11 @@ def _v1_exponential(st: Statement) -> Plan:
         for form, cs in ball_forms:
             if e.free_symbols & cs and sp.expand(e - form) == 0:
                 return form
-        return _small_factor(e)
+        for form in side_forms:
+            if sp.expand(e - form) == 0:
+                return form
+        # J_j = a (1 - h_j): factored, each factor encloses >= 0 (the identity is re-verified)
+        return sp.factor(e) if a_ in e.free_symbols else _small_factor(e)
 
     dom = []
     if 0 in parts:
