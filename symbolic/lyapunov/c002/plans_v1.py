@@ -8,8 +8,15 @@ from ...controllers import c002 as c
 from ...rotations import dot, skew
 from ..certify import Coordinate, Plan, Region
 from ..certify import lemmas_c002 as lc
+from ..certify.lemmas import ABS_PRODUCT, DOT_BALL3, MIN_LE, YOUNG
 from ..certify.plan import Use, composed, gaps
 from ..core import Statement
+from .common import PAPER_GAINS
+
+
+def _by_name(st: Statement) -> dict:
+    """The statement's symbols by name."""
+    return {s.name: s for s in st.free_symbols()}
 
 
 def _named(st: Statement, *names: str) -> list[sp.Symbol]:
@@ -156,6 +163,7 @@ _LEMMA_SYMBOLS = {
     ("c002_cross_m", "K"): list(lc._CK), ("c002_cross_mn", "K"): list(lc._CK),
     ("c002_cross_mn", "a"): list(lc._ca), ("c002_cross_mn", "M"): list(lc._CM),
     ("c002_cross_mn", "N"): list(lc._CN), ("c002_cross_mn", "b"): list(lc._cb),
+    ("c002_lemma2", "z"): [lc._lz], ("c002_lemma2", "eps"): [lc._le],
     ("c002_rotation", "q"): list(lc._rq), ("c002_rotation", "S"): list(lc._RS), ("c002_rotation", "x"): list(lc._rx),
     ("c002_spd_bound", "J"): [lc._JJ[i, j] for i in range(3) for j in range(i, 3)],
     ("c002_spd_bound", "c"): list(lc._jc), ("c002_spd_bound", "d"): list(lc._jd),
@@ -230,22 +238,10 @@ def _remark4_Cr(st: Statement) -> Plan:
                 reduce=lambda g: target, reduce_side=_small_factor, uses=tuple(uses))
 
 
-def _remark5_nt(st: Statement) -> Plan:
-    """Remark 5 (corrected, with gravity), eq. 9: with g_p = R v_t_dot - Deltag the claim's n_t is
-    n_t = (P R) v_t + Deltag + ((P P) R) sigma_t - (R sigma_t^x) omegadot_t, p = R omega_t, P = p^x.  Composed of
-    the lemmas of ``lemmas_c002``:
-
-    |m n_t| = m |n_t| <= m (|(P R) v_t| + |Deltag| + |((P P) R) sigma_t| + |(R sigma_t^x) omegadot_t|)
-    |(P R) v_t| <= |p| |R v_t|,  |((P P) R) sigma| <= |p| |(P R) sigma| <= |p|^2 |R sigma|   (cross products)
-    |(R sigma^x) omegadot| = |q|^2 |sigma^x omegadot| <= |q|^2 |sigma| |omegadot|             (rotation, cross)
-    |R x| = |q|^2 |x| (rotation), and the ball charts x = a y (scale: |a y| = a |y|)
-
-    which leaves m [a1 a3 (1 - Q^2 |y1| |y3|) + a4 (1 - |y5|) + sigmanorm a1 |w~| + sigmanorm a2 (1 - Q |y4| |y2|)
-    + a1^2 sigmanorm (1 - Q^3 |y4| |y1|^2)] with Q = |q|^2 = 1 - A and |y_k| = sqrt(1 - B_k), A, B_k products of
-    factors in [0, 1]: one natural enclosure.  Charts: omega_t = a1 y1, omegadot_t = a2 y2, v_t = a3 y3,
-    sigma_t = sigmanorm y4, Deltag = a4 y5 with y_k in the unit ball (cube charts), q in the unit ball of R^4,
-    b3 = m (the claim's domain)."""
-    n = {s_.name: s_ for s_ in st.free_symbols()}
+def _nt_chain(n: dict):
+    """The composition of Remark 5 (see :func:`_remark5_nt`) for |m n_t| as the lemmas bound it: the uses, the
+    rest they leave (``target``), the charts (``subs``, ``coords``) and the pieces the plans share (the
+    rotation R, p = R omega_t, the ball of q and |q|^2 on it)."""
 
     def vec(name):
         return sp.Matrix([n[f"{name}_{i}"] for i in (1, 2, 3)])
@@ -304,13 +300,313 @@ def _remark5_nt(st: Statement) -> Plan:
               Coordinate(a3, 0.01, 10.0, "m/s"), Coordinate(a4, 0.01, 10.0, "m/s^2"),
               Coordinate(m, 20.0, 200.0, "kg"), Coordinate(sn, 0.1, 10.0, "m"),
               *[Coordinate(x, -1.0, 1.0, "1") for x in sum(cys, []) + t + [sg]])
-    reg = Region(coords, subs, describe="b3 = m; omega_t, omegadot_t, v_t, sigma_t, Deltag = radius times the "
-                                        "unit-ball chart; q in the unit ball of R^4")
+    return {"uses": uses, "target": target, "subs": subs, "coords": coords, "R": R, "p": p, "q": q, "Qc": Qc,
+            "Qt": Qt, "y1": ys[0], "ny1": ny[0], "wt": wt, "w": w, "nt": nt}
+
+
+def _remark5_nt(st: Statement) -> Plan:
+    """Remark 5 (corrected, with gravity), eq. 9: with g_p = R v_t_dot - Deltag the claim's n_t is
+    n_t = (P R) v_t + Deltag + ((P P) R) sigma_t - (R sigma_t^x) omegadot_t, p = R omega_t, P = p^x.  Composed of
+    the lemmas of ``lemmas_c002`` (:func:`_nt_chain`):
+
+    |m n_t| = m |n_t| <= m (|(P R) v_t| + |Deltag| + |((P P) R) sigma_t| + |(R sigma_t^x) omegadot_t|)
+    |(P R) v_t| <= |p| |R v_t|,  |((P P) R) sigma| <= |p| |(P R) sigma| <= |p|^2 |R sigma|   (cross products)
+    |(R sigma^x) omegadot| = |q|^2 |sigma^x omegadot| <= |q|^2 |sigma| |omegadot|             (rotation, cross)
+    |R x| = |q|^2 |x| (rotation), and the ball charts x = a y (scale: |a y| = a |y|)
+
+    which leaves m [a1 a3 (1 - Q^2 |y1| |y3|) + a4 (1 - |y5|) + sigmanorm a1 |w~| + sigmanorm a2 (1 - Q |y4| |y2|)
+    + a1^2 sigmanorm (1 - Q^3 |y4| |y1|^2)] with Q = |q|^2 = 1 - A and |y_k| = sqrt(1 - B_k), A, B_k products of
+    factors in [0, 1]: one natural enclosure.  Charts: omega_t = a1 y1, omegadot_t = a2 y2, v_t = a3 y3,
+    sigma_t = sigmanorm y4, Deltag = a4 y5 with y_k in the unit ball (cube charts), q in the unit ball of R^4,
+    b3 = m (the claim's domain)."""
+    n = {s_.name: s_ for s_ in st.free_symbols()}
+    ch = _nt_chain(n)
+    reg = Region(ch["coords"], ch["subs"], describe="b3 = m; omega_t, omegadot_t, v_t, sigma_t, Deltag = radius "
+                                                    "times the unit-ball chart; q in the unit ball of R^4")
     return Plan([reg], "omega~ in [-1, 1]^3 rad/s, a1, a2 in [0.001, 0.5], a3, a4 in [0.01, 10], m = b3 in "
                        "[20, 200] kg, sigmanorm in [0.1, 10] m, ||omega_t|| <= a1, ||omegadot_t|| <= a2, "
                        "||v_t|| <= a3, ||sigma_t|| <= sigmanorm, ||Deltag|| <= a4, q any quaternion with |q| <= 1 "
                        "(contains the unit ones), v_t_dot any (it cancels from R v_t_dot - g_p = Deltag)",
+                reduce=lambda g, target=ch["target"]: target, reduce_side=_small_factor, uses=tuple(ch["uses"]))
+
+
+def _lumped_position(st: Statement) -> Plan:
+    """Eq. 22 (corrected alpha9, with gravity): Phi2 = a + b + d_t + e + f with a = -m C_t v~, b = -m n_t,
+    e = k5 m r~_dot (r~_dot = v~ - C_t r~), f = kappa2 tanh chi2, C_t = (w~ + p)^x, p = R omega_t (eq. 7).
+    Composed of the lemmas of ``lemmas_c002``:
+
+    |Phi2| <= |a| + |b| + |d_t| + |e + f|,  |e + f| <= |e| + |f|                 triangle
+    |a| = |(-m C_t) v~| <= |m (w~ + p)| |v~| <= m (|w~| + |p|) |v~|            cross, scale, triangle
+    |e| <= k5 m |r~_dot| <= k5 m (|v~| + |C_t r~|) <= k5 m (|v~| + (|w~| + |p|) |r~|)
+    |p| = |q|^2 |omega_t| <= |q|^2 a1 |y1|                                       rotation, scale
+    |b| <= Remark 5's chain (:func:`_nt_chain`),  |d_t| = D2 |y6|,  |f| = kappa2 |tanh chi2|   (scale)
+
+    which leaves m a1 (|v~| + k5 |r~|)(1 - Q |y1|) + Remark 5's rest + D2 (1 - |y6|) + kappa2 (sqrt 3 - |tanh chi2|),
+    a sum of nonnegative terms (|tanh chi_i| <= tanh 3 on the box): one natural enclosure each.  Charts as in
+    Remark 5, d_t = D2 y6 (unit-ball cube chart)."""
+    from .model import _Bounds
+
+    n = {s_.name: s_ for s_ in st.free_symbols()}
+    ch = _nt_chain(n)
+    B = _Bounds()
+    S = B.S
+    w, v, r, chi = S.w, S.v, S.r, S.chi2
+    m, k5, kap, D2, a1 = S.m, S.k5, S.kappa2, B.D2, n["a_1"]
+    R, p, q, wt = ch["R"], ch["p"], ch["q"], ch["wt"]
+    I3 = sp.eye(3)
+    nrm = lc._nrm
+    C_t = c.translation_rate_matrix(w, R, wt)
+    rdot = c.relative_position_rate(v, C_t, r)
+    a = -m * C_t * v
+    b = -m * ch["nt"]
+    e = k5 * m * rdot
+    f = kap * c.tanh_vec(chi)
+    cd = list(sp.symbols("cy6_1:4", real=True))
+    y6 = sp.Matrix(_ball3(cd))
+    Qc = ch["Qc"]
+    wp = -(w + p)
+    uses = [*ch["uses"],
+            _use(lc.TRIANGLE_V4, sp.S.One, x=a, y=b, z=S.d_t, w=e + f),
+            _use(lc.TRIANGLE_V2, sp.S.One, x=e, y=f),
+            # |a|
+            _use(lc.CROSS_M, sp.S.One, a=m * wp, K=skew(m * wp), M=I3, b=v),
+            _use(lc.SCALE, nrm(v), s=m, x=wp),
+            _use(lc.TRIANGLE_V2, m * nrm(v), x=-w, y=-p),
+            _use(lc.ROTATION, m * nrm(v), q=q, S=I3, x=-wt),
+            _use(lc.SCALE, m * nrm(v) * Qc, s=a1, x=ch["y1"]),
+            # |e|
+            _use(lc.SCALE, sp.S.One, s=k5 * m, x=rdot),
+            _use(lc.TRIANGLE_V2, k5 * m, x=v, y=-(C_t * r)),
+            _use(lc.CROSS_M, k5 * m, a=wp, K=-C_t, M=I3, b=r),
+            _use(lc.TRIANGLE_V2, k5 * m * nrm(r), x=-w, y=-p),
+            _use(lc.ROTATION, k5 * m * nrm(r), q=q, S=I3, x=-wt),
+            _use(lc.SCALE, k5 * m * nrm(r) * Qc, s=a1, x=ch["y1"]),
+            # |d_t|, |f|
+            _use(lc.SCALE, sp.S.One, s=D2, x=y6),
+            _use(lc.SCALE, sp.S.One, s=kap, x=c.tanh_vec(chi))]
+    target = (ch["target"] + m * a1 * (nrm(v) + k5 * nrm(r)) * (1 - ch["Qt"] * ch["ny1"])
+              + D2 * (1 - sp.sqrt(1 - _prod1m(cd))) + kap * (sp.sqrt(3) - nrm(c.tanh_vec(chi))))
+    subs = {**ch["subs"], **dict(zip(S.d_t, [D2 * x for x in y6], strict=True))}
+    coords = (*ch["coords"], *[Coordinate(x, -2.0, 2.0, "m/s") for x in v],
+              *[Coordinate(x, -20.0, 20.0, "m") for x in r], *[Coordinate(x, -3.0, 3.0, "1") for x in chi],
+              Coordinate(k5, 0.5, 3.0, "1/s"), Coordinate(kap, 0.01, 2.0, "N"),
+              Coordinate(D2, 1e-300, 0.01, "N"), *[Coordinate(x, -1.0, 1.0, "1") for x in cd])
+    reg = Region(coords, subs, describe="b3 = m; omega_t, omegadot_t, v_t, sigma_t, Deltag, d_t = radius times the "
+                                        "unit-ball chart; q in the unit ball of R^4")
+    return Plan([reg], "omega~ in [-1, 1]^3 rad/s, v~ in [-2, 2]^3 m/s, r~ in [-20, 20]^3 m, chi2 in [-3, 3]^3, "
+                       "k5 in [0.5, 3] 1/s, kappa2 in [0.01, 2] N, D2 in (0, 0.01] N (declared positive), a1, a2 in "
+                       "[0.001, 0.5], a3, a4 in [0.01, 10], m = b3 in [20, 200] kg, sigmanorm in [0.1, 10] m, "
+                       "||omega_t|| <= a1, ||omegadot_t|| <= a2, ||v_t|| <= a3, ||sigma_t|| <= sigmanorm, "
+                       "||Deltag|| <= a4, ||d_t|| <= D2, q any quaternion with |q| <= 1 (contains the unit ones), "
+                       "v_t_dot any (it cancels from R v_t_dot - g_p = Deltag)",
                 reduce=lambda g: target, reduce_side=_small_factor, uses=tuple(uses))
+
+
+# --------------------------------------------------------------------------- eq. 29: the bound on V1_dot
+
+def _v1_bound(st: Statement) -> Plan:
+    """Eq. 29 (corrected 9 + k3 + k7, or the printed 11 at the paper's gains): after eq. 25 the parameter-error
+    terms of V1_dot cancel against sum gamma_i alpha~_i alpha^_i exactly (c002.V1.adaptation_cancels), the k4, k8
+    terms cancel, and what is left is, exactly,
+
+    sum_i [Lemma 2 at X_i = alpha^_i Y_i ||s_j||] + sum_i [|alpha^_i| - alpha^_i] ||s_j|| Y_i
+    + Lemma 2 (times k3, k7) at ||s_1||, ||s_2|| + sum_j [||s_j|| rho_j - s_j . Phi_j] + rest,
+
+    with Y_i the regressors of eq. 25 and rho_j the bounds of eqs. 21-22 (sum_i alpha_i Y_i): Lemma 2
+    (``c002_lemma2``, constant c = 0.31, with z = X_i^2 as the statement writes the root), s d <= |s| D
+    (``abs_product``) and the ball form of Cauchy-Schwarz (``dot_ball_3``, Phi_j in the ball of radius rho_j)
+    leave rest = (c_eps - 0.31 (9 + k3 + k7)) eps, >= 0 for c_eps = 9 + k3 + k7 and for 11 at k3 + k7 = 4.5.
+    The boxes certify the weights and premises (z_i >= 0, rho_j >= 0, rho_j^2 - |Phi_j|^2 >= 0: the chart
+    Phi_j = rho_j y, y in the unit ball (cube chart))."""
+    n = _by_name(st)
+
+    def vec(name):
+        return sp.Matrix([n[f"{name}_{i}"] for i in (1, 2, 3)])
+
+    w, v, r = vec("omega"), vec("v"), vec("r")
+    s1, s2, P1, P2 = vec("s_1"), vec("s_2"), vec("Phi1"), vec("Phi2")
+    ah = [n[f"alphahat_{i}"] for i in range(1, 10)]
+    al = [n[f"alpha_{i}"] for i in range(1, 10)]
+    ga = [n[f"gamma_{i}"] for i in range(1, 10)]
+    k3, k4, k7, k8, eps = (n[x] for x in ("k_3", "k_4", "k_7", "k_8", "varepsilon"))
+    nrm = lc._nrm
+    nw, nv, nr = nrm(w), nrm(v), nrm(r)
+    Y = [nw**2, nw, sp.S.One, nw * nv, nw * nr, nw, nv, nr, sp.S.One]
+    sj = [s1] * 3 + [s2] * 6
+    rho = [sum(al[i] * Y[i] for i in range(3)), sum(al[i] * Y[i] for i in range(3, 9))]
+    sa, da, Da = ABS_PRODUCT.symbols
+    uses = []
+    for i in range(9):
+        ss = dot(sj[i], sj[i])
+        uses.append(_use(lc.LEMMA2, sp.S.One, z=ah[i] ** 2 * Y[i] ** 2 * ss, eps=eps))
+        uses.append(Use(ABS_PRODUCT, {sa: ah[i], da: nrm(sj[i]) * Y[i], Da: nrm(sj[i]) * Y[i]}))
+    for k_, s_ in ((k3, s1), (k7, s2)):
+        uses.append(_use(lc.LEMMA2, k_, z=dot(s_, s_), eps=eps))
+    dx, dy, dr = DOT_BALL3.symbols[:3], DOT_BALL3.symbols[3:6], DOT_BALL3.symbols[6]
+    for s_, P_, rh in ((s1, P1, rho[0]), (s2, P2, rho[1])):
+        uses.append(Use(DOT_BALL3, {**dict(zip(dx, s_, strict=True)), **dict(zip(dy, P_, strict=True)), dr: rh}))
+    c_eps = sp.expand(gaps(st)[0]).coeff(eps).subs({x: 0 for x in (*s1, *s2, *w, *v, *r, *P1, *P2, *ah, *al, *ga,
+                                                                    k4, k8)})
+    cy = [list(sp.symbols(f"cphi{j}_1:4", real=True)) for j in (1, 2)]
+    ys = [_ball3(c_) for c_ in cy]
+    subs = {**dict(zip(P1, [rho[0] * x for x in ys[0]], strict=True)),
+            **dict(zip(P2, [rho[1] * x for x in ys[1]], strict=True))}
+    paper = k3 not in c_eps.free_symbols     # eq. 29 as printed, at the paper's gains (c002.gains.eq29_constant)
+    coords = []
+    for sym, lo, hi, unit in ((k3, 0.01, 40.0, "1/s"), (k7, 0.01, 40.0, "1/s"), (k4, 0.01, 10.0, "1/s"),
+                              (k8, 0.1, 50.0, "1/s"), (eps, 0.0001, 0.1, "1")):
+        if paper:
+            lo = hi = float(PAPER_GAINS[sym.name.replace("_", "").replace("varepsilon", "eps")])
+        coords.append(Coordinate(sym, lo, hi, unit))
+    coords += [Coordinate(x, -2.0, 2.0, "(unit of s1)") for x in s1]
+    coords += [Coordinate(x, -5.0, 5.0, "(unit of s2)") for x in s2]
+    coords += [Coordinate(x, -1.0, 1.0, "rad/s") for x in w] + [Coordinate(x, -2.0, 2.0, "m/s") for x in v]
+    coords += [Coordinate(x, -20.0, 20.0, "m") for x in r] + [Coordinate(x, -1.0, 5.0, "1") for x in ah]
+    coords += [Coordinate(x, 1e-300, 5.0, "1") for x in al] + [Coordinate(x, 0.1, 2.0, "1") for x in ga]
+    coords += [Coordinate(x, -1.0, 1.0, "1") for x in cy[0] + cy[1]]
+    reg = Region(tuple(coords), subs, describe="Phi_j = rho_j y_j, y_j in the unit ball (cube chart)")
+    target = (c_eps - lc.LEMMA2_C * (9 + k3 + k7)) * eps
+    ball_forms = [(rho[j] ** 2 * _prod1m(cy[j]), set(cy[j])) for j in range(2)]
+
+    def reduce_side(e):
+        for form, cs in ball_forms:
+            if e.free_symbols & cs and sp.expand(e - form) == 0:
+                return form
+        return _small_factor(e)
+
+    gains = ("k3 = 4, k4 = 0.5, k7 = 0.5, k8 = 20 1/s, eps = 0.001 (the paper's, eq. 46)" if paper else
+             "k3, k7 in [0.01, 40], k4 in [0.01, 10], k8 in [0.1, 50] 1/s, eps in [1e-4, 0.1]")
+    return Plan([reg], gains + ", s1 in "
+                       "[-2, 2]^3, s2 in [-5, 5]^3 (contain the search's balls), omega~ in [-1, 1]^3 rad/s, v~ in "
+                       "[-2, 2]^3 m/s, r~ in [-20, 20]^3 m, alpha^ in [-1, 5]^9, alpha in (0, 5]^9 (declared "
+                       "positive), gamma in [0.1, 2]^9, ||Phi1|| <= alpha1 |w|^2 + alpha2 |w| + alpha3, ||Phi2|| <= "
+                       "eq. 22's bound", reduce=lambda g: target, reduce_side=reduce_side, uses=tuple(uses))
+
+
+# --------------------------------------------------------------------------- eqs. 30-33: exponential forms
+
+def _v1_exponential(st: Statement) -> Plan:
+    """Eqs. 30-33 as corrected, per subsystem (V1att, V1pos) or both: the chain of :func:`_v1_bound` on the
+    subsystem's terms (Lemma 2 per term with c = 0.31, s d <= |s| D, the ball form of Cauchy-Schwarz), then
+    Young (eq. 30, weight gamma_i: gamma alpha~ alpha^ <= -gamma (2l - 1)/(2l) alpha~^2 + gamma l alpha^2/2)
+    and Min(...) <= each of its arguments (``min_le``, y the Min of the others, which SymPy flattens into the
+    statement's Min), weights 1/2 s^T J s (or 1/2 m ||s2||^2) and alpha~_i^2/(2 beta_i).  What is left is, exactly,
+    k4 sum_{j != k} s1_j^2 d_j/a + k3 ||s1|| + 0.69 (3 + k3) eps (attitude) and k7 ||s2|| + 0.69 (6 + k7) eps
+    (position), where J_k = a = max(J) and J_j = a - d_j, d_j = a h_j (one region per index k of the maximum,
+    so that Max(J_1, J_2, J_3) is a): sums of nonnegative terms."""
+    n = _by_name(st)
+
+    def vec(name):
+        return sp.Matrix([n[f"{name}_{i}"] for i in (1, 2, 3)])
+
+    parts = [j for j, key in ((0, "s_1_1"), (1, "s_2_1")) if key in n]
+    idx = [i for j in parts for i in ((0, 1, 2) if j == 0 else (3, 4, 5, 6, 7, 8))]
+    w = vec("omega")
+    v, r = (vec("v"), vec("r")) if 1 in parts else (sp.zeros(3, 1), sp.zeros(3, 1))     # (position only)
+    sv = [vec("s_1") if 0 in parts else None, vec("s_2") if 1 in parts else None]
+    Pv = [vec("Phi1") if 0 in parts else None, vec("Phi2") if 1 in parts else None]
+    g = lambda name: {i: n[f"{name}_{i + 1}"] for i in idx}          # noqa: E731
+    ah, al, ga, be, ll = g("alphahat"), g("alpha"), g("gamma"), g("beta"), g("l")
+    eps = n["varepsilon"]
+    kk = [(n["k_3"], n["k_4"]) if 0 in parts else None, (n["k_7"], n["k_8"]) if 1 in parts else None]
+    nrm = lc._nrm
+    nw, nv, nr = nrm(w), nrm(v), nrm(r)
+    Y = [nw**2, nw, sp.S.One, nw * nv, nw * nr, nw, nv, nr, sp.S.One]
+    sa, da, Da = ABS_PRODUCT.symbols
+    ya, yb, ye = YOUNG.symbols
+    mx, my = MIN_LE.symbols
+    dx, dy, dr = DOT_BALL3.symbols[:3], DOT_BALL3.symbols[3:6], DOT_BALL3.symbols[6]
+    J = [n[f"J_{i}"] for i in (1, 2, 3)] if 0 in parts else []
+    m = n["m"] if 1 in parts else None
+    uses, subs, cys, rhos = [], {}, {}, {}
+    for j in parts:
+        ij = [i for i in idx if (i < 3) == (j == 0)]
+        s_, P_ = sv[j], Pv[j]
+        k_lin, k_quad = kk[j]
+        rho = sum(al[i] * Y[i] for i in ij)
+        for i in ij:
+            uses.append(_use(lc.LEMMA2, sp.S.One, z=ah[i] ** 2 * Y[i] ** 2 * dot(s_, s_), eps=eps))
+            uses.append(Use(ABS_PRODUCT, {sa: ah[i], da: nrm(s_) * Y[i], Da: nrm(s_) * Y[i]}))
+            uses.append(Use(YOUNG, {ya: al[i] - ah[i], yb: al[i], ye: ll[i]}, ga[i]))
+        uses.append(_use(lc.LEMMA2, k_lin, z=dot(s_, s_), eps=eps))
+        uses.append(Use(DOT_BALL3, {**dict(zip(dx, s_, strict=True)), **dict(zip(dy, P_, strict=True)), dr: rho}))
+        rates = {i: be[i] * ga[i] * (2 * ll[i] - 1) / ll[i] for i in ij}
+        first = 2 * k_quad / (sp.Max(*J) if j == 0 else m)
+        energy = sum(J[i] * s_[i] ** 2 for i in range(3)) / 2 if j == 0 else m * dot(s_, s_) / 2
+        args = [first, *rates.values()]
+        for a_, wgt in [(first, energy), *[(rates[i], (al[i] - ah[i]) ** 2 / (2 * be[i])) for i in ij]]:
+            others = [x for x in args if x is not a_]
+            uses.append(Use(MIN_LE, {mx: a_, my: sp.Min(*others)}, wgt))
+        cy = list(sp.symbols(f"cphi{j + 1}_1:4", real=True))
+        cys[j], rhos[j] = cy, rho
+        subs.update(dict(zip(P_, [rho * x for x in _ball3(cy)], strict=True)))
+    base = []
+    for j in parts:
+        k_lin, k_quad = kk[j]
+        base += [Coordinate(k_lin, 0.01, 40.0, "1/s"),
+                 Coordinate(k_quad, *((0.01, 10.0) if j == 0 else (0.1, 50.0)), "1/s")]
+        base += [Coordinate(x, -(2.0 if j == 0 else 5.0), 2.0 if j == 0 else 5.0, f"(unit of s{j + 1})") for x in sv[j]]
+        base += [Coordinate(x, -1.0, 1.0, "1") for x in cys[j]]
+    base += [Coordinate(eps, 0.0001, 0.1, "1")]
+    base += [Coordinate(x, -1.0, 1.0, "rad/s") for x in w]
+    if 1 in parts:
+        base += [Coordinate(x, -2.0, 2.0, "m/s") for x in v] + [Coordinate(x, -20.0, 20.0, "m") for x in r]
+        base += [Coordinate(m, 20.0, 200.0, "kg")]
+    for i in idx:
+        base += [Coordinate(ah[i], -1.0, 5.0, "1"), Coordinate(al[i], 1e-300, 5.0, "1"),
+                 Coordinate(ga[i], 0.1, 2.0, "1"), Coordinate(be[i], 0.001, 10.0, "1"),
+                 Coordinate(ll[i], 0.5, 5.0, "1")]
+    c = lc.LEMMA2_C
+    pos_rest = 0
+    if 1 in parts:
+        k7 = kk[1][0]
+        pos_rest = k7 * nrm(sv[1]) + (1 - c) * (6 + k7) * eps
+    regions, forms, side_forms = [], {}, []
+    a_ = sp.Symbol("Jmax", positive=True)
+    h_ = [sp.Symbol(f"hJ_{i + 1}", nonnegative=True) for i in range(3)]
+    for k in (range(3) if 0 in parts else [None]):
+        sub = dict(subs)
+        coords = list(base)
+        hyps = ()
+        target = pos_rest
+        if k is not None:
+            others = [i for i in range(3) if i != k]
+            # J_j = a - a h_j in [a/8, a] (contains J_j in [5, 40] for a = max J); SymPy orders a - a h_j <= a
+            sub.update({J[k]: a_, **{J[i]: a_ - a_ * h_[i] for i in others}})
+            coords += [Coordinate(a_, 5.0, 40.0, "kg m^2"), *[Coordinate(h_[i], 0.0, 0.875, "1") for i in others]]
+            k3, k4 = kk[0]
+            # the weight 1/2 s1^T J s1 of min_le, written so that each term encloses >= 0
+            side_forms.append(a_ * (sv[0][k] ** 2 + sum((1 - h_[i]) * sv[0][i] ** 2 for i in others)) / 2)
+            target += (k4 * sum(sv[0][i] ** 2 * h_[i] for i in others) + k3 * nrm(sv[0])
+                       + (1 - c) * (3 + k3) * eps)
+        regions.append(Region(tuple(coords), sub, hyps, describe=(f"max(J) = J_{k + 1}; " if k is not None else "")
+                              + "Phi_j = rho_j y_j, y_j in the unit ball (cube chart)"))
+        forms[(len(regions) - 1, 0)] = target
+    ball_forms = [(rhos[j] ** 2 * _prod1m(cys[j]), set(cys[j])) for j in parts]
+
+    def reduce_side(e):
+        for form, cs in ball_forms:
+            if e.free_symbols & cs and sp.expand(e - form) == 0:
+                return form
+        for form in side_forms:
+            if sp.expand(e - form) == 0:
+                return form
+        # J_j = a (1 - h_j): factored, each factor encloses >= 0 (the identity is re-verified)
+        return sp.factor(e) if a_ in e.free_symbols else _small_factor(e)
+
+    dom = []
+    if 0 in parts:
+        dom.append("k3 in [0.01, 40], k4 in [0.01, 10] 1/s, J = diag(J_1, J_2, J_3), J_i in [5, 40] kg m^2, "
+                   "s1 in [-2, 2]^3")
+    if 1 in parts:
+        dom.append("k7 in [0.01, 40], k8 in [0.1, 50] 1/s, m in [20, 200] kg, s2 in [-5, 5]^3, v~ in [-2, 2]^3 "
+                   "m/s, r~ in [-20, 20]^3 m")
+    dom.append("eps in [1e-4, 0.1], omega~ in [-1, 1]^3 rad/s, alpha^_i in [-1, 5], alpha_i in (0, 5] (declared "
+               "positive), gamma_i in [0.1, 2], beta_i in [0.001, 10], l_i in [0.5, 5], ||Phi_j|| <= the bounds of "
+               "eqs. 21-22 (the s_j boxes contain the search's balls)")
+    plan = Plan(regions, "; ".join(dom), reduce_side=reduce_side, uses=tuple(uses))
+    _table_reduce(st, plan, forms)
+    return plan
 
 
 PLANS: dict = {
@@ -318,4 +614,10 @@ PLANS: dict = {
     "c002.V1.residual_set": _residual_set,
     "c002.model.remark4_Cr": _remark4_Cr,
     "c002.model.remark5_nt": _remark5_nt,
+    "c002.model.lumped_bound_position": _lumped_position,
+    "c002.V1.bound": _v1_bound,
+    "c002.gains.eq29_constant": _v1_bound,
+    "c002.V1.exponential_att": _v1_exponential,
+    "c002.V1.exponential_pos": _v1_exponential,
+    "c002.V1.exponential": _v1_exponential,
 }

@@ -215,5 +215,44 @@ SPD_BOUND = Lemma(
     "z_i^2 (identity), >= 0 as b^2 - d_i^2 = (b - d_i)(b + d_i) >= 0; b >= d_i >= 0, so both sides >= 0",
     _spd_proof, strict=(False,) * 12 + (True,))
 
+# --------------------------------------------------------------------------- Lemma 2 (paper 002), sharp constant
 
-LEMMAS: tuple = (TRIANGLE_V2, TRIANGLE_V4, TRIANGLE_M3, SCALE, CROSS_M, CROSS_MN, ROTATION, SPD_BOUND)
+_lz, _le = sp.Symbol("lc2_z", real=True), sp.Symbol("lc2_eps", real=True)
+LEMMA2_C = sp.Rational(31, 100)          # > max_x x/(sqrt(x^2 + 1)(sqrt(x^2 + 1) + x)) = 0.30028 (x = 0.786)
+
+
+def _lemma2_proof() -> bool:
+    c = LEMMA2_C
+    u, e, t, x, T = sp.symbols("u e t x T", positive=True)
+    # (1) with t^2 = u^2 + e^2: u^2/t - u + c e = e (c t (t + u) - u e)/(t (t + u))
+    lhs = u**2 / t - u + c * e
+    rhs = e * (c * t * (t + u) - u * e) / (t * (t + u))
+    one = sp.expand(sp.numer(sp.together(lhs - rhs)).subs(t**2, u**2 + e**2)) == 0
+    one = one or sp.rem(sp.Poly(sp.numer(sp.together(lhs - rhs)), t), sp.Poly(t**2 - u**2 - e**2, t)).is_zero
+    # (2) scaling u = e x, t = e T: c t (t + u) - u e = e^2 (c T (T + x) - x)
+    two = sp.expand((c * t * (t + u) - u * e).subs({u: e * x, t: e * T}) - e**2 * (c * T * (T + x) - x)) == 0
+    # (3) c T (T + x) - x = c T x - q(x) with q = x - c (x^2 + 1) (T^2 = x^2 + 1); q <= 0 off [1/4, 3] (a concave
+    # parabola negative at both ends, its vertex 1/(2c) between them); on [1/4, 3] the polynomial
+    # p = c^2 (x^2 + 1) x^2 - q^2 = (c T x)^2 - q^2 has no root (Sturm) and p(1) > 0, so c T x >= |q| there
+    q = x - c * (x**2 + 1)
+    three = sp.expand(c * T * (T + x) - x - (c * T * x - q)).subs(T**2, x**2 + 1) == 0
+    poly = sp.Poly(c**2 * (x**2 + 1) * x**2 - q**2, x)
+    ends = q.subs(x, sp.Rational(1, 4)) < 0 and q.subs(x, 3) < 0 and sp.Rational(1, 4) < 1 / (2 * c) < 3
+    sturm = poly.count_roots(sp.Rational(1, 4), 3) == 0 and poly.eval(1) > 0
+    return bool(one and two and three and ends and sturm)
+
+
+LEMMA2 = Lemma(
+    "c002_lemma2", (_k, _lz, _le),
+    _k * _lz / sp.sqrt(_lz + _le**2) - _k * sp.sqrt(_lz) + LEMMA2_C * _k * _le, (_k, _lz, _le),
+    "Lemma 2 of paper 002 (times k, with a sharp constant): k sqrt(z) - k z/sqrt(z + eps^2) <= c k eps for k >= 0, "
+    "z >= 0, eps > 0, c = 31/100 (z = ||x||^2: -k ||x||^2/sqrt(||x||^2 + eps^2) <= -k ||x|| + c k eps).  With u = "
+    "sqrt(z), t = sqrt(z + eps^2): u^2/t - u + c eps = eps (c t (t + u) - u eps)/(t (t + u)) (identity modulo t^2 ="
+    " u^2 + eps^2); with u = eps x, t = eps T (T = sqrt(x^2 + 1)) the bracket is eps^2 (c T (T + x) - x) = eps^2 (c"
+    " T x - q(x)), q = x - c (x^2 + 1).  Where q <= 0 the bracket is >= c T x >= 0; q > 0 only inside [1/4, 3] "
+    "(q(1/4), q(3) < 0, q concave), where p = c^2 (x^2 + 1) x^2 - q^2 has no real root (Sturm count) and p(1) > 0, "
+    "so (c T x)^2 > q^2 and c T x > q.  (The sharp value is 0.30028 at x = 0.786.)",
+    _lemma2_proof, strict=(False, False, True))
+
+
+LEMMAS: tuple = (TRIANGLE_V2, TRIANGLE_V4, TRIANGLE_M3, SCALE, CROSS_M, CROSS_MN, ROTATION, SPD_BOUND, LEMMA2)
