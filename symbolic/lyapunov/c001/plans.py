@@ -4,10 +4,12 @@ from __future__ import annotations
 
 import sympy as sp
 
+from ...rotations import quat_mul
 from ..certify import Coordinate, Plan, Region
 from ..certify.lemmas import LDL2
 from ..certify.plan import Use
 from ..core import Statement
+from .common import Z_NP
 
 _p, _u, _v, _x, _y = LDL2.symbols
 
@@ -141,8 +143,71 @@ def _pose_h_definite(st: Statement) -> Plan:
                      "covers every D in [0.01, 100]^6 (T = max_j c_j/D_j, r_i = c_i/(D_i T)) and more.")
 
 
+# --------------------------------------------------------------------------- after eq. 64 (APF barrier)
+
+def _stereo(s: list[sp.Symbol], sign: int) -> list[sp.Expr]:
+    """Unit quaternion (scalar last) of the stereographic chart: sign (2 s, 1 - |s|^2) / (1 + |s|^2).
+
+    Exactly unit for every s (a rational identity), and s in [-1, 1]^3 covers the closed hemisphere
+    sign q_w >= 0 (there |s| = |q_v| / (1 + |q_w|) <= 1)."""
+    n2 = sum((x**2 for x in s), sp.S.Zero)
+    return [sign * 2 * x / (1 + n2) for x in s] + [sign * (1 - n2) / (1 + n2)]
+
+
+def _pose_barrier(st: Statement) -> Plan:
+    """After eq. 64: Delta q o Delta q >= 0.1 on beta_FOV = 0 and on beta_CA = 0.
+
+    A pose is (q_r, p): q_r = q_S/T, p the target centre in S axes (m); the sampler's dual part is
+    q_d = r^T q_r / 2 with r^T = q_r (-p) q_r^* (eq. 13), i.e. q_d = -q_r p / 2 for a unit q_r, which is
+    linear in q_r.  So every entry of Delta q = q_D^* q - 1 (eqs. 50-51) is linear in q_r, and the gap
+    (a sum of eight squares less 0.1) is a rational function of the chart coordinates of degree 2 in q_r
+    -- no cubic dependence, as R(q_r) p would bring.  Equal to 2 - 2 <q_D, q_r> + |p + R(q_r)^T r_D|^2/4 - 0.1
+    for the unit q_D: the real part costs the rotation, the dual part the distance of p from the desired
+    target position R(q_r)^T (-r_D); the boundary is >= 33 m from the desired p_D = (0, 0, 50) m, and the
+    minimum (about 0.128, rotating p_D onto the cone) is reached near |p| = 50 m.
+
+    Attitude: two stereographic charts (q_r and -q_r hemispheres).  FOV boundary (eq. 41 with theta = 45
+    deg, tan theta = 1): p = (lambda t cos phi, lambda t sin phi, z_N' + t), (cos phi, sin phi) a rational
+    chart of the half circle (two signs), t in [0, 300] m, lambda in [1 - 1e-6, 1 + 1e-6] (the sampler's
+    points lie 1e-12 inside the cone; float rounding of tan theta).  CA boundary (eq. 47): p = rho v,
+    v the stereographic chart around the camera axis, |w| <= 0.05 covering the cone's cap (off-axis
+    angle <= 4.3 deg at rho = R_S + R_T = 3.6 m), rho in [3.59, 3.61] m."""
+    q = [_sym(st, f"q_{i}") for i in range(1, 9)]
+    s = list(sp.symbols("s_1:4", real=True))
+    zn = sp.Rational(Z_NP).limit_denominator(10**12)
+    t, w, lam, rho, w1, w2 = sp.symbols("t w lambda rho w_1 w_2", real=True)
+    s_coords = tuple(Coordinate(x, -1.0, 1.0) for x in s)
+
+    def pose(qr, p):
+        qd = [-x / 2 for x in quat_mul(sp.Matrix(qr), sp.Matrix([*p, 0]))]
+        return dict(zip(q, list(qr) + qd, strict=True))
+
+    regions = []
+    for sign in (1, -1):
+        qr = _stereo(s, sign)
+        for tau in (1, -1):
+            cphi, sphi = tau * (1 - w**2) / (1 + w**2), tau * 2 * w / (1 + w**2)
+            p = [lam * t * cphi, lam * t * sphi, zn + t]
+            coords = s_coords + (Coordinate(t, 0.0, 300.0, "m"), Coordinate(w, -1.0, 1.0),
+                                 Coordinate(lam, 1 - 1e-6, 1 + 1e-6))
+            regions.append(Region(coords, pose(qr, p),
+                                  describe=f"FOV boundary, q_r chart {sign:+d}, cos phi sign {tau:+d}"))
+        n2 = w1**2 + w2**2
+        p = [rho * 2 * w1 / (1 + n2), rho * 2 * w2 / (1 + n2), rho * (1 - n2) / (1 + n2)]
+        coords = s_coords + (Coordinate(rho, 3.59, 3.61, "m"), Coordinate(w1, -0.05, 0.05),
+                             Coordinate(w2, -0.05, 0.05))
+        regions.append(Region(coords, pose(qr, p), describe=f"CA boundary, q_r chart {sign:+d}"))
+    return Plan(regions, "every attitude q_S/T (unit quaternion); the target centre p (S axes, m) on the FOV "
+                "cone's layer |p_xy| = lambda (p_z - z_N'), lambda in [1 - 1e-6, 1 + 1e-6], 0 <= p_z - z_N' <= "
+                "300 m (z_N' = 3.3213 m, theta = 45 deg), or on the sphere 3.59 m <= |p| <= 3.61 m within 5.7 deg "
+                "of the camera axis; q_d = -q_r p / 2 (eq. 13); q_D/T, r_D/T of sec. 7",
+                note="A superset of the sampled boundary: the FOV side is a thin layer around the cone (|p| from "
+                     "3.32 to 428 m), the CA side a shell around the cone's cap.")
+
+
 PLANS = {
     "c001.eso.w_bound": _eso_w_bound,
     "c001.eso.V1_definite": _eso_v1_definite,
     "c001.pose.H_definite": _pose_h_definite,
+    "c001.pose.barrier": _pose_barrier,
 }
