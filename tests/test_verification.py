@@ -92,19 +92,19 @@ def test_verify_check_fails_readably_when_a_status_changes(tmp_path, capsys):
     """verify.py --check's verdict on a doctored report: one claim re-checked in-process, the others taken from
     the committed report (re-running them all is CI's own step, verify.py --check)."""
     import verify
-    from rpo.symbolic.lyapunov.report import _claim_record
+    from rpo.symbolic.lyapunov.report import _run_one
 
     data = json.loads((ROOT / "docs" / "verification.json").read_text())
     records = [c for c in data["claims"] if c["controller"] == "c004"]
     target = next(c for c in records if c["id"] == "c004.theorem.G_invertible")
-    fresh = _claim_record(CLAIMS[target["id"]], check_claim(CLAIMS[target["id"]]))
-    assert fresh["status"] == target["status"]
+    fresh = _run_one((target["id"], True, 0, "off"))
+    assert fresh["status"] == target["status"] == "proved (symbolic)"
     records = [fresh if r["id"] == target["id"] else r for r in records]
     committed = tmp_path / "verification.json"
     committed.write_text(json.dumps(data))
     assert verify.check_against(records, committed, "c004") == 0
     assert "statuses as committed" in capsys.readouterr().out
-    target["status"] = "fails" if target["status"] != "fails" else "proved"      # doctor the committed status
+    target["status"] = "fails"                                    # doctor the committed status
     committed.write_text(json.dumps(data))
     assert verify.check_against(records, committed, "c004") == 1
     out = capsys.readouterr().out
@@ -113,6 +113,47 @@ def test_verify_check_fails_readably_when_a_status_changes(tmp_path, capsys):
     assert verify.check_against(records, committed, "c004") == 1
     assert "not a report written by verify.py" in capsys.readouterr().out
     assert verify.check_against(records, tmp_path / "missing.json", "c004") == 1
+
+
+def test_verify_check_fails_when_a_certificate_fails_its_recheck(tmp_path, capsys):
+    """A certified claim whose certificate does not pass the independent re-check fails --check, named,
+    even when every status is as committed."""
+    import verify
+
+    data = json.loads((ROOT / "docs" / "verification.json").read_text())
+    records = [c for c in data["claims"] if c.get("certificate")]
+    assert records, "the committed report has no certified claim"
+    committed = tmp_path / "verification.json"
+    committed.write_text(json.dumps(data))
+    assert verify.check_against(data["claims"], committed) == 0
+    capsys.readouterr()
+    bad = json.loads(json.dumps(data["claims"]))
+    target = next(c for c in bad if c.get("certificate"))
+    target["certificate"]["recheck"] = "failed: goal 1 of 1: leaf 3 (M) on box [(0.0, 1.0)]: mean-value bound"
+    assert verify.check_against(bad, committed) == 1
+    out = capsys.readouterr().out
+    assert f"CERTIFICATE FAILS ITS RE-CHECK: {target['id']}" in out and "FAILED" in out
+
+
+def test_report_statuses_and_evidence_are_consistent():
+    """Proved means symbolic or certified evidence; a sampled claim is never called proved; every certified
+    claim's certificate passed its re-check; the totals count the sampled-only claims."""
+    from rpo.symbolic.lyapunov.report import STATUSES
+
+    data = json.loads((ROOT / "docs" / "verification.json").read_text())
+    for c in data["claims"]:
+        assert c["status"] in STATUSES, c["id"]
+        if c["status"] == "proved (symbolic)":
+            assert c["evidence"] == "symbolic", c["id"]
+        if c["status"] == "proved (certified)":
+            assert c["evidence"] == "certified", c["id"]
+        if c["evidence"] == "certified":
+            assert c["certificate"]["status"] == "certified" and c["certificate"]["recheck"] == "passed", c["id"]
+            assert (ROOT / "docs" / "certificates" / f"{c['id']}.{c['evidence_statement']}.json.gz").exists(), c["id"]
+        if c["evidence"] == "sampled":
+            assert not c["status"].startswith("proved"), c["id"]
+        assert c["domain"], c["id"]
+    assert data["totals"]["sampled_only"] == sum(c["evidence"] == "sampled" for c in data["claims"])
 
 
 @pytest.mark.slow

@@ -91,20 +91,27 @@ def classify(rec: dict) -> dict:
     return rec
 
 
-def _certify(cl: Claim, res: ClaimResult, mode: str, log) -> tuple[str | None, dict | None, str]:
-    """(evidence statement, certificate record or None, domain text) of one checked claim."""
-    from .certify import certify, plan_for
+def _certify(cl: Claim, res: ClaimResult, mode: str, log) -> tuple[str | None, dict | None, str, dict | None]:
+    """(evidence statement, its certificate record or None, domain text, the implementation statement's
+    certificate record where that statement is not the evidence one) of one checked claim."""
+    from .certify import certify, implementation_tag, plan_for
 
     tag = evidence_tag(res)
     if tag is None:
-        return None, None, ""
-    st = (cl.corrected if tag == "corrected" else cl.paper)()
-    domain = domain_text(st)
-    o = getattr(res, tag)
-    if mode == "off" or not o.holds or o.proved or st.relation == "==" or plan_for(cl) is None:
-        return tag, None, domain
-    cert = certify(cl, tag, st, mode=mode, log=log)
-    return tag, (cert.to_json() if cert is not None else None), domain
+        return None, None, "", None
+
+    def one(t: str) -> tuple[dict | None, str]:
+        st = (cl.corrected if t == "corrected" else cl.paper)()
+        o = getattr(res, t)
+        if mode == "off" or not o.holds or o.proved or st.relation == "==" or plan_for(cl, t) is None:
+            return None, domain_text(st)
+        cert = certify(cl, t, st, mode=mode, log=log)
+        return (cert.to_json() if cert is not None else None), domain_text(st)
+
+    cert, domain = one(tag)
+    impl = implementation_tag(cl)
+    other = one(impl)[0] if impl != tag and getattr(res, impl) is not None else None
+    return tag, cert, domain, other
 
 
 def _run_one(args) -> dict:
@@ -113,13 +120,19 @@ def _run_one(args) -> dict:
     res = check_claim(cl, seed=seed, symbolic=symbolic)
     rec = _claim_record(cl, res)
     t0 = time.perf_counter()
-    tag, cert, domain = _certify(cl, res, cert_mode, log=lambda *a: None)
+    tag, cert, domain, impl_cert = _certify(cl, res, cert_mode, log=lambda *a: None)
     rec["evidence_statement"], rec["certificate"], rec["domain"] = tag, cert, domain
+    rec["implementation_certificate"] = impl_cert
     if cert is not None:
         rec["domain"] = cert["domain"]
         rec["search_domain"] = domain
     rec["seconds"] = round(rec["seconds"] + time.perf_counter() - t0, 2)
-    return classify(rec)
+    rec = classify(rec)
+    if rec["evidence"] == "sampled":
+        from .certify import uncertified_reason
+
+        rec["sampled_reason"] = uncertified_reason(cl)
+    return rec
 
 
 def run_claims(controller: str | None = None, symbolic: bool = True, jobs: int = 1, seed: int = 0,
@@ -157,10 +170,10 @@ def certify_under_mutation(cl: Claim) -> str:
     when the claim has no plan."""
     from .certify import certificate, plan_for
 
-    make = plan_for(cl)
+    tag = "corrected" if cl.corrected is not None else "paper"
+    make = plan_for(cl, tag)
     if make is None:
         return ""
-    tag = "corrected" if cl.corrected is not None else "paper"
     st = (cl.corrected if tag == "corrected" else cl.paper)()
     if st.relation == "==":
         return ""
@@ -309,6 +322,10 @@ def _evidence(o: dict | None, rec: dict | None = None) -> str:
     text = f"sampled: no counterexample in {o['trials']} trials"
     if cert:
         text += f"; certificate: {cert['status']} ({cert['reason'] or cert['recheck']})"
+    impl = rec.get("implementation_certificate") if rec else None
+    if impl:
+        text += (f"; the implementation's statement: {impl['status']} ({impl['boxes']} boxes, re-check "
+                 f"{impl['recheck'] or '-'})")
     return text
 
 
@@ -370,6 +387,12 @@ def markdown(data: dict) -> str:
             L.append(f"| `{r['id']}`: {_cell(r['title'])} | {r['equations']} | {r['layer']} | {r['about']} | "
                      f"**{r['status']}** | {_cell(_evidence(ev, r))} | {r['seconds']:.1f} s |")
         L.append("")
+        sampled = [r for r in rs if r["evidence"] == "sampled"]
+        if sampled:
+            L += ["Claims whose only evidence is the numeric search, and why no certificate:", ""]
+            for r in sampled:
+                L.append(f"- `{r['id']}`: {_cell(r.get('sampled_reason') or '(no written reason)')}")
+            L.append("")
         L += ["Domains (the certified domain where a certificate exists, else the search domain):", ""]
         for r in rs:
             cert = r.get("certificate")

@@ -30,20 +30,44 @@ from ..core import Claim, Statement
 from .certificate import STORE, Certification, derive, read, recheck, write
 from .plan import Coordinate, Plan, Region
 
-__all__ = ["Coordinate", "Plan", "Region", "Certification", "certify", "plan_for", "STORE"]
+__all__ = ["Coordinate", "Plan", "Region", "Certification", "certify", "implementation_tag", "plan_for", "STORE",
+           "uncertified_reason"]
 
 MODES = ("derive", "reuse", "check", "off")
 
 
-def plan_for(claim: Claim) -> Callable[[Statement], Plan] | None:
-    """The plan function registered for ``claim`` (None: no plan)."""
+def implementation_tag(claim: Claim) -> str:
+    """The statement that describes rpo's code: ``corrected`` where the claim has one, else ``paper``."""
+    return "corrected" if claim.corrected is not None else "paper"
+
+
+def plan_for(claim: Claim, tag: str | None = None) -> Callable[[Statement], Plan] | None:
+    """The plan function registered for one statement of ``claim`` (``tag``: "paper" or "corrected"; default
+    the implementation's).  A ``PLANS`` entry is a function, the plan of the implementation's statement, or a
+    dict ``{"paper": f, "corrected": g}``.  None: no plan."""
     try:
         mod = importlib.import_module(f"{__name__.rsplit('.', 1)[0]}.{claim.controller}.plans")
     except ModuleNotFoundError as exc:
         if exc.name and exc.name.endswith(".plans"):
             return None
         raise
-    return getattr(mod, "PLANS", {}).get(claim.id)
+    entry = getattr(mod, "PLANS", {}).get(claim.id)
+    tag = tag or implementation_tag(claim)
+    if isinstance(entry, dict):
+        return entry.get(tag)
+    return entry if tag == implementation_tag(claim) else None
+
+
+def uncertified_reason(claim: Claim) -> str:
+    """The written reason why a claim has no certificate (its plans module's ``UNCERTIFIED[claim id]``: what
+    was tried and why it does not close), or ''."""
+    try:
+        mod = importlib.import_module(f"{__name__.rsplit('.', 1)[0]}.{claim.controller}.plans")
+    except ModuleNotFoundError as exc:
+        if exc.name and exc.name.endswith(".plans"):
+            return ""
+        raise
+    return getattr(mod, "UNCERTIFIED", {}).get(claim.id, "")
 
 
 def certify(claim: Claim, tag: str, st: Statement, mode: str = "reuse", store: Path = STORE,
@@ -58,12 +82,12 @@ def certify(claim: Claim, tag: str, st: Statement, mode: str = "reuse", store: P
     """
     if mode not in MODES:
         raise ValueError(f"mode must be one of {MODES}")
-    make = plan_for(claim)
+    make = plan_for(claim, tag)
     if make is None or mode == "off":
         return None
     plan = make(st)
     if mode != "derive":
-        data = read(claim.id, store)
+        data = read(claim.id, tag, store)
         if data is not None:
             got = recheck(claim, tag, st, plan, data)
             if got.status != "stale":

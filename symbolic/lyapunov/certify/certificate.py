@@ -1,6 +1,7 @@
 """Certificates: derive (search), store (committed data), re-check (independently), per claim statement.
 
-A certificate is one gzipped JSON file per certified statement, ``docs/certificates/<claim id>.json.gz``:
+A certificate is one gzipped JSON file per certified statement,
+``docs/certificates/<claim id>.<paper|corrected>.json.gz``:
 
 * the claim, which statement (``paper`` or ``corrected``), its relation and the sha256 of its sources
   (``statement_hash``: both sides as built from ``symbolic/``, so any edit of a function the statement
@@ -64,8 +65,9 @@ class Certification:
         return d
 
 
-def path_for(claim_id: str, store: Path = STORE) -> Path:
-    return store / f"{claim_id}.json.gz"
+def path_for(claim_id: str, tag: str, store: Path = STORE) -> Path:
+    """``<claim id>.<paper|corrected>.json.gz``: a claim may have a certificate for each statement."""
+    return store / f"{claim_id}.{tag}.json.gz"
 
 
 def _goal_key(g) -> str:
@@ -186,7 +188,7 @@ def identical(a: sp.Expr, b: sp.Expr, seconds: float = 30.0) -> bool:
 
 def write(data: dict, store: Path = STORE) -> Path:
     store.mkdir(parents=True, exist_ok=True)
-    path = path_for(data["claim"], store)
+    path = path_for(data["claim"], data["statement"], store)
     raw = (json.dumps(data, indent=1, sort_keys=True) + "\n").encode()
     tmp = path.with_name(path.name + f".tmp{os.getpid()}")
     with open(tmp, "wb") as fh, gzip.GzipFile(fileobj=fh, mode="wb", mtime=0, filename="") as gz:
@@ -195,8 +197,8 @@ def write(data: dict, store: Path = STORE) -> Path:
     return path
 
 
-def read(claim_id: str, store: Path = STORE) -> dict | None:
-    path = path_for(claim_id, store)
+def read(claim_id: str, tag: str, store: Path = STORE) -> dict | None:
+    path = path_for(claim_id, tag, store)
     if not path.exists():
         return None
     try:
