@@ -182,9 +182,11 @@ def _pose_barrier(st: Statement) -> Plan:
         qd = [-x / 2 for x in quat_mul(sp.Matrix(qr), sp.Matrix([*p, 0]))]
         return dict(zip(q, list(qr) + qd, strict=True))
 
+    # the charts are centred at q_D/T = (0, -1, 0, 1)/2^(1/2) (exact; the statement's floats differ by 1e-16)
+    q_c = sp.Matrix([0, -1, 0, 1]) / sp.sqrt(2)
     regions = []
     for sign in (1, -1):
-        qr = _stereo(s, sign)
+        qr = list(quat_mul(q_c, sp.Matrix(_stereo(s, sign))))
         for tau in (1, -1):
             cphi, sphi = tau * (1 - w**2) / (1 + w**2), tau * 2 * w / (1 + w**2)
             p = [lam * t * cphi, lam * t * sphi, zn + t]
