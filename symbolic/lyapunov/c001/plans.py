@@ -9,7 +9,8 @@ from ..certify import Coordinate, Plan, Region
 from ..certify.lemmas import LDL2
 from ..certify.plan import Use
 from ..core import Statement
-from .common import Z_NP
+from .common import DELTA, ESO_GAINS, KAPPA1, KAPPA2, Z_NP
+from .pose import ALPHA_67
 
 _p, _u, _v, _x, _y = LDL2.symbols
 
@@ -207,9 +208,56 @@ def _pose_barrier(st: Statement) -> Plan:
                      "3.32 to 428 m), the CA side a shell around the cone's cap.")
 
 
+# --------------------------------------------------------------------------- text before eq. 58 (V_d decay)
+
+def _vd_decay_printed(st: Statement) -> Plan:
+    """V1-dot/delta <= -(2 chi kappa2 lambda_min(P)/delta) eta2^2 (V_d := V1, eq. 32) on one angular channel
+    with the printed gains k1 = 1e4, k2 = 1.6e9, Q = I, delta = 1e-3, kappa1 = 0.7, kappa2 = 0.8 and
+    |alpha| <= C = 1.17e-7 rad/s^3 (eq. 67): proved directly, not by eq. 37's condition (which fails here).
+
+    eta1 = +-t^2 (t > 0) makes |eta1|^(1/2) = t; alpha = C z, z in [-1, 1].  The gap is then
+    w |eta|^2 - 2 delta alpha (P eta)_2 less the rate term, over delta, with w = kappa1/(2 t) + kappa2: of
+    first order in the size of (t, eta2) at 0.  Two cases put that size in one coordinate: |eta2| <= t
+    (eta2 = t y, |y| <= 1: the gap is t times a polynomial) and |eta2| >= t (eta2 = +-v, t = v u, u in
+    (0, 1]: the gap is (v/u) times a polynomial); the positive factor is cleared and the polynomial is
+    kappa1 (kappa1^2 + y^2)/(2 delta) (resp. kappa1 (kappa1^2 u^2 + 1)/(2 delta)) plus terms of size
+    C |P| ~ 1e-8 at the origin, so the boxes close it."""
+    names = {s.name: s for s in st.free_symbols()}
+    k1, k2 = ESO_GAINS["printed"]
+    R = sp.Rational
+    fixed = {names["k1_1"]: R(k1), names["k2_1"]: R(k2), names["delta"]: R(DELTA), names["kappa_1"]: R(KAPPA1),
+             names["kappa_2"]: R(KAPPA2), names["Q11_1"]: 1, names["Q12_1"]: 0, names["Q22_1"]: 1}
+    eta1, eta2, alpha = names["eta1_1"], names["eta2_1"], names["alpha_1"]
+    t, v, u = sp.symbols("t v u", positive=True)
+    y, z = sp.symbols("y z", real=True)
+    t_hi = 0.0316228          # >= (1e-3)^(1/2): |eta1| <= 1e-3
+    zc = Coordinate(z, -1.0, 1.0)
+    regions = []
+    for s1 in (1, -1):
+        regions.append(Region((Coordinate(t, 1e-30, t_hi), Coordinate(y, -1.0, 1.0), zc),
+                              {**fixed, eta1: s1 * t**2, eta2: t * y, alpha: R(ALPHA_67) * z},
+                              describe=f"|eta2| <= |eta1|^(1/2): eta1 = {s1:+d} t^2, eta2 = t y"))
+        for s2 in (1, -1):
+            regions.append(Region((Coordinate(v, 1e-30, 1e-6), Coordinate(u, 1e-30, 1.0), zc),
+                                  {**fixed, eta1: s1 * (v * u) ** 2, eta2: s2 * v, alpha: R(ALPHA_67) * z},
+                                  describe=f"|eta2| >= |eta1|^(1/2): eta1 = {s1:+d} (v u)^2, eta2 = {s2:+d} v"))
+
+    def reduce(g):
+        f = v / u if v in g.free_symbols else t
+        return f, sp.cancel(sp.expand(g / f))
+
+    return Plan(regions, "1e-60 <= |eta1| <= 1e-3 (eta1 = +-t^2), |eta2| <= max(1e-6, |eta1|^(1/2)), |alpha| <= "
+                f"{ALPHA_67:g} rad/s^3; k1 = 1e4, k2 = 1.6e9, Q = I, delta = 1e-3, kappa1 = 0.7, kappa2 = 0.8 "
+                "(the scaled variables of eq. 27)", reduce=reduce, covers_search_domain=False,
+                note="0 < |eta1| < 1e-60 is left out (eta1 = 0, where w = kappa1/(2 |eta1|^(1/2)) is infinite, is "
+                     "outside the statement): the cleared factor has 1/t, and no box may reach t = 0.  The "
+                     "|eta2| <= |eta1|^(1/2) case is a superset in eta2.")
+
+
 PLANS = {
     "c001.eso.w_bound": _eso_w_bound,
     "c001.eso.V1_definite": _eso_v1_definite,
     "c001.pose.H_definite": _pose_h_definite,
     "c001.pose.barrier": _pose_barrier,
+    "c001.pose.Vd_decay_printed_gains": _vd_decay_printed,
 }
