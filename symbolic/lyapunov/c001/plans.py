@@ -155,6 +155,9 @@ def _stereo(s: list[sp.Symbol], sign: int) -> list[sp.Expr]:
     return [sign * 2 * x / (1 + n2) for x in s] + [sign * (1 - n2) / (1 + n2)]
 
 
+_BARRIER_T_CUTS = (0.0, 25.0, 45.0, 300.0)   # p_z - z_N', m: [25, 45] holds the minimum (|p| ~ 50 m)
+
+
 def _pose_barrier(st: Statement) -> Plan:
     """After eq. 64: Delta q o Delta q >= 0.1 on beta_FOV = 0 and on beta_CA = 0.
 
@@ -188,13 +191,18 @@ def _pose_barrier(st: Statement) -> Plan:
     regions = []
     for sign in (1, -1):
         qr = list(quat_mul(q_c, sp.Matrix(_stereo(s, sign))))
+        # the chart around q_D: the range splits where the minimum lies (2k + 48k + 12k boxes, against 64k
+        # from one root box)
+        cuts = _BARRIER_T_CUTS if sign > 0 else (0.0, 300.0)
         for tau in (1, -1):
             cphi, sphi = tau * (1 - w**2) / (1 + w**2), tau * 2 * w / (1 + w**2)
             p = [lam * t * cphi, lam * t * sphi, zn + t]
-            coords = s_coords + (Coordinate(t, 0.0, 300.0, "m"), Coordinate(w, -1.0, 1.0),
-                                 Coordinate(lam, 1 - 1e-6, 1 + 1e-6))
-            regions.append(Region(coords, pose(qr, p),
-                                  describe=f"FOV boundary, q_r chart {sign:+d}, cos phi sign {tau:+d}"))
+            for t_lo, t_hi in zip(cuts[:-1], cuts[1:], strict=True):
+                coords = s_coords + (Coordinate(t, t_lo, t_hi, "m"), Coordinate(w, -1.0, 1.0),
+                                     Coordinate(lam, 1 - 1e-6, 1 + 1e-6))
+                regions.append(Region(coords, pose(qr, p),
+                                      describe=f"FOV boundary, q_r chart {sign:+d}, cos phi sign {tau:+d}, "
+                                               f"p_z - z_N' in [{t_lo:g}, {t_hi:g}] m"))
         n2 = w1**2 + w2**2
         p = [rho * 2 * w1 / (1 + n2), rho * 2 * w2 / (1 + n2), rho * (1 - n2) / (1 + n2)]
         coords = s_coords + (Coordinate(rho, 3.59, 3.61, "m"), Coordinate(w1, -0.05, 0.05),
