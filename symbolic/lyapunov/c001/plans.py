@@ -269,3 +269,36 @@ PLANS = {
     "c001.pose.barrier": _pose_barrier,
     "c001.pose.Vd_decay_printed_gains": _vd_decay_printed,
 }
+
+
+# why the other inequality claims of 001 are still only sampled (shown in the report)
+UNCERTIFIED = {
+    "c001.eso.V1dot_bound":
+        "Not certified: two channels give 20 symbols (eta1_i, eta2_i, k1_i, k2_i, Q_i, delta, kappa1, kappa2, C, "
+        "alpha_i), and the bound takes Max/Min over the channels of 2x2 eigenvalue expressions with square roots "
+        "(||P||, lambda_min(P), lambda_min(Q)).  The paper's chain would have to be composed: eqs. 33-34 "
+        "(c001.eso.V1dot_identity), eta_i^T Q_i eta_i >= lambda_min(Q_i) |eta_i|^2, w_i >= kappa1^2/(2 |eta_i|) + "
+        "kappa2 (c001.eso.w_bound, certified as a claim but not a library lemma), |(P eta)_2| <= ||P|| |eta|, "
+        "lambda_min(P) |eta|^2 <= V1 <= ||P|| |eta|^2, sum_i |eta_i| >= |eta| and Cauchy-Schwarz for alpha.  The "
+        "library lacks the 2x2 Rayleigh bounds with the eigenvalue formula and Max(x, y) >= x, and the composed rest "
+        "would still read ~20 coordinates, beyond boxes; not attempted in this round beyond that analysis.",
+    "c001.pose.Vd_decay":
+        "Not certified (the corrected statement, V_d := V1): it is eq. 36-37's bound with the V1^(1/2) term dropped "
+        "(delta sigma <= gamma kappa1^2) and V1 >= lambda_min(P) |eta2|^2, so it needs the composition of "
+        "c001.eso.V1dot_bound (not certified, see there) over the same 20 symbols; a claim cannot be used as a "
+        "lemma.  The printed statement is false (c001.pose.Vd_decay's note); the printed-gains instance is "
+        "certified directly (c001.pose.Vd_decay_printed_gains).",
+    "c001.apf.convex_far":
+        "Not certified: v^T (grad^2 V_p) v > 0 over an admissible pose (|r| in [40, 300] m, 20-80 % of the cone: "
+        "attitude and position charts, 6 coordinates) and a unit 8-vector v (7 chart coordinates): 13 coordinates "
+        "with a sampled minimum of 2.2e-3.  The attractive part is 2 k_a |[[q_D*]] v|^2, whose smallest value on "
+        "|v| = 1 is about 2 k_a / 626 = 2.4e-3 (|r_D| = 50 m makes the left multiplication ill-conditioned), so the "
+        "repulsive Hessian (k_r Dq o Dq times 1/beta^2, 1/beta^3 terms, Dq o Dq up to ~2e4 at 300 m) must be bounded "
+        "by ~2e-4 uniformly: that needs an 8x8 quadratic-form bound in v per pose (an eigenvalue or LDL lemma for "
+        "8x8 forms with pose-dependent entries) that the library lacks; boxes alone cannot close 13 coordinates "
+        "at a 10 % relative margin.  Not attempted beyond this analysis.",
+    "c001.pose.composed":
+        "Not certified: 72 coordinates.  The paper's proof composes eqs. 59-63 (identity claims), the ESO bound "
+        "c001.eso.V1dot_bound (not certified) and eq. 64; without the ESO bound as a library lemma no "
+        "composition closes, and boxes cannot read 72 coordinates.",
+}
