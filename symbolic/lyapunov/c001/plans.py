@@ -165,12 +165,16 @@ def _pose_barrier(st: Statement) -> Plan:
     q_d = r^T q_r / 2 with r^T = q_r (-p) q_r^* (eq. 13), i.e. q_d = -q_r p / 2 for a unit q_r, which is
     linear in q_r.  So every entry of Delta q = q_D^* q - 1 (eqs. 50-51) is linear in q_r, and the gap
     (a sum of eight squares less 0.1) is a rational function of the chart coordinates of degree 2 in q_r
-    -- no cubic dependence, as R(q_r) p would bring.  Equal to 2 - 2 <q_D, q_r> + |p + R(q_r)^T r_D|^2/4 - 0.1
-    for the unit q_D: the real part costs the rotation, the dual part the distance of p from the desired
-    target position R(q_r)^T (-r_D); the boundary is >= 33 m from the desired p_D = (0, 0, 50) m, and the
-    minimum (about 0.128, rotating p_D onto the cone) is reached near |p| = 50 m.
+    -- no cubic dependence, as R(q_r) p would bring.  Mathematically it is 2 - 2 <q_D, q_r> +
+    |p + R(q_r)^T r_D|^2/4 - 0.1: the real part costs the rotation, the dual part the distance of p from the
+    desired target position R(q_r)^T (-r_D); the boundary is >= 33 m from the desired p_D = (0, 0, 50) m, and
+    the minimum (about 0.128, rotating p_D onto the cone by 41 deg) is reached near |p| = 50 m.  That form is
+    not used as a ``reduce``: the statement's q_D/T, r_D/T are floats (|q_D|^2 = 1 + 2e-16), and the identity
+    check cannot match float roundings; the gap is boxed as the statement writes it.
 
-    Attitude: two stereographic charts (q_r and -q_r hemispheres).  FOV boundary (eq. 41 with theta = 45
+    Attitude: q_r = +-q_c s(x), s the stereographic chart of :func:`_stereo`, centred at q_c = (0, -1, 0, 1)
+    / 2^(1/2) (q_D/T exactly), two charts for the hemispheres <q_c, q_r> >= 0 and <= 0; the centring halves
+    the boxes (A^* q_r - 1 is then near s - 1).  FOV boundary (eq. 41 with theta = 45
     deg, tan theta = 1): p = (lambda t cos phi, lambda t sin phi, z_N' + t), (cos phi, sin phi) a rational
     chart of the half circle (two signs), t in [0, 300] m, lambda in [1 - 1e-6, 1 + 1e-6] (the sampler's
     points lie 1e-12 inside the cone; float rounding of tan theta).  CA boundary (eq. 47): p = rho v,
@@ -186,7 +190,7 @@ def _pose_barrier(st: Statement) -> Plan:
         qd = [-x / 2 for x in quat_mul(sp.Matrix(qr), sp.Matrix([*p, 0]))]
         return dict(zip(q, list(qr) + qd, strict=True))
 
-    # the charts are centred at q_D/T = (0, -1, 0, 1)/2^(1/2) (exact; the statement's floats differ by 1e-16)
+    # q_D/T exactly (the statement's floats differ by 1e-16; the chart only has to be exactly unit)
     q_c = sp.Matrix([0, -1, 0, 1]) / sp.sqrt(2)
     regions = []
     for sign in (1, -1):
@@ -210,8 +214,9 @@ def _pose_barrier(st: Statement) -> Plan:
         regions.append(Region(coords, pose(qr, p), describe=f"CA boundary, q_r chart {sign:+d}"))
     return Plan(regions, "every attitude q_S/T (unit quaternion); the target centre p (S axes, m) on the FOV "
                 "cone's layer |p_xy| = lambda (p_z - z_N'), lambda in [1 - 1e-6, 1 + 1e-6], 0 <= p_z - z_N' <= "
-                "300 m (z_N' = 3.3213 m, theta = 45 deg), or on the sphere 3.59 m <= |p| <= 3.61 m within 5.7 deg "
-                "of the camera axis; q_d = -q_r p / 2 (eq. 13); q_D/T, r_D/T of sec. 7",
+                "300 m (z_N' = 3.3213 m, theta = 45 deg), or on the shell 3.59 m <= |p| <= 3.61 m, p/|p| in the "
+                "stereographic square |w_1|, |w_2| <= 0.05 around the camera axis (it holds every direction "
+                "within 5.7 deg of the axis); q_d = -q_r p / 2 (eq. 13); q_D/T, r_D/T of sec. 7",
                 note="A superset of the sampled boundary: the FOV side is a thin layer around the cone (|p| from "
                      "3.32 to 428 m), the CA side a shell around the cone's cap.")
 
