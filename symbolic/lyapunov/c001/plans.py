@@ -4,10 +4,13 @@ from __future__ import annotations
 
 import sympy as sp
 
+from ...rotations import quat_mul
 from ..certify import Coordinate, Plan, Region
 from ..certify.lemmas import LDL2
 from ..certify.plan import Use
 from ..core import Statement
+from .common import DELTA, ESO_GAINS, KAPPA1, KAPPA2, Z_NP
+from .pose import ALPHA_67
 
 _p, _u, _v, _x, _y = LDL2.symbols
 
@@ -141,8 +144,166 @@ def _pose_h_definite(st: Statement) -> Plan:
                      "covers every D in [0.01, 100]^6 (T = max_j c_j/D_j, r_i = c_i/(D_i T)) and more.")
 
 
+# --------------------------------------------------------------------------- after eq. 64 (APF barrier)
+
+def _stereo(s: list[sp.Symbol], sign: int) -> list[sp.Expr]:
+    """Unit quaternion (scalar last) of the stereographic chart: sign (2 s, 1 - |s|^2) / (1 + |s|^2).
+
+    Exactly unit for every s (a rational identity), and s in [-1, 1]^3 covers the closed hemisphere
+    sign q_w >= 0 (there |s| = |q_v| / (1 + |q_w|) <= 1)."""
+    n2 = sum((x**2 for x in s), sp.S.Zero)
+    return [sign * 2 * x / (1 + n2) for x in s] + [sign * (1 - n2) / (1 + n2)]
+
+
+_BARRIER_T_CUTS = (0.0, 25.0, 45.0, 300.0)   # p_z - z_N', m: [25, 45] holds the minimum (|p| ~ 50 m)
+
+
+def _pose_barrier(st: Statement) -> Plan:
+    """After eq. 64: Delta q o Delta q >= 0.1 on beta_FOV = 0 and on beta_CA = 0.
+
+    A pose is (q_r, p): q_r = q_S/T, p the target centre in S axes (m); the sampler's dual part is
+    q_d = r^T q_r / 2 with r^T = q_r (-p) q_r^* (eq. 13), i.e. q_d = -q_r p / 2 for a unit q_r, which is
+    linear in q_r.  So every entry of Delta q = q_D^* q - 1 (eqs. 50-51) is linear in q_r, and the gap
+    (a sum of eight squares less 0.1) is a rational function of the chart coordinates of degree 2 in q_r
+    -- no cubic dependence, as R(q_r) p would bring.  Mathematically it is 2 - 2 <q_D, q_r> +
+    |p + R(q_r)^T r_D|^2/4 - 0.1: the real part costs the rotation, the dual part the distance of p from the
+    desired target position R(q_r)^T (-r_D); the boundary is >= 33 m from the desired p_D = (0, 0, 50) m, and
+    the minimum (about 0.128, rotating p_D onto the cone by 41 deg) is reached near |p| = 50 m.  That form is
+    not used as a ``reduce``: the statement's q_D/T, r_D/T are floats (|q_D|^2 = 1 + 2e-16), and the identity
+    check cannot match float roundings; the gap is boxed as the statement writes it.
+
+    Attitude: q_r = +-q_c s(x), s the stereographic chart of :func:`_stereo`, centred at q_c = (0, -1, 0, 1)
+    / 2^(1/2) (q_D/T exactly), two charts for the hemispheres <q_c, q_r> >= 0 and <= 0; the centring halves
+    the boxes (A^* q_r - 1 is then near s - 1).  FOV boundary (eq. 41 with theta = 45
+    deg, tan theta = 1): p = (lambda t cos phi, lambda t sin phi, z_N' + t), (cos phi, sin phi) a rational
+    chart of the half circle (two signs), t in [0, 300] m, lambda in [1 - 1e-6, 1 + 1e-6] (the sampler's
+    points lie 1e-12 inside the cone; float rounding of tan theta).  CA boundary (eq. 47): p = rho v,
+    v the stereographic chart around the camera axis, |w| <= 0.05 covering the cone's cap (off-axis
+    angle <= 4.3 deg at rho = R_S + R_T = 3.6 m), rho in [3.59, 3.61] m."""
+    q = [_sym(st, f"q_{i}") for i in range(1, 9)]
+    s = list(sp.symbols("s_1:4", real=True))
+    zn = sp.Rational(Z_NP).limit_denominator(10**12)
+    t, w, lam, rho, w1, w2 = sp.symbols("t w lambda rho w_1 w_2", real=True)
+    s_coords = tuple(Coordinate(x, -1.0, 1.0) for x in s)
+
+    def pose(qr, p):
+        qd = [-x / 2 for x in quat_mul(sp.Matrix(qr), sp.Matrix([*p, 0]))]
+        return dict(zip(q, list(qr) + qd, strict=True))
+
+    # q_D/T exactly (the statement's floats differ by 1e-16; the chart only has to be exactly unit)
+    q_c = sp.Matrix([0, -1, 0, 1]) / sp.sqrt(2)
+    regions = []
+    for sign in (1, -1):
+        qr = list(quat_mul(q_c, sp.Matrix(_stereo(s, sign))))
+        # the chart around q_D: the range splits where the minimum lies (2k + 48k + 12k boxes, against 64k
+        # from one root box)
+        cuts = _BARRIER_T_CUTS if sign > 0 else (0.0, 300.0)
+        for tau in (1, -1):
+            cphi, sphi = tau * (1 - w**2) / (1 + w**2), tau * 2 * w / (1 + w**2)
+            p = [lam * t * cphi, lam * t * sphi, zn + t]
+            for t_lo, t_hi in zip(cuts[:-1], cuts[1:], strict=True):
+                coords = s_coords + (Coordinate(t, t_lo, t_hi, "m"), Coordinate(w, -1.0, 1.0),
+                                     Coordinate(lam, 1 - 1e-6, 1 + 1e-6))
+                regions.append(Region(coords, pose(qr, p),
+                                      describe=f"FOV boundary, q_r chart {sign:+d}, cos phi sign {tau:+d}, "
+                                               f"p_z - z_N' in [{t_lo:g}, {t_hi:g}] m"))
+        n2 = w1**2 + w2**2
+        p = [rho * 2 * w1 / (1 + n2), rho * 2 * w2 / (1 + n2), rho * (1 - n2) / (1 + n2)]
+        coords = s_coords + (Coordinate(rho, 3.59, 3.61, "m"), Coordinate(w1, -0.05, 0.05),
+                             Coordinate(w2, -0.05, 0.05))
+        regions.append(Region(coords, pose(qr, p), describe=f"CA boundary, q_r chart {sign:+d}"))
+    return Plan(regions, "every attitude q_S/T (unit quaternion); the target centre p (S axes, m) on the FOV "
+                "cone's layer |p_xy| = lambda (p_z - z_N'), lambda in [1 - 1e-6, 1 + 1e-6], 0 <= p_z - z_N' <= "
+                "300 m (z_N' = 3.3213 m, theta = 45 deg), or on the shell 3.59 m <= |p| <= 3.61 m, p/|p| in the "
+                "stereographic square |w_1|, |w_2| <= 0.05 around the camera axis (it holds every direction "
+                "within 5.7 deg of the axis); q_d = -q_r p / 2 (eq. 13); q_D/T, r_D/T of sec. 7",
+                note="A superset of the sampled boundary: the FOV side is a thin layer around the cone (|p| from "
+                     "3.32 to 428 m), the CA side a shell around the cone's cap.")
+
+
+# --------------------------------------------------------------------------- text before eq. 58 (V_d decay)
+
+def _vd_decay_printed(st: Statement) -> Plan:
+    """V1-dot/delta <= -(2 chi kappa2 lambda_min(P)/delta) eta2^2 (V_d := V1, eq. 32) on one angular channel
+    with the printed gains k1 = 1e4, k2 = 1.6e9, Q = I, delta = 1e-3, kappa1 = 0.7, kappa2 = 0.8 and
+    |alpha| <= C = 1.17e-7 rad/s^3 (eq. 67): proved directly, not by eq. 37's condition (which fails here).
+
+    eta1 = +-t^2 (t > 0) makes |eta1|^(1/2) = t; alpha = C z, z in [-1, 1].  The gap is then
+    w |eta|^2 - 2 delta alpha (P eta)_2 less the rate term, over delta, with w = kappa1/(2 t) + kappa2: of
+    first order in the size of (t, eta2) at 0.  Two cases put that size in one coordinate: |eta2| <= t
+    (eta2 = t y, |y| <= 1: the gap is t times a polynomial) and |eta2| >= t (eta2 = +-v, t = v u, u in
+    (0, 1]: the gap is (v/u) times a polynomial); the positive factor is cleared and the polynomial is
+    kappa1 (kappa1^2 + y^2)/(2 delta) (resp. kappa1 (kappa1^2 u^2 + 1)/(2 delta)) plus terms of size
+    C |P| ~ 1e-8 at the origin, so the boxes close it."""
+    names = {s.name: s for s in st.free_symbols()}
+    k1, k2 = ESO_GAINS["printed"]
+    R = sp.Rational
+    fixed = {names["k1_1"]: R(k1), names["k2_1"]: R(k2), names["delta"]: R(DELTA), names["kappa_1"]: R(KAPPA1),
+             names["kappa_2"]: R(KAPPA2), names["Q11_1"]: 1, names["Q12_1"]: 0, names["Q22_1"]: 1}
+    eta1, eta2, alpha = names["eta1_1"], names["eta2_1"], names["alpha_1"]
+    t, v, u = sp.symbols("t v u", positive=True)
+    y, z = sp.symbols("y z", real=True)
+    t_hi = 0.0316228          # >= (1e-3)^(1/2): |eta1| <= 1e-3
+    zc = Coordinate(z, -1.0, 1.0)
+    regions = []
+    for s1 in (1, -1):
+        regions.append(Region((Coordinate(t, 1e-30, t_hi), Coordinate(y, -1.0, 1.0), zc),
+                              {**fixed, eta1: s1 * t**2, eta2: t * y, alpha: R(ALPHA_67) * z},
+                              describe=f"|eta2| <= |eta1|^(1/2): eta1 = {s1:+d} t^2, eta2 = t y"))
+        for s2 in (1, -1):
+            regions.append(Region((Coordinate(v, 1e-30, 1e-6), Coordinate(u, 1e-30, 1.0), zc),
+                                  {**fixed, eta1: s1 * (v * u) ** 2, eta2: s2 * v, alpha: R(ALPHA_67) * z},
+                                  describe=f"|eta2| >= |eta1|^(1/2): eta1 = {s1:+d} (v u)^2, eta2 = {s2:+d} v"))
+
+    def reduce(g):
+        f = v / u if v in g.free_symbols else t
+        return f, sp.cancel(sp.expand(g / f))
+
+    return Plan(regions, "1e-60 <= |eta1| <= 1e-3 (eta1 = +-t^2), |eta2| <= max(1e-6, |eta1|^(1/2)), |alpha| <= "
+                f"{ALPHA_67:g} rad/s^3; k1 = 1e4, k2 = 1.6e9, Q = I, delta = 1e-3, kappa1 = 0.7, kappa2 = 0.8 "
+                "(the scaled variables of eq. 27)", reduce=reduce, covers_search_domain=False,
+                note="0 < |eta1| < 1e-60 is left out (eta1 = 0, where w = kappa1/(2 |eta1|^(1/2)) is infinite, is "
+                     "outside the statement): the cleared factor has 1/t, and no box may reach t = 0.  The "
+                     "|eta2| <= |eta1|^(1/2) case is a superset in eta2.")
+
+
 PLANS = {
     "c001.eso.w_bound": _eso_w_bound,
     "c001.eso.V1_definite": _eso_v1_definite,
     "c001.pose.H_definite": _pose_h_definite,
+    "c001.pose.barrier": _pose_barrier,
+    "c001.pose.Vd_decay_printed_gains": _vd_decay_printed,
+}
+
+
+# why the other inequality claims of 001 are still only sampled (shown in the report)
+UNCERTIFIED = {
+    "c001.eso.V1dot_bound":
+        "Not certified: two channels give 20 symbols (eta1_i, eta2_i, k1_i, k2_i, Q_i, delta, kappa1, kappa2, C, "
+        "alpha_i), and the bound takes Max/Min over the channels of 2x2 eigenvalue expressions with square roots "
+        "(||P||, lambda_min(P), lambda_min(Q)).  The paper's chain would have to be composed: eqs. 33-34 "
+        "(c001.eso.V1dot_identity), eta_i^T Q_i eta_i >= lambda_min(Q_i) |eta_i|^2, w_i >= kappa1^2/(2 |eta_i|) + "
+        "kappa2 (c001.eso.w_bound, certified as a claim but not a library lemma), |(P eta)_2| <= ||P|| |eta|, "
+        "lambda_min(P) |eta|^2 <= V1 <= ||P|| |eta|^2, sum_i |eta_i| >= |eta| and Cauchy-Schwarz for alpha.  The "
+        "library lacks the 2x2 Rayleigh bounds with the eigenvalue formula and Max(x, y) >= x, and the composed rest "
+        "would still read ~20 coordinates, beyond boxes; not attempted in this round beyond that analysis.",
+    "c001.pose.Vd_decay":
+        "Not certified (the corrected statement, V_d := V1): it is eq. 36-37's bound with the V1^(1/2) term dropped "
+        "(delta sigma <= gamma kappa1^2) and V1 >= lambda_min(P) |eta2|^2, so it needs the composition of "
+        "c001.eso.V1dot_bound (not certified, see there) over the same 20 symbols; a claim cannot be used as a "
+        "lemma.  The printed statement is false (c001.pose.Vd_decay's note); the printed-gains instance is "
+        "certified directly (c001.pose.Vd_decay_printed_gains).",
+    "c001.apf.convex_far":
+        "Not certified: v^T (grad^2 V_p) v > 0 over an admissible pose (|r| in [40, 300] m, 20-80 % of the cone: "
+        "attitude and position charts, 6 coordinates) and a unit 8-vector v (7 chart coordinates): 13 coordinates "
+        "with a sampled minimum of 2.2e-3.  The attractive part is 2 k_a |[[q_D*]] v|^2, whose smallest value on "
+        "|v| = 1 is about 2 k_a / 626 = 2.4e-3 (|r_D| = 50 m makes the left multiplication ill-conditioned), so the "
+        "repulsive Hessian (k_r Dq o Dq times 1/beta^2, 1/beta^3 terms, Dq o Dq up to ~2e4 at 300 m) must be bounded "
+        "by ~2e-4 uniformly: that needs an 8x8 quadratic-form bound in v per pose (an eigenvalue or LDL lemma for "
+        "8x8 forms with pose-dependent entries) that the library lacks; boxes alone cannot close 13 coordinates "
+        "at a 10 % relative margin.  Not attempted beyond this analysis.",
+    "c001.pose.composed":
+        "Not certified: 72 coordinates.  The paper's proof composes eqs. 59-63 (identity claims), the ESO bound "
+        "c001.eso.V1dot_bound (not certified) and eq. 64; without the ESO bound as a library lemma no "
+        "composition closes, and boxes cannot read 72 coordinates.",
 }
