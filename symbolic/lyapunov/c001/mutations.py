@@ -48,6 +48,14 @@ def _relative_without_transport(out, J, f_G, f_D, f_C, w_SI, w_ST, q_ST, wdot_TI
     return out - c.dq_cross(w_ST, w_SI)
 
 
+def _pose_rate_in_reference_axes(out, q, w_body):
+    return c.dq_mul(w_body, q) / 2
+
+
+def _eq17_without_gyro(out, J, w_SI, f_total):
+    return out + c.J_E_inv_times(J, c.gyroscopic_dual_force(J, w_SI))
+
+
 _LAW = ("c001.pose.Vdot_eq60", "c001.pose.Vdot_identity")
 _ESO = ("c001.eso.error_dynamics", "c001.eso.time_scaling")
 
@@ -83,4 +91,11 @@ MUTATIONS = [
     # the proof model (eq. 20) against its derivation from eqs. 14, 15, 17 (c001.model.relative_acceleration)
     Mutation("c001: eq. 20 without omega_S/T x omega_S/I", c, "relative_dual_acceleration",
              replace_output(_relative_without_transport), ("c001.model.relative_acceleration",)),
+    # the proof model against the plant (c001/plant.py): rotations.py, rigid_body.py, Newton
+    Mutation("c001: q_dot = omega q / 2 (eqs. 11-12, omega taken in the reference axes)", c, "pose_rate",
+             replace_output(_pose_rate_in_reference_axes), ("c001.plant.body_pose_kinematics",)),
+    Mutation("c001: eq. 17 without omega x (J_E omega)", c, "inertial_dual_acceleration",
+             replace_output(_eq17_without_gyro), ("c001.plant.inertial_dual_acceleration",)),
+    Mutation("c001: omega_S/T = omega_S/I + q* omega_T/I q (eq. 14)", c, "relative_dual_velocity",
+             scale_argument("w_TI_T", -1), ("c001.plant.relative_dual_velocity",)),
 ]

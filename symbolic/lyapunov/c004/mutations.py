@@ -25,6 +25,27 @@ def _id(name: str) -> str:
     return f"{_C}.{name}"
 
 
+def _euler_without_gyro(out, J, omega, tau, d_tau):
+    return out + J.inv() * c.S(omega) * J * omega
+
+
+def _eq20_without_transport(out, J, omega, omega_e, n2, tau, d_tau):
+    return out - c.S(omega_e) * (omega - omega_e)
+
+
+def _g_without_centripetal(out, omega, omega_e, v_e, R, p_t):
+    w_tc = c.S(omega - omega_e)
+    return out - w_tc * w_tc * R * p_t
+
+
+def _mrp_without_cross(out, sigma, omega):
+    return out - c.S(sigma) * omega / 2
+
+
+_KIN, _TRANS, _ROT = _id("plant.relative_mrp_kinematics"), _id("plant.body_translation"), _id("plant.body_rotation")
+_RATE, _VEL = _id("plant.relative_rate_dynamics"), _id("plant.relative_velocity_dynamics")
+
+
 MUTATIONS = [
     # position law (25)
     Mutation("c004: +K1 s1 in eq. 25", c, "position_control", scale_argument("K1", -1),
@@ -75,4 +96,21 @@ MUTATIONS = [
              (_id("position.n1_bound"), _id("attitude.n2_bound")), inequality_only=True,
              description="a missing square root: the coupling bounds rho ||p_t|| ||w_t||^2 fail where the norms "
                          "are below 1"),
+    # the proof model against the plant (c004/plant.py): the model functions the Lyapunov claims integrate
+    Mutation("c004: G(sigma) without 2 S(sigma) (eqs. 2, 6, 14)", c, "mrp_kinematics",
+             replace_output(_mrp_without_cross), (_KIN,)),
+    Mutation("c004: r_dot = v + S(w) r (eqs. 1, 5, 13)", c, "position_kinematics", scale_argument("omega", -1),
+             (_TRANS,)),
+    Mutation("c004: m v_dot = f + d_f + m S(w) v (eqs. 3, 7)", c, "translational_dynamics",
+             scale_argument("omega", -1), (_TRANS,)),
+    Mutation("c004: S(w) J w dropped from eq. 4", c, "rotational_dynamics", replace_output(_euler_without_gyro),
+             (_ROT,)),
+    Mutation("c004: sign of omega_t-dot (eq. 18)", c, "target_angular_acceleration", negate_output(), (_ROT,)),
+    Mutation("c004: J S(w_e)(w - w_e) dropped from eq. 20", c, "relative_rate_rate",
+             replace_output(_eq20_without_transport), (_RATE,)),
+    Mutation("c004: sign of n_2 (under eq. 20)", c, "coupling_n2", negate_output(), (_RATE,)),
+    Mutation("c004: sign of d_f in eq. 19", c, "relative_velocity_rate", scale_argument("d_f", -1), (_VEL,)),
+    Mutation("c004: centripetal S(w - w_e)^2 R p_t dropped from g (under eq. 20)", c, "coupling_g",
+             replace_output(_g_without_centripetal), (_VEL,)),
+    Mutation("c004: sign of n_1 (under eq. 20)", c, "coupling_n1", negate_output(), (_VEL,)),
 ]
