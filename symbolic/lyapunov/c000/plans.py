@@ -5,7 +5,8 @@ after the law and the adaptation laws are substituted and the product expanded, 
 cancel and V-dot = (d - (D + eps) sign(s)) S_aug.  The domain map splits s = e_dot + lambda_0 e into the
 three pieces of the boundary layer, each with coordinates that carry SymPy sign assumptions matching their
 box (v, p, q >= 0), so that Max, Min, sign and Abs of the layer evaluate exactly when the map is
-substituted; the disturbance is d = D w with |w| <= 1 (its bound |d| = D on the faces w = +-1).
+substituted; the disturbance is d = D w with |w| <= 1 (its bound |d| = D on the faces w = +-1).  The printed
+y and z statements (the paper's piecewise layer) have their own plan, :func:`_axis_bound_printed`.
 """
 
 from __future__ import annotations
@@ -135,6 +136,76 @@ _TR_PLANS = {f"c000.translation_{ax}.Vdot_bound":
              _axis_bound(_tr_names(ax), _tr_box(ax, n), (0.001, 1.0, "m/s"), 5.0,
                          f"translation axis {ax} (eqs. {eqs})")
              for ax, n, eqs in (("x", 5, "81-104"), ("y", 3, "105-118"), ("z", 1, "119-129"))}
+
+
+def _axis_bound_printed(names: dict, box: dict, d_box: tuple, s_scale: float, what: str):
+    """Plan of an abstract translation axis' PRINTED V-dot <= -eps |S_aug| (eqs. 109-118, 123-129: printed V,
+    printed adaptation laws, the paper's layer S_aug = Piecewise((0, |s| <= d), (s - d sign(s), True))),
+    |dist| <= D.  ``names``, ``box``, ``d_box``, ``s_scale`` as in :func:`_axis_bound`.
+
+    The layer's condition |s| <= d must be decided exactly by the domain map (the interval hull of the two
+    branches never closes at |s| = d), so the layer is split at s = 0 with coordinates carrying sign
+    assumptions: 0 <= s <= d as s = t, d = t + p and -d <= s <= 0 as s = -t, d = t + p (t, p >= 0, d in its
+    box by hypotheses).  Under these maps SymPy evaluates d >= |s| to t + p >= t, True, so S_aug = 0 and the
+    gap is the constant 0.  Outside, s = +-(d + (2 d + s_scale) v), v in [0, 1], as in :func:`_axis_bound`:
+    there the condition is false except at v = 0, where both branches are 0, so the Piecewise stays; after
+    expansion (the parameter-error terms cancel, as in eqs. 117, 129) the gap is exactly
+    S_aug * D (1 - w) (s >= d) and S_aug * (-D (1 + w)) (s <= -d), with dist = D w, |w| <= 1.  ``reduce``
+    factors it as (sg S_aug) * (sg coefficient): sg S_aug >= 0 (both branches, 0 and (2 d + s_scale) v, are
+    >= 0, so the interval hull closes) and D (1 -+ w) >= 0."""
+
+    def plan(st: Statement) -> Plan:
+        sym = {k: _sym(st, v) for k, v in names.items()}
+        s_add = sp.nsimplify(s_scale)
+        lam = _sym(st, "lambda_0")
+        e, edot, d, D, dist = (sym[k] for k in ("e", "edot", "d", "D", "dist"))
+        w = sp.Symbol("w", real=True)
+        v, t, p = _nonneg("v"), _nonneg("t"), _nonneg("p")
+        free = {x.name: x for x in st.free_symbols()}
+        others = tuple(Coordinate(free[k], lo, hi, unit) for k, (lo, hi, unit) in box.items() if k in free)
+        cw = Coordinate(w, -1.0, 1.0, f"1 ({dist} = {D} w)")
+        cd = Coordinate(d, d_box[0], d_box[1], d_box[2])
+        regs = []
+        for sg, txt in ((1, "s >= d"), (-1, "s <= -d")):
+            s_map = sg * (d + (2 * d + s_add) * v)
+            regs.append(Region(others + (cd, cw, Coordinate(v, 0.0, 1.0, f"1 (s = {sg} (d + (2 d + {s_scale:g}) v))")),
+                               {edot: s_map - lam * e, dist: D * w}, describe=txt))
+        # not _axis_bound's p = d - s, q = d + s: under it d >= |s| reads (p + q)/2 >= |q - p|/2, which SymPy
+        # leaves undecided.  d = t + p: the hypotheses keep d in its box (side goal t + p > 0: d is positive)
+        ct = Coordinate(t, 0.0, d_box[1], f"{d_box[2]} (|s|)")
+        cp = Coordinate(p, 0.0, d_box[1], f"{d_box[2]} (d - |s|)")
+        for sg, txt in ((1, "0 <= s <= d"), (-1, "-d <= s <= 0")):
+            regs.append(Region(others + (cw, ct, cp), {d: t + p, edot: sg * t - lam * e, dist: D * w},
+                               hypotheses=(t + p - sp.nsimplify(d_box[0]), sp.nsimplify(d_box[1]) - t - p),
+                               describe=txt))
+
+        def reduce(g):
+            pws = g.atoms(sp.Piecewise)
+            if not pws:
+                return g                       # inside the layer: S_aug = 0 exactly
+            (P,) = pws
+            X = sp.Dummy("S_aug")
+            coef = sp.expand(g.xreplace({P: X}))
+            rest = sp.factor(sp.expand(coef / X))
+            branch = P.args[-1].expr           # +-(2 d + s_scale) v: its sign is the region's
+            sg = 1 if branch.is_nonnegative else -1 if branch.is_nonpositive else None
+            if sg is None:
+                return g
+            return sg * P, sg * rest
+
+        dom = (f"{what}, printed V, laws and piecewise S_aug: every coordinate in its search box "
+               f"({', '.join(c.describe() for c in others)}), "
+               f"d in [{d_box[0]:g}, {d_box[1]:g}] {d_box[2]}, |s| <= 3 d + {s_scale:g} (s = e_dot + lambda_0 e), "
+               f"|{dist}| <= {D}")
+        return Plan(regs, dom, reduce=reduce)
+
+    return plan
+
+
+_TR_PRINTED = {f"c000.translation_{ax}.Vdot_bound":
+               _axis_bound_printed(_tr_names(ax), _tr_box(ax, n), (0.001, 1.0, "m/s"), 5.0,
+                                   f"translation axis {ax} (eqs. {eqs})")
+               for ax, n, eqs in (("y", 3, "105-118"), ("z", 1, "119-129"))}
 
 
 # --------------------------------------------------------------------------- eq. 81's r_t = r_c - |r_e| (x row)
@@ -310,21 +381,14 @@ def _tr_spacecraft_bound(st: Statement) -> Plan:
 
 
 PLANS = {"c000.convergence": _convergence, "c000.attitude.Vdot_bound": _att_Vdot_bound, **_TR_PLANS,
+         # y, z: the implementation's statement and the printed one (printed V, laws and piecewise layer)
+         **{cid: {"corrected": _TR_PLANS[cid], "paper": f} for cid, f in _TR_PRINTED.items()},
          "c000.attitude.spacecraft_Vdot_bound": _att_spacecraft_bound,
          "c000.translation.spacecraft_Vdot_bound": _tr_spacecraft_bound,
          "c000.translation_x.form_eq30": _form_eq30_x}
 
-_PRINTED_LAYER_WHY = (
-    "the printed step (printed V and laws, the paper's piecewise layer: 0 for |s| <= d, s - d sign(s) outside) "
-    "decides this claim's status; the implementation's statement (the code's layer) is certified with the "
-    "plan above. Tried on the printed step: the same regions; on |s| <= d the layer's condition "
-    "(p + q)/2 >= |p - q|/2 holds on the whole region but neither SymPy nor the case-split identity prover "
-    "decides it, and the interval hull of the two branches never closes the boxes at |s| = d (54,874 boxes).")
-
 #: why each remaining claim has no certificate (the report prints it)
 UNCERTIFIED = {
-    "c000.translation_y.Vdot_bound": _PRINTED_LAYER_WHY,
-    "c000.translation_z.Vdot_bound": _PRINTED_LAYER_WHY,
     "c000.attitude.principal_axes": (
         "no plan: 3 components of |E_j| <= D_att over 21 coordinates (~24k operations). The budget holds with ~8 % "
         "margin when E_j is split into its T/h, M_c, M_t and kinematic target parts (numeric estimates x: "
