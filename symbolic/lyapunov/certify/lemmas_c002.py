@@ -5,10 +5,11 @@ text names the textbook step; a claim-sized lemma does not belong here.
 
 The norm steps of Remarks 4-5 (paper 002): the triangle inequality, |a x b| <= |a| |b| (Lagrange's
 identity), |J x| <= b1 |x| for J = C diag(d) C^T (C a rotation, 0 <= d_i <= b1), |R(q) x| = |q|^2 |x|
-for the (unnormalised) rotation matrix of a quaternion q.  Norms are ``sqrt(x . x)``, written as the
-claims write them, and matrix-vector products keep the claims' association ((A B) x, not A (B x)), so
-that a plan composes the lemmas with the claim's expressions term by term; each proof checks the
-association identity (A B) x = A (B x) too.  Every gap is k times the fact (k A - k B, k >= 0 a premise:
+for the (unnormalised) rotation matrix of a quaternion q; for eq. 21, the shifted spectrum |(J - h I) x| <= h |x|
+(0 <= d_i <= 2h), eq. 4's -C_r w - n_r regrouped (an identity) and |1/2 (q_v^x + q0 I) y| <= |q| |y|/2.  Norms
+are ``sqrt(x . x)``, written as the claims write them, and matrix-vector products keep the claims' association
+((A B) x, not A (B x)), so that a plan composes the lemmas with the claim's expressions term by term; each proof
+checks the association identity (A B) x = A (B x) too.  Every gap is k times the fact (k A - k B, k >= 0 a premise:
 a nonnegative multiple of a nonnegative number), written term by term so that weighted instances cancel.
 """
 
@@ -255,4 +256,106 @@ LEMMA2 = Lemma(
     _lemma2_proof, strict=(False, False, True))
 
 
-LEMMAS: tuple = (TRIANGLE_V2, TRIANGLE_V4, TRIANGLE_M3, SCALE, CROSS_M, CROSS_MN, ROTATION, SPD_BOUND, LEMMA2)
+# --------------------------------------------------------------------------- |((J - h I) S) y| <= h |S y|
+# The shifted spectrum: J - h I = C diag(d_i - h) C^T has |d_i - h| <= h for 0 <= d_i <= 2h.
+
+_sh = sp.Symbol("lc2_h", real=True)
+
+
+def _shift_proof() -> bool:
+    # as _spd_proof with diag(d - h): with x = S y and z = R(c)^T x, |c|^4 (J - h I) x = R (D - h I) z
+    # (J = R D R^T/|c|^4 and R R^T = |c|^4 I), so |c|^8 (h^2 |x|^2 - |(J - h I) x|^2) = |c|^4 sum (h^2 - (d_i -
+    # h)^2) z_i^2 = |c|^4 sum d_i (2h - d_i) z_i^2
+    Rc = quat_to_dcm(_jc).T
+    cc = dot(_jc, _jc)
+    orth = all(_zero(e) for e in Rc.T * Rc - cc**2 * sp.eye(3)) and all(
+        _zero(e) for e in Rc * Rc.T - cc**2 * sp.eye(3))
+    x = _u
+    z = Rc.T * x
+    # |c|^4 (J - h I) = R (D - h I) R^T (a rational identity: cancel, since expand keeps the denominator |c|^4)
+    shifted = all(sp.cancel(e) == 0 for e in cc**2 * (_JX - _sh * sp.eye(3))
+                  - Rc * sp.diag(*[di - _sh for di in _jd]) * Rc.T)
+    Jx_num = Rc * sp.diag(*[di - _sh for di in _jd]) * z                       # |c|^4 (J - h I) x
+    lhs = cc**4 * _sh**2 * dot(x, x) - dot(Jx_num, Jx_num)
+    rhs = cc**2 * sum(_jd[i] * (2 * _sh - _jd[i]) * z[i] ** 2 for i in range(3))
+    ident = _zero(lhs - rhs)
+    assoc = _zero_vec(((_JJ - _sh * sp.eye(3)) * _JS) * _jy - (_JJ - _sh * sp.eye(3)) * (_JS * _jy))
+    return orth and shifted and ident and assoc
+
+
+SPD_SHIFT = Lemma(
+    "c002_spd_shift", (_k, *[_JJ[i, j] for i in range(3) for j in range(i, 3)], *_jc, *_jd, _sh, *_JS, *_jy),
+    _k * _sh * _nrm(_JS * _jy) - _k * _nrm(((_JJ - _sh * sp.eye(3)) * _JS) * _jy),
+    (*_spd_equal, *[-e for e in _spd_equal], dot(_jc, _jc), *_jd, *[2 * _sh - x for x in _jd], _k),
+    "|((J - h I) S) y| <= h |S y| for a symmetric J = C diag(d) C^T (premises: J_ij - (C diag(d) C^T)_ij >= 0 and "
+    "<= 0), C = R(c)/|c|^2 (c != 0), 0 <= d_i <= 2h, any 3x3 S (the shifted spectrum: J - h I = C diag(d - h) C^T "
+    "and |d_i - h| <= h): ((J - h I) S) y = (J - h I)(S y) (identity); with x = S y, z = R(c)^T x, R^T R = R R^T "
+    "= |c|^4 I (identities) give |c|^8 (h^2 |x|^2 - |(J - h I) x|^2) = |c|^4 sum d_i (2h - d_i) z_i^2 (identity, "
+    "h^2 - (d_i - h)^2 = d_i (2h - d_i)), >= 0; h >= d_i/2 >= 0, so both sides are >= 0",
+    _shift_proof, strict=(False,) * 12 + (True,))
+
+# --------------------------------------------------------------------------- eq. 4: -C_r w - n_r, regrouped
+# an identity (gap 0): with p = R omega_t and u = w + p, -C_r w - n_r = ((J - h I) u) x u + J (w x p) - (J R) wd
+# for every 3x3 J, R and every h ((h u) x u = 0), C_r and n_r as the code builds them (eq. 4)
+
+_ER = _mat("lc2_R")
+_ew, _ewt, _ewd = _vec("lc2_ew"), _vec("lc2_ewt"), _vec("lc2_ewd")
+
+
+def _euler_pieces() -> tuple[sp.Matrix, sp.Matrix, sp.Matrix, sp.Matrix]:
+    """(-C_r w - n_r as the code builds it, and its three regrouped terms A, B, C)."""
+    from ...controllers import c002
+
+    Cr = c002.attitude_coriolis_matrix(_JJ, _ER, _ewt, _ew)
+    nr = c002.attitude_nonlinear_term(_JJ, _ER, _ewt, _ewd)
+    p = _ER * _ewt
+    u = _ew + p
+    A = skew((_JJ - _sh * sp.eye(3)) * u) * u
+    B = (_JJ * skew(_ew)) * p
+    C = (_JJ * _ER) * (-_ewd)
+    return -Cr * _ew - nr, A, B, C
+
+
+_EV, _EA, _EB, _EC = _euler_pieces()
+
+EULER_FORM = Lemma(
+    "c002_euler_form", (_k, *[_JJ[i, j] for i in range(3) for j in range(i, 3)], *_ER, _sh, *_ew, *_ewt, *_ewd),
+    _k * _nrm(_EA + _EB + _EC) - _k * _nrm(_EV), (_k,),
+    "Eq. 4 regrouped (an identity, gap 0): for any 3x3 J, R, vectors w, omega_t, omegadot_t and scalar h, with p = "
+    "R omega_t and u = w + p, the code's -C_r w - n_r (C_r = J p^x + p^x J - (J u)^x, n_r = p^x J p + (J R) "
+    "omegadot_t) equals ((J - h I) u) x u + (J w^x) p - (J R) omegadot_t (expanded, the difference is 0: (J u) x u "
+    "= (J u) x w + (J w) x p + (J p) x p and (h u) x u = 0), so k |A + B + C| - k |-C_r w - n_r| = 0",
+    lambda: _zero_vec(_EV - (_EA + _EB + _EC)))
+
+# --------------------------------------------------------------------------- |1/2 (q_v^x + q0 I) y| <= |q| |y| / 2
+
+_qy = _vec("lc2_qy")
+
+
+def _quat_rate_vec(q: sp.Matrix, y: sp.Matrix) -> sp.Matrix:
+    """q_v_dot = 1/2 (q_v^x + q0 I) y (eq. 3) as the code builds it."""
+    from ...controllers import c002
+
+    return c002.relative_quaternion_rate(q, y)[:3, :]
+
+
+def _quat_rate_proof() -> bool:
+    qv, q0 = _rq[:3, :], _rq[3]
+    v = (skew(qv) + q0 * sp.eye(3)) * _qy
+    form = _zero_vec(2 * _quat_rate_vec(_rq, _qy) - v)
+    # |(q_v^x + q0 I) y|^2 = |q|^2 |y|^2 - (q_v . y)^2 (q_v x y is orthogonal to y; Lagrange's identity)
+    ident = _zero(dot(v, v) - (dot(_rq, _rq) * dot(_qy, _qy) - dot(qv, _qy) ** 2))
+    return form and ident
+
+
+QUAT_RATE = Lemma(
+    "c002_quat_rate", (_k, *_rq, *_qy),
+    _k * _nrm(_rq) * _nrm(_qy) / 2 - _k * _nrm(_quat_rate_vec(_rq, _qy)), (_k,),
+    "|1/2 (q_v^x + q0 I) y| <= |q| |y| / 2 for any quaternion q (scalar last) and y (eq. 3's q_v_dot as the code "
+    "builds it): |(q_v^x + q0 I) y|^2 = |q|^2 |y|^2 - (q_v . y)^2 (identity: q_v x y is orthogonal to y, Lagrange's "
+    "identity), <= |q|^2 |y|^2; both sides >= 0",
+    _quat_rate_proof)
+
+
+LEMMAS: tuple = (TRIANGLE_V2, TRIANGLE_V4, TRIANGLE_M3, SCALE, CROSS_M, CROSS_MN, ROTATION, SPD_BOUND, LEMMA2,
+                 SPD_SHIFT, EULER_FORM, QUAT_RATE)
