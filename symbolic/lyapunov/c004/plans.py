@@ -440,33 +440,33 @@ def _v1dot_bound(st: Statement) -> Plan:
                      "premises and the second component are boxed.")
 
 
-# No plan yet for attitude.V2dot_bound and theorem.Vdot_bound (position.V1dot_bound: above).  Their gaps are the raw
-# Lie derivatives (eqs. 24-27, 33-36 along the closed loop), and every rewriting of a goal is verified after
-# the domain map: with R = R(sigma_e) and J_t = Q diag(d) Q^T substituted, n1 (n2) is a rational function of
-# high degree in the charts, so the identity V1-dot = nominal + s1^T(d_f - m n1) - (rho_f + rho_m |p_t| |w~|^2)
-# |s1|_1 (claim position.V1dot_identity, proved with n1 opaque) cannot be re-verified by expansion there.  A
-# composition would first have to split the n1 and d_f terms out of the Lie derivative's nested products by
-# exact structural steps (distributivity lemmas), and |d_f| <= rho_f needs a chart of the ball (the premise of
-# dot_ball_3 equals the ball's hypothesis, 0 on its sphere, where no box closes).
+# No plan yet for attitude.V2dot_bound and theorem.Vdot_bound (position.V1dot_bound: above).  V2-dot differs
+# from V1-dot in one way that the V1 composition cannot absorb: the statement writes J^-1 as its own symbols
+# (exact_inverse=False), so the Lie derivative has (J s2)_i sum_k Jinv_ik (... + (J n2)_k + ...), and the
+# cancellation J J^-1 = I holds only after the charts of J and J^-1; see UNCERTIFIED for the route.
 PLANS = {"c004.theorem.Vs_bound": _vs_bound, "c004.theorem.V_lower_bound": _v_lower_bound,
          "c004.position.n1_bound": _n1_bound, "c004.attitude.n2_bound": _n2_bound,
          "c004.position.V1dot_bound": _v1dot_bound}
 
-_VDOT_WHY = ("no plan: the gap is the raw Lie derivative (eqs. 24-27, 33-36 along the closed loop) and every "
-             "rewriting is re-verified after the domain map; with R = R(sigma_e) and J_t = Q diag(d) Q^T "
-             "substituted, n1 and n2 are rational functions of high degree in the charts, so the identity that "
-             "separates the nominal part, s^T (d - m n) and the robust term (proved with n opaque in "
-             "{}_identity) cannot be re-verified by expansion there. Tried: the coupling bound alone "
-             "(certified, {}); needed: exact structural steps (distributivity lemmas) that split the "
-             "disturbance and coupling terms out of the nested products before the charts, and a chart of the "
-             "ball |d| <= rho (the premise of dot_ball_3 equals the ball's hypothesis, 0 on its sphere).")
-
 #: why each remaining claim has no certificate (the report prints it)
 UNCERTIFIED = {
-    "c004.attitude.V2dot_bound": _VDOT_WHY.format("attitude.V2dot", "attitude.n2_bound"),
-    "c004.theorem.Vdot_bound": ("no plan: the sum of the two V-dot bounds (70 coordinates, 3 components), a "
-                                "composition of position.V1dot_bound and attitude.V2dot_bound, which are not "
-                                "certified yet (see them); once they are, the first component is their sum and "
-                                "the other two are Min/ordering steps of the kind Vs_bound certifies."),
+    "c004.attitude.V2dot_bound": (
+        "no plan yet. The route of position.V1dot_bound (split the coupling's summands out of the raw Lie "
+        "derivative with c004_distribute so that they cancel symbol for symbol against Cauchy-Schwarz and the "
+        "n2 chain scaled by |s2|, then check the coupling-free rest after the charts) does not apply as it "
+        "stands: the statement writes J^-1 as its own symbols, so V2-dot is sum_i (J s2)_i sum_k Jinv_ik X_k "
+        "with X_k containing (J n2)_k, and s2^T J n2 appears only through J J^-1 = I, which holds after the "
+        "charts of J and J^-1 (degree 16 in the chart's MRP per entry), not before. Needed: a general lemma "
+        "p^T B x = s^T x for p = A s, A = Q diag(d) Q^T, B = Q diag(1/d) Q^T, Q^T Q = Q Q^T = I (premises "
+        "structural or the small Q^T Q = I identity), mapped onto the statement's own summands to turn the "
+        "J^-1 sums into s2^T X; then c004_distribute to split (J n2)_k out of X_k, Cauchy-Schwarz (s2, J n2), "
+        "the n2 chain of attitude.n2_bound scaled by |s2| (c004_norm_scale), abs_product per component for "
+        "d_tau in the cube of half-width rho_tau, and the J-linear rest checked after the chart of J. Not "
+        "attempted for lack of time; position.V1dot_bound shows the pattern."),
+    "c004.theorem.Vdot_bound": (
+        "no plan yet: its first component is V1-dot + V2-dot against the sum of the two bounds, a composition "
+        "of the plans of position.V1dot_bound (certified) and attitude.V2dot_bound (not yet, see it), "
+        "whose coordinates it would merge (about 70); the other two components are ordering steps of "
+        "the kind Vs_bound certifies."),
 }
 
