@@ -134,4 +134,36 @@ SPECTRAL_NORM = Lemma(
     "d_i) y_i^2 >= 0, and lambda >= 0, so |M x| <= lambda |x|",
     _spectral_proof)
 
-LEMMAS: tuple = (NORM_HOMOGENEOUS, ASSOC_NORM, ORTHOGONAL_NORM, SKEW_NORM, SPECTRAL_NORM)
+# --------------------------------------------------------------------------- k p (q + z) = k p q + k p z
+
+P = _r("p")
+QS = _r("q")
+Z = _r("z")
+_DIST_GAP = K * P * (QS + Z) - K * P * QS - K * P * Z
+
+DISTRIBUTE = Lemma(
+    "c004_distribute", (K, P, QS, Z), _DIST_GAP, (),
+    "k p (q + z) - k p q - k p z = 0 >= 0 for all reals (distributivity, expanded to 0).  A plan uses it to "
+    "split one summand z out of a product k p (q + z) of a Lie derivative as the claim writes it, so that the "
+    "split term cancels exactly against the same expression in another lemma's instance",
+    lambda: _zero(_DIST_GAP))
+
+# --------------------------------------------------------------------------- k l |y| = k |l y| for k, l >= 0
+
+L_ = _r("l")
+
+
+def _scale_proof() -> bool:
+    lp = sp.Symbol("lp", positive=True)
+    sq = _zero(dot(L_ * Y, L_ * Y) - L_**2 * dot(Y, Y))
+    root = sp.sqrt(lp**2 * dot(Y, Y)) == lp * sp.sqrt(dot(Y, Y))
+    return bool(sq and root)
+
+
+NORM_SCALE = Lemma(
+    "c004_norm_scale", (K, L_, *Y), K * L_ * _norm(Y) - K * _norm(L_ * Y), (K, L_),
+    "k l |y| - k |l y| = 0 for k, l >= 0 (y in R^3): |l y|^2 = l^2 |y|^2 (expanded), and sqrt(l^2 Y) = "
+    "l sqrt(Y) for l >= 0, Y >= 0; then times k",
+    _scale_proof)
+
+LEMMAS: tuple = (NORM_HOMOGENEOUS, ASSOC_NORM, ORTHOGONAL_NORM, SKEW_NORM, SPECTRAL_NORM, DISTRIBUTE, NORM_SCALE)
