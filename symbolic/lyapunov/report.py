@@ -263,6 +263,7 @@ def totals(records: list[dict]) -> dict:
             "certificates": len(certified),
             "certificates_rechecked": sum(c["recheck"] == "passed" for c in certified),
             "certificates_failing_recheck": sum(c["recheck"].startswith("failed") for c in certified),
+            "certified_on_smaller_domain": sum(not c.get("covers_search_domain", True) for c in certified),
             "certificate_boxes": sum(c["boxes"] for c in certified),
             "derive_seconds": round(sum(c["seconds"] for c in certified), 1),
             "recheck_seconds": round(sum(c["recheck_seconds"] for c in certified), 1)}
@@ -319,8 +320,11 @@ def _evidence(o: dict | None, rec: dict | None = None) -> str:
     cert = rec.get("certificate") if rec else None
     if rec is not None and rec.get("evidence") == "certified" and cert:
         methods = ", ".join(f"{k} {v}" for k, v in sorted(cert["methods"].items()))
-        return (f"certified: {cert['boxes']} boxes ({methods}), {cert['goals']} goals, "
+        text = (f"certified: {cert['boxes']} boxes ({methods}), {cert['goals']} goals, "
                 f"{cert['seconds']:.1f} s; re-check {cert['recheck']} ({cert['recheck_seconds']:.1f} s)")
+        if not cert.get("covers_search_domain", True):
+            text += " -- on a smaller domain than the search's; the rest is not-disproved (see the domain)"
+        return text
     if not o["holds"]:
         return f"counterexample (violation {o['max_violation']:.3g})"
     if o["proved"]:
