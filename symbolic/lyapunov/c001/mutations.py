@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import inspect
+
 import sympy as sp
 
 from ...controllers import c001 as c
@@ -56,6 +58,17 @@ def _eq17_without_gyro(out, J, w_SI, f_total):
     return out + c.J_E_inv_times(J, c.gyroscopic_dual_force(J, w_SI))
 
 
+def _apf_gains_swapped(fn):
+    """``apf_terms`` called with k_a and k_r in each other's place (attractive 2.5e-5, repulsive 0.75)."""
+    sig = inspect.signature(fn)
+
+    def mutated(*a, **kw):
+        b = sig.bind(*a, **kw)
+        b.arguments["k_a"], b.arguments["k_r"] = b.arguments["k_r"], b.arguments["k_a"]
+        return fn(*b.args, **b.kwargs)
+    return mutated
+
+
 _LAW = ("c001.pose.Vdot_eq60", "c001.pose.Vdot_identity")
 _ESO = ("c001.eso.error_dynamics", "c001.eso.time_scaling")
 
@@ -98,4 +111,11 @@ MUTATIONS = [
              replace_output(_eq17_without_gyro), ("c001.plant.inertial_dual_acceleration",)),
     Mutation("c001: omega_S/T = omega_S/I + q* omega_T/I q (eq. 14)", c, "relative_dual_velocity",
              scale_argument("w_TI_T", -1), ("c001.plant.relative_dual_velocity",)),
+    # inequality-only: the identity claims build V_p and its gradient from c.apf and c.apf_gradient with symbolic
+    # gains; only the claims on the paper's data go through c.apf_terms (as C001.law does), and of those only eq. 56
+    # (k_a >> k_r) depends on which gain is which
+    Mutation("c001: k_a and k_r swapped in apf_terms (eqs. 51-53)", c, "apf_terms", _apf_gains_swapped,
+             ("c001.apf.convex_far",), inequality_only=True,
+             description="the law's APF with k_a = 2.5e-5, k_r = 0.75: the repulsive term dominates and its "
+                         "Hessian is indefinite far from the constraints (|r| in [40, 300] m)"),
 ]

@@ -5,6 +5,7 @@ from __future__ import annotations
 import sympy as sp
 
 from ...controllers import c004 as c
+from ...rotations import quat_vec
 from ..core import (
     Mutation,
     drop_terms,
@@ -36,6 +37,10 @@ def _eq20_without_transport(out, J, omega, omega_e, n2, tau, d_tau):
 def _g_without_centripetal(out, omega, omega_e, v_e, R, p_t):
     w_tc = c.S(omega - omega_e)
     return out - w_tc * w_tc * R * p_t
+
+
+def _mrp_without_shadow_switch(out, q):
+    return quat_vec(q) / (1 + q[3])
 
 
 def _mrp_without_cross(out, sigma, omega):
@@ -113,4 +118,9 @@ MUTATIONS = [
     Mutation("c004: centripetal S(w - w_e)^2 R p_t dropped from g (under eq. 20)", c, "coupling_g",
              replace_output(_g_without_centripetal), (_VEL,)),
     Mutation("c004: sign of n_1 (under eq. 20)", c, "coupling_n1", negate_output(), (_VEL,)),
+    # inequality-only: no identity claim evaluates principal_mrp (the model claims take sigma_e as a symbol);
+    # the law forms sigma_e(0) with it, and the proof needs ||sigma_e|| <= 1 (Table 1's sigma_e(0) is outside)
+    Mutation("c004: sigma_e without the shadow-set switch (principal_mrp)", c, "principal_mrp",
+             replace_output(_mrp_without_shadow_switch), (_id("theorem.sigma_e0_constraint"),), inequality_only=True,
+             description="q_v/(1 + q_w) for every q: Table 1's sigma_e(0) keeps its norm 1.049 > 1"),
 ]
