@@ -77,4 +77,23 @@ MAX_GE = Lemma(
     "Max(u, w) >= u: Max(u, w) is u where u = w + t (t > 0), w where w = u + t (t > 0), or u = w",
     _max_proof)
 
-LEMMAS: tuple = (RAYLEIGH_MIN2, RAYLEIGH_MAX2, MAX_GE)
+
+def _row_proof() -> bool:
+    # lambda_max^2 |x|^2 - |P x|^2 = (a + b) x^T M x, M = lambda_max I - P (det M = 0, so M^2 = tr(M) M by
+    # Cayley-Hamilton, tr M = lambda_max - lambda_min, and lambda_max^2 - P^2 = M (2 lambda_max - M) =
+    # (lambda_max + lambda_min) M = (a + b) M)
+    mform = _lmax * (_x**2 + _y**2) - _form
+    px2 = (_a * _x + _c * _y) ** 2 + (_c * _x + _b * _y) ** 2
+    return bool(_zero(_lmax**2 * (_x**2 + _y**2) - px2 - (_a + _b) * mform) and _rayleigh_proof(_lmax, -1))
+
+
+#: (P x)_2 <= lambda_max(P) |x| for P = [[a, c], [c, b]] with trace a + b >= 0
+ROW_LE_LMAX2 = Lemma(
+    "row_le_lambda_max_2", (_a, _b, _c, _x, _y), _lmax * sp.sqrt(_x**2 + _y**2) - (_c * _x + _b * _y), (_a + _b,),
+    "c x + b y <= lambda_max |x| for P = [[a, c], [c, b]] with a + b >= 0 (lambda_max as in rayleigh_max_2): "
+    "lambda_max^2 |x|^2 - |P x|^2 = (a + b) x^T (lambda_max I - P) x >= 0 (the identity; "
+    "x^T (lambda_max I - P) x >= 0 by rayleigh_max_2), so |P x| <= lambda_max |x| (both >= 0: "
+    "lambda_max >= (a + b)/2 >= 0; a^2 >= b^2 implies a >= b) and c x + b y = (P x)_2 <= |(P x)_2| <= |P x|",
+    _row_proof)
+
+LEMMAS: tuple = (RAYLEIGH_MIN2, RAYLEIGH_MAX2, MAX_GE, ROW_LE_LMAX2)
