@@ -304,7 +304,8 @@ UNCERTIFIED = {
         "can be split into per-channel side goals by a use whose weight is R_i.  A further cost: the Min/Max "
         "weights read both channels (10 coordinates), and their positivity rests on lambda_min(P_i), "
         "lambda_min(Q_i) > 0, which the closed form (a + b)/2 - (...)^(1/2) shows to intervals only on small "
-        "boxes (lambda_min/lambda_max(P) reaches ~1e-4 on k1, k2 in [0.1, 10]); those side goals would need "
+        "boxes (sampled lambda_min/lambda_max(P) goes down to 1.6e-5 on k1, k2 in [0.1, 10]); those side goals "
+        "would need "
         "the rationalised form det/((a + b)/2 + (...)^(1/2)) by reduce_side.  The printed statement is false "
         "(c001.pose.Vd_decay's note); the printed-gains instance is certified directly "
         "(c001.pose.Vd_decay_printed_gains).",
