@@ -167,3 +167,20 @@ NORM_SCALE = Lemma(
     _scale_proof)
 
 LEMMAS: tuple = (NORM_HOMOGENEOUS, ASSOC_NORM, ORTHOGONAL_NORM, SKEW_NORM, SPECTRAL_NORM, DISTRIBUTE, NORM_SCALE)
+
+# --------------------------------------------------------------------------- p^T B x = s^T x for p = A s, A^T B = I
+
+S_ = _vec("s")
+PV = _vec("pv")
+_E_AB = A.T * B - I3
+_PAIR_GAP = dot(S_, X) - dot(PV, B * X)
+
+INVERSE_PAIRING = Lemma(
+    "c004_inverse_pairing", (*S_, *X, *PV, *A, *B), _PAIR_GAP,
+    (*[e for i in range(3) for e in (PV[i] - (A * S_)[i], -(PV[i] - (A * S_)[i]))], *_pair(_E_AB, False)),
+    "s^T x - p^T B x = 0 for p = A s and A^T B = I (3x3 matrices; premises: each entry of p - A s and of "
+    "A^T B - I is >= 0 and <= 0): s^T x - p^T B x = -(p - A s)^T B x - s^T (A^T B - I) x (an identity, "
+    "checked), which is 0 under the premises.  With A = J, B = J^-1 it turns (J s)^T J^-1 x into s^T x",
+    lambda: _zero(_PAIR_GAP + dot(PV - A * S_, B * X) + (S_.T * _E_AB * X)[0, 0]))
+
+LEMMAS = (*LEMMAS, INVERSE_PAIRING)
