@@ -54,7 +54,7 @@ def domain_text(st: Statement) -> str:
     for v in st.domain:
         names = ", ".join(str(s) for s in v.symbols)
         parts.append(f"{names}: {v.describe}" if v.describe else names)
-    text = "; ".join(parts)
+    text = "; ".join(parts) or "every real value of its symbols (nothing drawn: the statement's symbols are free)"
     if st.assumptions:
         text += " (assumptions: " + "; ".join(st.assumptions) + ")"
     return text
