@@ -14,6 +14,12 @@ from ..core import Statement
 from .common import PAPER_GAINS
 
 
+#: the note of a plan that leaves out a declared-positive symbol's value 0, which the search also draws
+def _positive_note(what: str) -> str:
+    return (f"{what} is declared positive in the statement, the search also draws 0: the certified domain takes "
+            f"it in [1e-300, ...] and the sliver below 1e-300 (0 included) is left not-disproved")
+
+
 def _by_name(st: Statement) -> dict:
     """The statement's symbols by name."""
     return {s.name: s for s in st.free_symbols()}
@@ -59,7 +65,8 @@ def _lemma2_unit(st: Statement) -> Plan:
                           "search draws ||s|| in [0, (1e6 - 1) eps])")
     t = sp.sqrt(e**2 * u**2 + e**2)        # sqrt(||s||^2 + eps^2), as the statement has it
     plan = Plan([reg], "eps in [0.001, 0.1], k in [0.01, 10], ||s|| in [1e-300 eps, 1e6 eps] (||s|| > 0, as "
-                       "the statement's symbol is declared)")
+                       "the statement's symbol is declared)", covers_search_domain=False,
+                note=_positive_note("||s||"))
     _table_reduce(st, plan, {(0, 0): (k * e, 1 - u * e**2 / (t * (t + e * u)))})
     return plan
 
@@ -407,7 +414,8 @@ def _lumped_position(st: Statement) -> Plan:
                        "||omega_t|| <= a1, ||omegadot_t|| <= a2, ||v_t|| <= a3, ||sigma_t|| <= sigmanorm, "
                        "||Deltag|| <= a4, ||d_t|| <= D2, q any quaternion with |q| <= 1 (contains the unit ones), "
                        "v_t_dot any (it cancels from R v_t_dot - g_p = Deltag)",
-                reduce=lambda g: target, reduce_side=_small_factor, uses=tuple(uses))
+                reduce=lambda g: target, reduce_side=_small_factor, uses=tuple(uses), covers_search_domain=False,
+                note=_positive_note("D2"))
 
 
 def _lumped_attitude(st: Statement) -> Plan:
@@ -522,7 +530,8 @@ def _lumped_attitude(st: Statement) -> Plan:
                           "positive), k1 in [0.5, 3] 1/s, kappa1 in [0.01, 2] N m, chi1 in [-3, 3]^3, q any quaternion "
                           "with |q| <= 1 (contains the unit ones), J = C diag(d) C^T with C any rotation and d_i in "
                           "[b1/8, b1], b1 in [5, 40] kg m^2 (contains d_i in [5, 40] with b1 = max d)",
-                reduce=lambda g: target, reduce_side=_small_factor, uses=tuple(uses))
+                reduce=lambda g: target, reduce_side=_small_factor, uses=tuple(uses), covers_search_domain=False,
+                note=_positive_note("D1"))
 
 
 # --------------------------------------------------------------------------- eq. 29: the bound on V1_dot
@@ -603,7 +612,8 @@ def _v1_bound(st: Statement) -> Plan:
                        "[-2, 2]^3, s2 in [-5, 5]^3 (contain the search's balls), omega~ in [-1, 1]^3 rad/s, v~ in "
                        "[-2, 2]^3 m/s, r~ in [-20, 20]^3 m, alpha^ in [-1, 5]^9, alpha in (0, 5]^9 (declared "
                        "positive), gamma in [0.1, 2]^9, ||Phi1|| <= alpha1 |w|^2 + alpha2 |w| + alpha3, ||Phi2|| <= "
-                       "eq. 22's bound", reduce=lambda g: target, reduce_side=reduce_side, uses=tuple(uses))
+                       "eq. 22's bound", reduce=lambda g: target, reduce_side=reduce_side, uses=tuple(uses),
+                covers_search_domain=False, note=_positive_note("each alpha_i"))
 
 
 # --------------------------------------------------------------------------- eqs. 30-33: exponential forms
@@ -727,7 +737,8 @@ def _v1_exponential(st: Statement) -> Plan:
     dom.append("eps in [1e-4, 0.1], omega~ in [-1, 1]^3 rad/s, alpha^_i in [-1, 5], alpha_i in (0, 5] (declared "
                "positive), gamma_i in [0.1, 2], beta_i in [0.001, 10], l_i in [0.5, 5], ||Phi_j|| <= the bounds of "
                "eqs. 21-22 (the s_j boxes contain the search's balls)")
-    plan = Plan(regions, "; ".join(dom), reduce_side=reduce_side, uses=tuple(uses))
+    plan = Plan(regions, "; ".join(dom), reduce_side=reduce_side, uses=tuple(uses), covers_search_domain=False,
+                note=_positive_note("each alpha_i"))
     _table_reduce(st, plan, forms)
     return plan
 
