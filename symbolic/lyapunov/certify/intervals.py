@@ -257,6 +257,10 @@ def constant(c: sp.Expr) -> tuple[float, float, bool]:
 
 # --------------------------------------------------------------------------- compilation
 
+#: one-argument functions and the program's operation for each
+UNARY = {sp.exp: "exp", sp.log: "log", sp.tanh: "tanh", sp.cosh: "cosh", sp.sin: "sin", sp.cos: "cos",
+         sp.atan: "atan", sp.Abs: "abs", sp.sign: "sign"}
+
 NONSMOOTH = (sp.Abs, sp.sign, sp.Heaviside, Step, sp.Max, sp.Min, Fmax, sp.Piecewise)
 
 
@@ -458,26 +462,10 @@ def compile_exprs(exprs: Sequence[sp.Expr], variables: Sequence[sp.Symbol]) -> P
                 return k
             # general power b**x = exp(x log b)
             return emit(sp.exp(x * sp.log(b)))
-        if isinstance(e, sp.exp):
-            return _unary("exp", e.args[0])
-        if isinstance(e, sp.log):
-            return _unary("log", e.args[0])
-        if isinstance(e, sp.tanh):
-            return _unary("tanh", e.args[0])
-        if isinstance(e, sp.cosh):
-            return _unary("cosh", e.args[0])
+        if type(e) in UNARY:
+            return _unary(UNARY[type(e)], e.args[0])
         if isinstance(e, sp.sinh):
             return emit((sp.exp(e.args[0]) - sp.exp(-e.args[0])) / 2)
-        if isinstance(e, sp.sin):
-            return _unary("sin", e.args[0])
-        if isinstance(e, sp.cos):
-            return _unary("cos", e.args[0])
-        if isinstance(e, sp.atan):
-            return _unary("atan", e.args[0])
-        if isinstance(e, sp.Abs):
-            return _unary("abs", e.args[0])
-        if isinstance(e, sp.sign):
-            return _unary("sign", e.args[0])
         if isinstance(e, sp.Heaviside):
             h0 = e.args[1] if len(e.args) > 1 else sp.Rational(1, 2)
             inner = emit(e.args[0])
