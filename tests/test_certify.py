@@ -193,3 +193,56 @@ def test_a_coordinate_whose_box_contradicts_its_assumptions_is_refused():
     st = lyapunov.core.Statement(p, ">=", 0, [])
     with pytest.raises(ValueError, match="declared positive"):
         goals(st, Plan([reg], "p in [-1, 1]"))
+
+
+def test_a_theorem_is_certified_from_certified_claims_and_only_inside_their_domain():
+    """004's eq. 38 from the certified eqs. 27 and 36 (certify/compose.py): certified, rests on both; a region
+    reaching outside a used claim's certified domain, an edited used statement, or a claim without a
+    certificate is refused."""
+    from dataclasses import replace
+
+    from rpo.symbolic.lyapunov.certify.compose import check_claim_use, claim_use
+    from rpo.symbolic.lyapunov.certify.plan import Use
+
+    cl = CLAIMS["c004.theorem.Vdot_bound"]
+    st = cl.paper()
+    plan = plan_for(cl, "paper")(st)
+    res, data = C.derive(cl, "paper", st, plan, log=lambda *a: None)
+    assert res.status == "certified" and data is not None
+    assert data["depends"] == ["c004.position.V1dot_bound.paper", "c004.attitude.V2dot_bound.paper"]
+    assert C.recheck(cl, "paper", st, plan, data).recheck == "passed"
+    use = plan.uses[0]
+    reg = plan.regions[0]
+    k = next(i for i, c in enumerate(reg.coords) if c.symbol.name == "k1_1")
+    c0 = reg.coords[k]
+    wider = replace(reg, coords=(*reg.coords[:k], Coordinate(c0.symbol, c0.lo, 2 * c0.hi, c0.unit),
+                                 *reg.coords[k + 1:]))
+    with pytest.raises(CheckError, match="does not contain region 0"):
+        check_claim_use(use, Plan([wider], plan.domain, uses=plan.uses))
+    edited = Use(replace(use.lemma, gap=use.lemma.gap + 1), {}, 1, 0)
+    with pytest.raises(CheckError, match="not the claim's statement"):
+        check_claim_use(edited, plan)
+    plan.uses = (*plan.uses, claim_use("c001.apf.convex_far", 0))       # not certified: no plan
+    got, _ = C.derive(cl, "paper", st, plan, log=lambda *a: None)
+    assert got.status == "cannot" and "has no plan" in got.reason
+
+
+def test_a_certificate_resting_on_a_failed_one_does_not_count():
+    from rpo.symbolic.lyapunov.report import resolve_dependencies
+
+    def rec(cid, recheck, depends=()):
+        cert = {"status": "certified", "recheck": recheck, "depends": list(depends)}
+        return {"id": cid, "status": "proved (certified)", "_search_status": "not-disproved", "corrected": None,
+                "evidence_statement": "paper", "certificate": cert, "implementation_certificate": None,
+                "about": "abstract", "paper": {"proved": False, "holds": True}, "evidence": "certified"}
+
+    good = [rec("a", "passed"), rec("b", "passed", ["a.paper"])]
+    assert resolve_dependencies(good) == [] and good[1]["status"] == "proved (certified)"
+    bad = [rec("c004.position.V1dot_bound", "failed: a leaf"), rec("c004.theorem.Vdot_bound", "passed",
+                                                                     ["c004.position.V1dot_bound.paper"])]
+    assert resolve_dependencies(bad) == ["c004.theorem.Vdot_bound"]
+    assert bad[1]["certificate"]["recheck"].startswith("failed: it rests on c004.position.V1dot_bound.paper")
+    assert bad[1]["status"] == "not-disproved" and bad[1]["evidence"] == "sampled"
+    alone = [rec("c004.theorem.Vdot_bound", "passed", ["missing.paper"])]
+    assert resolve_dependencies(alone) == ["c004.theorem.Vdot_bound"]
+    assert "is not in this run" in alone[0]["certificate"]["recheck"]

@@ -127,12 +127,52 @@ def _run_one(args) -> dict:
         rec["domain"] = cert["domain"]
         rec["search_domain"] = domain
     rec["seconds"] = round(rec["seconds"] + time.perf_counter() - t0, 2)
+    rec["_search_status"] = rec["status"]
     rec = classify(rec)
     if rec["evidence"] == "sampled":
         from .certify import uncertified_reason
 
         rec["sampled_reason"] = uncertified_reason(cl)
     return rec
+
+
+def resolve_dependencies(records: list[dict]) -> list[str]:
+    """A certificate proved from certified claims (``certify/compose.py``) counts as re-checked only when each
+    claim it rests on has a certificate that passed its own re-check in the same run: otherwise its re-check
+    is marked failed and its record classified again (in place).  Returns the ids of the records changed."""
+    certs: dict[str, dict] = {}
+    for r in records:
+        if r.get("certificate") and r.get("evidence_statement"):
+            certs[f"{r['id']}.{r['evidence_statement']}"] = r["certificate"]
+        if r.get("implementation_certificate"):
+            certs[f"{r['id']}.{'corrected' if r['corrected'] else 'paper'}"] = r["implementation_certificate"]
+    changed = []
+    for r in records:
+        for key in ("certificate", "implementation_certificate"):
+            cert = r.get(key)
+            if not cert or cert.get("recheck") != "passed":
+                continue
+            for dep in cert.get("depends", []):
+                d = certs.get(dep)
+                if d is None or d["status"] != "certified" or d["recheck"] != "passed":
+                    state = ("is not in this run" if d is None
+                             else f"is {d['status']}, re-check {d['recheck'] or 'not run'}")
+                    cert["recheck"] = f"failed: it rests on {dep}, whose certificate {state}"
+                    if key == "certificate":
+                        changed.append(r["id"])
+                    break
+    for r in records:
+        if r["id"] in changed:
+            from .certify import uncertified_reason
+            from .certify.compose import find_claim
+
+            r["status"] = r["_search_status"]
+            classify(r)
+            if r["evidence"] == "sampled":
+                r["sampled_reason"] = r["certificate"]["recheck"] + ". " + uncertified_reason(find_claim(r["id"]))
+    for r in records:
+        r.pop("_search_status", None)
+    return changed
 
 
 def run_claims(controller: str | None = None, symbolic: bool = True, jobs: int = 1, seed: int = 0,
@@ -152,7 +192,10 @@ def run_claims(controller: str | None = None, symbolic: bool = True, jobs: int =
             rec = _run_one(w)
             out[rec["id"]] = rec
             log(_line(rec))
-    return [out[i] for i in ids]
+    records = [out[i] for i in ids]
+    for cid in resolve_dependencies(records):
+        log(f"  {cid}: {out[cid]['certificate']['recheck']}")
+    return records
 
 
 def _line(rec: dict) -> str:

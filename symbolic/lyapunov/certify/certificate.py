@@ -32,6 +32,7 @@ import sympy as sp
 
 from ..core import Claim, Statement
 from . import bnb
+from .compose import ClaimLemma, check_claim_use, dependencies
 from .lemmas import LIBRARY
 from .plan import Plan, expr_hash, gaps, goal_coordinates, goals, region_hash, statement_hash
 from .recheck import CheckError, LeafChecker, walk
@@ -57,6 +58,7 @@ class Certification:
     reason: str = ""
     counterexample: dict | None = None
     note: str = ""
+    depends: list = field(default_factory=list)   # certificates (``<claim id>.<tag>``) the proof uses
 
     def to_json(self) -> dict:
         d = dict(self.__dict__)
@@ -120,8 +122,10 @@ def derive(claim: Claim, tag: str, st: Statement, plan: Plan, log=print) -> tupl
             "regions": [{"text": reg.text(), "hash": region_hash(reg)} for reg in plan.regions],
             "goals": out_goals, "boxes": boxes, "methods": methods, "seconds": round(elapsed, 2),
             "derived_with": "rpo.symbolic.lyapunov.certify.bnb (NumPy float64 intervals, outward rounding)"}
+    if dependencies(plan):
+        data["depends"] = dependencies(plan)
     return Certification("certified", plan.domain, plan.covers_search_domain, boxes, methods, len(gl), elapsed,
-                         note=plan.note), data
+                         note=plan.note, depends=dependencies(plan)), data
 
 
 def _statement_point(reg, point: dict) -> dict:
@@ -156,6 +160,10 @@ def _check_steps(st: Statement, plan: Plan, seconds: float | None = None) -> Non
             raise CheckError("the margin of a '>' statement is not a positive sum of squares in zero_at")
     checked: set[str] = set()        # each lemma's proof once per plan (a plan may use one lemma many times)
     for u in plan.uses:
+        if isinstance(u.lemma, ClaimLemma):
+            # a certified claim: its statement, domain and certificate, checked from the current sources
+            check_claim_use(u, plan)
+            continue
         # only the reviewed library: a lemma's proof is code, and a claim-sized "lemma" whose inequality
         # steps are argued in prose would carry the whole proof unchecked
         if LIBRARY.get(u.lemma.name) is not u.lemma:
@@ -232,7 +240,8 @@ def read(claim_id: str, tag: str, store: Path = STORE) -> dict | None:
 def recheck(claim: Claim, tag: str, st: Statement, plan: Plan, data: dict) -> Certification:
     """Re-check a stored certificate against the current sources (status "stale" when they changed)."""
     t0 = time.perf_counter()
-    base = dict(domain=plan.domain, covers_search_domain=plan.covers_search_domain, note=plan.note)
+    base = dict(domain=plan.domain, covers_search_domain=plan.covers_search_domain, note=plan.note,
+                depends=dependencies(plan))
     if data.get("format") != FORMAT or data.get("claim") != claim.id or data.get("statement") != tag:
         return Certification("stale", reason="certificate of another claim, statement or format", **base)
     if data["statement_hash"] != statement_hash(st):

@@ -9,7 +9,8 @@ the lemma's symbols to expressions of the statement's.
 This library is the trusted base of the certificates: a lemma's proof is code that checks identities, and
 the textbook step that turns them into ``gap >= 0`` is in its text.  So every lemma is small, general and
 reviewed here, and the checker refuses a lemma that is not in :data:`LIBRARY` (a claim-sized "lemma"
-defined in a plan would carry its proof unchecked).
+defined in a plan would carry its proof unchecked).  The one other kind of lemma is a claim that is itself
+certified (:mod:`.compose`), checked against its own certificate and domain.
 """
 
 from __future__ import annotations
