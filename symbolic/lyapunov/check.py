@@ -74,18 +74,21 @@ class _Timeout(Exception):
 
 @contextlib.contextmanager
 def time_limit(seconds: float):
-    """Raise _Timeout after ``seconds`` (SIGALRM; main thread only, else no limit)."""
+    """Raise _Timeout after ``seconds`` of this process's CPU time (SIGPROF; main thread only, else no limit).
+
+    CPU time, not wall time: a claim's status must not depend on how loaded the machine is (a proof that
+    takes 30 s of CPU gave up at a 60 s wall-clock limit on a machine running six jobs on two cores)."""
     try:
-        old = signal.signal(signal.SIGALRM, lambda *a: (_ for _ in ()).throw(_Timeout()))
+        old = signal.signal(signal.SIGPROF, lambda *a: (_ for _ in ()).throw(_Timeout()))
     except ValueError:        # not the main thread
         yield
         return
-    signal.setitimer(signal.ITIMER_REAL, seconds)
+    signal.setitimer(signal.ITIMER_PROF, seconds)
     try:
         yield
     finally:
-        signal.setitimer(signal.ITIMER_REAL, 0)
-        signal.signal(signal.SIGALRM, old)
+        signal.setitimer(signal.ITIMER_PROF, 0)
+        signal.signal(signal.SIGPROF, old)
 
 
 # --------------------------------------------------------------------------- numeric search
