@@ -1,15 +1,30 @@
-"""The SI units of the search domains (``symbolic/lyapunov/units.py``): how a domain symbol finds its unit in its
-controller's ``UNITS`` and the text the report prints after each set."""
+"""Every search domain of the verification report has SI units: each domain symbol of each claim's statements
+has a unit in its controller's ``UNITS`` (``symbolic/lyapunov/<controller>/common.py``), and the report prints it."""
 
 from __future__ import annotations
 
 import pytest
 import sympy as sp
 
+from rpo.symbolic import lyapunov
 from rpo.symbolic.lyapunov.core import Claim, Statement
 from rpo.symbolic.lyapunov.domains import ball, box, fixed, unit_quaternion
 from rpo.symbolic.lyapunov.report import domain_text
-from rpo.symbolic.lyapunov.units import MissingUnit, candidates, declare, unit_of, units_text
+from rpo.symbolic.lyapunov.units import MissingUnit, candidates, declare, missing, unit_of, units_text
+
+
+@pytest.mark.parametrize("controller", lyapunov.controllers())
+def test_every_domain_symbol_has_a_unit(controller):
+    """Builds each statement of the controller (about 20 s for all four) and names every claim and symbol
+    without a declared unit."""
+    units = lyapunov.module(controller).UNITS
+    lacking = []
+    for cl in lyapunov.claims(controller):
+        for tag in ("paper", "corrected"):
+            build = getattr(cl, tag)
+            if build is not None:
+                lacking += [f"{cl.id} ({tag}): {s}" for s in missing(cl, build().domain, units)]
+    assert not lacking, "no unit declared for:\n" + "\n".join(sorted(set(lacking)))
 
 
 def _claim(controller="c004", part="position", name="position.test"):
@@ -61,3 +76,10 @@ def test_domain_text_prints_the_units():
     assert domain_text(st) == ("r_e_1, r_e_2, r_e_3: in [-40, 40]; v_e_1, v_e_2, v_e_3: in [-2, 2]; q_1, q_2, q_3, "
                                "q_4: unit quaternion; m: fixed; d_f_1, d_f_2, d_f_3: |.| <= 1.0; s_1_1, s_1_2, "
                                "s_1_3: |.| <= m (assumptions: m > 0)")
+
+
+def test_the_report_prints_a_claims_search_domain_with_units():
+    cl = next(c for c in lyapunov.claims("c004") if c.id == "c004.position.V1_definite")
+    text = domain_text(cl.paper(), cl)
+    assert "r_e_1, r_e_2, r_e_3: in [-30, 30] m;" in text
+    assert "m: in [20, 100] kg" in text and "k_0: in [0.01, 1] N/m" in text
