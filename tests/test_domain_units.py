@@ -83,3 +83,14 @@ def test_the_report_prints_a_claims_search_domain_with_units():
     text = domain_text(cl.paper(), cl)
     assert "r_e_1, r_e_2, r_e_3: in [-30, 30] m;" in text
     assert "m: in [20, 100] kg" in text and "k_0: in [0.01, 1] N/m" in text
+
+
+def test_a_ball_with_a_computed_radius_prints_its_docstring_not_its_repr():
+    """The report's text is reproducible: no memory address of a radius function in it."""
+    def radius(env):
+        """alpha1 |w| + alpha2 (eq. 99)"""
+
+    x = sp.symbols("x_1:3")
+    assert ball(x, radius).describe == "|.| <= alpha1 |w| + alpha2 (eq. 99)"
+    assert ball(x, lambda env: 1.0).describe == "|.| <= <lambda>(...)"
+    assert ball(x, sp.Symbol("D")).describe == "|.| <= D"
