@@ -1,7 +1,8 @@
 """Lyapunov claims of each controller design and the checker that verifies them.
 
 The claims of controller ``<c>`` live in ``symbolic/lyapunov/<c>/`` (a package whose ``__init__`` exposes
-``CLAIMS``, ``MUTATIONS`` and optionally ``TITLE``; a single module ``<c>.py`` works too).  They are
+``CLAIMS``, ``MUTATIONS``, ``UNITS`` (the SI unit of each domain symbol, :mod:`.units`) and optionally
+``TITLE``; a single module ``<c>.py`` works too).  They are
 *discovered*: every module or package here whose name is a controller module of
 ``symbolic/controllers/`` is a claims module, so adding one needs no registration, and a controller
 without claims (``baseline``, or a new copy of a design) is simply not checked.

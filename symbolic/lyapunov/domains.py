@@ -62,7 +62,8 @@ def box(symbols, lo: float, hi: float) -> Var:
 
 
 def ball(symbols, radius: float | sp.Symbol | Callable[[dict], np.ndarray]) -> Var:
-    """A vector with Euclidean norm <= radius (radius: a number, a symbol drawn earlier, or f(env))."""
+    """A vector with Euclidean norm <= radius (radius: a number, a symbol drawn earlier, or f(env), described by
+    its docstring)."""
     s = _syms(symbols)
 
     def draw(z, env):
@@ -70,8 +71,17 @@ def ball(symbols, radius: float | sp.Symbol | Callable[[dict], np.ndarray]) -> V
         unit_ball = z / np.maximum(n, 1.0)
         return unit_ball * _radius(radius, env, len(z))[:, None]
 
-    return Var(s, len(s), draw, f"|.| <= {radius}",
+    return Var(s, len(s), draw, f"|.| <= {_radius_text(radius)}",
                frozenset([radius]) if isinstance(radius, sp.Symbol) else frozenset())
+
+
+def _radius_text(radius) -> str:
+    """A radius for the report: a number or symbol as it prints; a function by the first line of its docstring
+    (its name if it has none), never its repr (which holds a memory address)."""
+    if callable(radius) and not isinstance(radius, sp.Basic):
+        doc = (radius.__doc__ or "").strip()
+        return doc.splitlines()[0] if doc else f"{radius.__name__}(...)"
+    return str(radius)
 
 
 def _radius(radius, env, n):

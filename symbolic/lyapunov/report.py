@@ -13,6 +13,7 @@ from . import mutations as all_mutations
 from . import title
 from .check import LOCAL_ONLY, ClaimResult, Outcome, check_claim, check_statement
 from .core import Claim, Mutation, Statement
+from .units import units_text
 
 FORMAT = 2
 
@@ -48,12 +49,15 @@ def evidence_tag(res: ClaimResult) -> str | None:
     return "paper" if res.paper is not None else None
 
 
-def domain_text(st: Statement) -> str:
-    """The search domain as the samplers draw it: each variable's symbols and set, then the assumptions."""
+def domain_text(st: Statement, cl: Claim | None = None) -> str:
+    """The search domain as the samplers draw it: each variable's symbols and set, in SI units (``cl``'s
+    controller's ``UNITS``, see :mod:`.units`; a dimensionless set has none), then the assumptions.  Without
+    ``cl``, no units.  A domain symbol without a declared unit raises :class:`~.units.MissingUnit`."""
     parts = []
     for v in st.domain:
         names = ", ".join(str(s) for s in v.symbols)
-        parts.append(f"{names}: {v.describe}" if v.describe else names)
+        text = f"{names}: {v.describe}" if v.describe else names
+        parts.append(text + (units_text(cl, v) if cl is not None else ""))
     text = "; ".join(parts) or "every real value of its symbols (nothing drawn: the statement's symbols are free)"
     if st.assumptions:
         text += " (assumptions: " + "; ".join(st.assumptions) + ")"
@@ -104,9 +108,9 @@ def _certify(cl: Claim, res: ClaimResult, mode: str, log) -> tuple[str | None, d
         st = (cl.corrected if t == "corrected" else cl.paper)()
         o = getattr(res, t)
         if mode == "off" or not o.holds or o.proved or st.relation == "==" or plan_for(cl, t) is None:
-            return None, domain_text(st)
+            return None, domain_text(st, cl)
         cert = certify(cl, t, st, mode=mode, log=log)
-        return (cert.to_json() if cert is not None else None), domain_text(st)
+        return (cert.to_json() if cert is not None else None), domain_text(st, cl)
 
     cert, domain = one(tag)
     impl = implementation_tag(cl)
@@ -446,7 +450,8 @@ def markdown(data: dict) -> str:
             for r in sampled:
                 L.append(f"- `{r['id']}`: {_cell(r.get('sampled_reason') or '(no written reason)')}")
             L.append("")
-        L += ["Domains (the certified domain where a certificate exists, else the search domain):", ""]
+        L += ["Domains (the certified domain where a certificate exists, else the search domain; a search domain's "
+              "sets are in SI units, a set without a unit is dimensionless):", ""]
         for r in rs:
             cert = r.get("certificate")
             dom = r.get("domain") or "-"

@@ -25,9 +25,10 @@ V is not in the controller module (000 only adapts); the candidates are written 
 
 from __future__ import annotations
 
-from . import attitude, boundary_layer, mutations, translation
+from . import attitude, boundary_layer, common, mutations, translation
 
 TITLE = "000: adaptive sliding mode with adjustable desired acceleration"
 
 CLAIMS = [*boundary_layer.CLAIMS, *attitude.CLAIMS, *translation.CLAIMS]
 MUTATIONS = mutations.MUTATIONS
+UNITS = common.UNITS

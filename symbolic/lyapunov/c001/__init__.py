@@ -31,9 +31,10 @@ wiring); the gains and limits are read from ``C001().k``'s defaults.
 
 from __future__ import annotations
 
-from . import apf, eso, model, mutations, plant, pose
+from . import apf, common, eso, model, mutations, plant, pose
 
 TITLE = "001: dual quaternions, super-twisting ESO, artificial potential"
 
 CLAIMS = [*model.CLAIMS, *plant.CLAIMS, *eso.CLAIMS, *pose.CLAIMS, *apf.CLAIMS]
 MUTATIONS = mutations.MUTATIONS
+UNITS = common.UNITS

@@ -16,6 +16,7 @@ from ..domains import (
     rotate,
     unit_rows,
 )
+from ..units import declare, layout_units
 
 # --------------------------------------------------------------------------- the paper's data (sec. 7)
 # read from C001's gain defaults (the values rpo flies), not typed again
@@ -114,3 +115,76 @@ def _paper_apf(q: sp.Matrix, on_axis: bool = False):
     a = c.apf_terms(q, sp.Matrix(Q_D), sp.Matrix(R_D), K_A, K_R, sp.Float(THETA), sp.Float(Z_N), sp.Float(R_S),
                     sp.Float(R_T), FOV_EPS)
     return unstep(a["V_p"]), a["dq_err"], unstep(a["grad"])
+
+
+# --------------------------------------------------------------------------- units of the domain symbols
+# (the report prints them with each search domain; ..units).  Channel convention of the dual vectors (rpo storage,
+# ``_pv``): components 1-3 are the real part, 4-6 the dual part: angular then linear for a velocity or an
+# acceleration (omega + eps v), force then torque for a dual force (F + eps tau).  A dual quaternion's entries 1-4
+# are the real (rotation) part, 5-8 the dual part r q / 2 (m).  The ESO's channels follow the same numbering (a
+# statement over fewer channels, e.g. eso.V1dot_bound's two, takes the first ones: angular).
+
+
+def _channels(name: str, first: str, second: str) -> dict:
+    return {f"{name}_{i}": first if i <= 3 else second for i in range(1, 7)}
+
+
+def _dual_quaternion(name: str, real: str = "1", dual: str = "m") -> dict:
+    return {f"{name}_{i}": real if i <= 4 else dual for i in range(1, 9)}
+
+
+def _either(angular: str, linear: str) -> str:
+    """A scalar of the ESO or of V that serves both kinds of channel."""
+    return f"{angular} or {linear} (angular or linear channels)"
+
+
+_ACC = ("rad/s^2", "m/s^2")
+_DESIGN = c.C001()
+
+UNITS = declare(layout_units(_DESIGN.k, _DESIGN.xc), {
+    # ---- poses (eqs. 6-7, 13, 49-51) and their constraints (eqs. 40-48)
+    **_dual_quaternion("q"), **_dual_quaternion("qS"), **_dual_quaternion("qT"), **_dual_quaternion("qD"),
+    **_dual_quaternion("Deltaq"),
+    "Q": "1", "v": "1",          # a unit quaternion; a unit 8-vector (a direction of q, eq. 53's convexity)
+    "beta_FOV": "m", "beta_CA": "m^2",
+    **_dual_quaternion("gFOV", "m", "1"), **_dual_quaternion("gCA", "m^2", "m"),   # gradients in q (eq. 55)
+    "epsilon": "m",                                                                # rpo's fov_eps
+    # V_p (eq. 53) is a number: k_a and k_r weigh Delta q o Delta q, which adds the rotation part (1) and the
+    # position part (m^2), and eq. 52 divides it by beta_FOV (m) and beta_CA (m^2): SI numbers, as the layout's
+    # note on k_r says
+    "k_a": "SI numbers (eq. 51 adds 1 and m^2 parts of Delta q o Delta q)",
+    "k_r": "SI numbers (eq. 52: Delta q o Delta q over beta_FOV in m and beta_CA in m^2)",
+    **_dual_quaternion("g", "1", "1/m"),                                           # grad V_p in q
+    # ---- the pose law (eqs. 57-64): V = 2 k_p V_p + omega o (EJE omega)/2 + k_v V_d in J
+    **_channels("omega", "rad/s", "m/s"), **_channels("omegaSI", "rad/s", "m/s"),
+    **_channels("omegaTI", "rad/s", "m/s"), **_channels("omegahat", "rad/s", "m/s"),
+    **_channels("omegadotTI", *_ACC), **_channels("dhat", *_ACC), **_channels("Deltad", *_ACC),
+    **_channels("fG", "N", "N m"), **_channels("fC", "N", "N m"), **_channels("fD", "N", "N m"),
+    "M": "kg m^2",
+    "k_p": "N m",                                       # k_p V_p is an energy, the torque k_p [V_p]
+    "k_d": "N s/m or N m s (force or torque channels)",   # the layout's doc: N s/m and N m s
+    # V_d := V1 of Prop. 1 (the corrected chain), in (rad/s^2)^2 or (m/s^2)^2 per channel; k_v V_d in J
+    "V_d": _either("rad^2/s^4", "m^2/s^4"), "Vdot_d": _either("rad^2/s^5", "m^2/s^5"),
+    "k_v": _either("kg m^2 s^2", "kg s^2"),
+    # D of the printed V_d = Dd^T D Dd: the rate of eq. 64's V_d-dot <= -D |Delta d|^2 (corrected D =
+    # 2 chi kappa2 lambda_min(P)/delta)
+    **{f"D_{i}": "1/s" for i in range(1, 7)},
+    # ---- the ESO (eqs. 21-39): channel i of the dual velocity; the scaled time t/delta of eq. 27
+    **_channels("a", *_ACC), **_channels("d", *_ACC), **_channels("alpha", "rad/s^3", "m/s^3"),
+    **_channels("eta1", *_ACC), **_channels("eta2", *_ACC), **_channels("Theta", *_ACC),
+    **_channels("y", "(rad/s^2)^(1/2)", "(m/s^2)^(1/2)"),           # y = |eta1|^(1/2)
+    "eta1": _either(*_ACC), "eta2": _either(*_ACC), "y": _either("(rad/s^2)^(1/2)", "(m/s^2)^(1/2)"),
+    "k1": "1", "k2": "1", "k1_v": "1", "k2_v": "1",     # K1, K2 (eq. 23): k1_1..6, k1_w, k1_v (the layout's "-")
+    "kappa_1": _either("(rad/s^2)^(1/2)", "(m/s^2)^(1/2)"),   # Theta = kappa1 sig^(1/2)(eta1) + kappa2 eta1
+    "kappa_2": "1",
+    "Q11": "1", "Q12": "1", "Q22": "1",                 # Q_i, P_i (eq. 32): V1 in the channel's (unit/s^2)^2
+    "C": _either("rad/s^3", "m/s^3"),                    # the bound on |alpha|
+    "Y": _either(*_ACC), "y_0": _either(*_ACC),           # V1^(1/2) (eqs. 37-39)
+    "a": _either(*_ACC),                                 # gamma kappa1^2 - delta sigma (eq. 37)
+    "b": "1",                                            # chi kappa2 (scaled time)
+    "t": "1",                                            # the scaled time of eq. 27
+    "nu": "rad",
+    # ---- the model (eqs. 12-20) and rpo's plant
+    "F": "N", "tau": "N m", "V": "m/s", "VS": "m/s", "VT": "m/s", "r": "m", "rS": "m", "rT": "m",
+    "omegaS": "rad/s", "omegaT": "rad/s",
+})

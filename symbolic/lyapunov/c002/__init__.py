@@ -23,9 +23,10 @@ is computed as cosh^2 in the code) is applied before the symbolic proof: :func:`
 
 from __future__ import annotations
 
-from . import gains, model, mutations, plant, v1, v2, v3
+from . import common, gains, model, mutations, plant, v1, v2, v3
 
 TITLE = "002: adaptive sliding mode with a tanh anti-saturation system"
 
 CLAIMS = [*model.CLAIMS, *plant.CLAIMS, *v1.CLAIMS, *v2.CLAIMS, *v3.CLAIMS, *gains.CLAIMS]
 MUTATIONS = mutations.MUTATIONS
+UNITS = common.UNITS

@@ -179,10 +179,12 @@ class _Abstract:
         w, v, r = (lambda env, x=x: np.sqrt(sum(env[s] ** 2 for s in x)) for x in (S.w, S.v, S.r))
 
         def r1(env):
+            """alpha1 |w|^2 + alpha2 |w| + alpha3 (eq. 21)"""
             ww = w(env)
             return env[al[0]] * ww**2 + env[al[1]] * ww + env[al[2]]
 
         def r2(env):
+            """alpha4 |w||v| + alpha5 |w||r| + alpha6 |w| + alpha7 |v| + alpha8 |r| + alpha9 (eq. 22)"""
             ww, vv, rr = w(env), v(env), r(env)
             return (env[al[3]] * ww * vv + env[al[4]] * ww * rr + env[al[5]] * ww + env[al[6]] * vv
                     + env[al[7]] * rr + env[al[8]])

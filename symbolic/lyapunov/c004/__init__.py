@@ -15,9 +15,10 @@ really has that form through eqs. 9-18, and the bounds that use ||R|| = 1 and th
 
 from __future__ import annotations
 
-from . import attitude, model, mutations, plant, position, theorem
+from . import attitude, common, model, mutations, plant, position, theorem
 
 TITLE = "004: robust adaptive control with MRPs"
 
 CLAIMS = [*position.CLAIMS, *attitude.CLAIMS, *theorem.CLAIMS, *model.CLAIMS, *plant.CLAIMS]
 MUTATIONS = mutations.MUTATIONS
+UNITS = common.UNITS

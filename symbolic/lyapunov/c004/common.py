@@ -17,6 +17,7 @@ from ..domains import (
     upper,
 )
 from ..scenarios import scenario
+from ..units import declare, layout_units
 
 # The paper's data (section 5): chaser inertia J, target inertia J_t (the search domains cover them).
 _SCENARIO = scenario("004_scenario")                   # paper Table 1
@@ -128,3 +129,43 @@ def _s_dot(s, states, rates):
 # --------------------------------------------------------------------------- claims
 
 _C = "c004"
+
+
+# --------------------------------------------------------------------------- units of the domain symbols
+# (the report prints them with each search domain; ..units).  The claims name the controller's gains and
+# estimates their own way (k_0 for k0, gamma_1 for gamma1, lambda1_i for Lambda1_x, ...): their units are the
+# layout's, looked up under the layout's name.
+
+_DESIGN = c.C004()
+_L = layout_units(_DESIGN.k, _DESIGN.xc)
+_LAYOUT_NAMES = {"k_0": "k0", "k1": "K1_x", "k2": "K2_x", "lambda1": "Lambda1_x", "lambda2": "Lambda2_x",
+                 **{f"gamma_{i}": f"gamma{i}" for i in range(1, 7)}, "m_0": "m0", "theta_0": "theta0_11",
+                 "p_t": "p_t_x", "mhat_Delta": "m_hat_delta", "rhohat_f": "rho_f_hat", "rhohat_m": "rho_m_hat",
+                 "thetahat_Delta": "theta_hat_delta_11", "rhohat_tau": "rho_tau_hat", "rhohat_J": "rho_J_hat"}
+_ESTIMATES = ("mhat_Delta", "rhohat_f", "rhohat_m", "thetahat_Delta", "rhohat_tau", "rhohat_J")
+
+
+def _estimates() -> dict:
+    """Each estimate's error (tilde) and rate (hatdot) from its unit."""
+    out = {}
+    for name in _ESTIMATES:
+        u = _L[_LAYOUT_NAMES[name]]
+        out |= {name.replace("hat", "tilde", 1): u, name.replace("hat", "hatdot", 1): f"{u}/s"}
+    return out
+
+
+UNITS = declare(_L, {
+    **{name: _L[label] for name, label in _LAYOUT_NAMES.items()}, **_estimates(),
+    # ---- model (eqs. 1-20): chaser body frame, R = C_{c<-t}
+    "r": "m", "rI": "m", "r_t": "m", "r_e": "m", "v": "m/s", "vI": "m/s", "v_t": "m/s", "v_e": "m/s",
+    "omega": "rad/s", "omega_t": "rad/s", "omega_e": "rad/s", "omegadot_t": "rad/s^2",
+    "q": "1", "Q": "1", "q_c": "1", "q_t": "1", "sigma_e": "1", "R": "1",
+    "m": "kg", "m_t": "kg", "J": "kg m^2", "Jt": "kg m^2", "Jinv": "1/(kg m^2)", "Jtinv": "1/(kg m^2)",
+    "lambda_J": "kg m^2",
+    "f": "N", "d_f": "N", "tau": "N m", "d_tau": "N m", "n_1": "m/s^2", "n_2": "rad/s^2",
+    "a": "any unit (a test vector: eq. 9's R^T R a = a, J a = L(a) theta)",
+    # ---- the laws and their Lyapunov functions (eqs. 21-39)
+    "s_1": "m/s", "s_2": "rad/s",
+    "rho_f": "N", "rho_tau": "N m", "rho_m": "kg", "rho_J": "kg m^2",
+    "c": "kg^(1/2) m", "z": "kg^(1/2) m rad/s",          # J = C C^T, z = C^T s2 (eq. 32 as a sum of squares)
+})
