@@ -16,7 +16,7 @@ from rpo.symbolic.lyapunov.certify import certificate as C
 from rpo.symbolic.lyapunov.certify import plan_for
 from rpo.symbolic.lyapunov.certify.bnb import LEAF, LEAF_NAME, prove
 from rpo.symbolic.lyapunov.certify.intervals import compile_exprs
-from rpo.symbolic.lyapunov.certify.lemmas import LIBRARY
+from rpo.symbolic.lyapunov.certify.library import LIBRARY
 from rpo.symbolic.lyapunov.certify.plan import Coordinate, Plan, Region, goals
 from rpo.symbolic.lyapunov.certify.recheck import CheckError, LeafChecker, walk
 

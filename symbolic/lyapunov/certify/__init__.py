@@ -22,52 +22,18 @@ report; only a certificate that passed the independent re-check makes a claim "p
 
 from __future__ import annotations
 
-import importlib
-from collections.abc import Callable
 from pathlib import Path
 
 from ..core import Claim, Statement
-from .certificate import STORE, Certification, derive, read, recheck, write
+from .certificate import Certification, derive, recheck
 from .plan import Coordinate, Plan, Region
+from .registry import implementation_tag, plan_for, uncertified_reason
+from .store import STORE, read, write
 
 __all__ = ["Coordinate", "Plan", "Region", "Certification", "certify", "implementation_tag", "plan_for", "STORE",
            "uncertified_reason"]
 
 MODES = ("derive", "reuse", "check", "off")
-
-
-def implementation_tag(claim: Claim) -> str:
-    """The statement that describes rpo's code: ``corrected`` where the claim has one, else ``paper``."""
-    return "corrected" if claim.corrected is not None else "paper"
-
-
-def plan_for(claim: Claim, tag: str | None = None) -> Callable[[Statement], Plan] | None:
-    """The plan function registered for one statement of ``claim`` (``tag``: "paper" or "corrected"; default
-    the implementation's).  A ``PLANS`` entry is a function, the plan of the implementation's statement, or a
-    dict ``{"paper": f, "corrected": g}``.  None: no plan."""
-    try:
-        mod = importlib.import_module(f"{__name__.rsplit('.', 1)[0]}.{claim.controller}.plans")
-    except ModuleNotFoundError as exc:
-        if exc.name and exc.name.endswith(".plans"):
-            return None
-        raise
-    entry = getattr(mod, "PLANS", {}).get(claim.id)
-    tag = tag or implementation_tag(claim)
-    if isinstance(entry, dict):
-        return entry.get(tag)
-    return entry if tag == implementation_tag(claim) else None
-
-
-def uncertified_reason(claim: Claim) -> str:
-    """The written reason why a claim has no certificate (its plans module's ``UNCERTIFIED[claim id]``: what
-    was tried and why it does not close), or ''."""
-    try:
-        mod = importlib.import_module(f"{__name__.rsplit('.', 1)[0]}.{claim.controller}.plans")
-    except ModuleNotFoundError as exc:
-        if exc.name and exc.name.endswith(".plans"):
-            return ""
-        raise
-    return getattr(mod, "UNCERTIFIED", {}).get(claim.id, "")
 
 
 def certify(claim: Claim, tag: str, st: Statement, mode: str = "reuse", store: Path = STORE,

@@ -21,25 +21,20 @@ same tree).
 from __future__ import annotations
 
 import base64
-import gzip
-import json
-import os
 import time
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import sympy as sp
 
 from ..core import Claim, Statement
 from . import bnb
 from .compose import ClaimLemma, check_claim_use, dependencies
-from .lemmas import LIBRARY
+from .library import LIBRARY
 from .plan import Plan, expr_hash, gaps, goal_coordinates, goals, region_hash, statement_hash
 from .recheck import CheckError, LeafChecker, walk
+from .store import STORE, path_for, read, write  # noqa: F401  (re-exported: the certificate's file)
 
 FORMAT = 1
-ROOT = Path(__file__).resolve().parents[3]
-STORE = ROOT / "docs" / "certificates"
 
 
 @dataclass
@@ -65,11 +60,6 @@ class Certification:
         d["seconds"] = round(d["seconds"], 2)
         d["recheck_seconds"] = round(d["recheck_seconds"], 2)
         return d
-
-
-def path_for(claim_id: str, tag: str, store: Path = STORE) -> Path:
-    """``<claim id>.<paper|corrected>.json.gz``: a claim may have a certificate for each statement."""
-    return store / f"{claim_id}.{tag}.json.gz"
 
 
 def _goal_key(g) -> str:
@@ -214,27 +204,6 @@ def _identical(a: sp.Expr, b: sp.Expr, seconds: float = 30.0, total: float | Non
             return sp.simplify(sp.sympify(a - b)) == 0
     except _Timeout:
         return False
-
-
-def write(data: dict, store: Path = STORE) -> Path:
-    store.mkdir(parents=True, exist_ok=True)
-    path = path_for(data["claim"], data["statement"], store)
-    raw = (json.dumps(data, indent=1, sort_keys=True) + "\n").encode()
-    tmp = path.with_name(path.name + f".tmp{os.getpid()}")
-    with open(tmp, "wb") as fh, gzip.GzipFile(fileobj=fh, mode="wb", mtime=0, filename="") as gz:
-        gz.write(raw)
-    os.replace(tmp, path)
-    return path
-
-
-def read(claim_id: str, tag: str, store: Path = STORE) -> dict | None:
-    path = path_for(claim_id, tag, store)
-    if not path.exists():
-        return None
-    try:
-        return json.loads(gzip.decompress(path.read_bytes()))
-    except (OSError, ValueError) as exc:
-        raise CheckError(f"{path.name} is not a certificate ({exc})") from exc
 
 
 def recheck(claim: Claim, tag: str, st: Statement, plan: Plan, data: dict) -> Certification:

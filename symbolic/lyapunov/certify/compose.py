@@ -31,6 +31,8 @@ from ..core import Claim
 from .lemmas import Lemma
 from .plan import Plan, Region, Use, gaps, region_hash, statement_hash
 from .recheck import CheckError
+from .registry import implementation_tag, plan_for
+from .store import read
 
 
 def _no_proof() -> bool:
@@ -70,8 +72,6 @@ def _statement(cl: Claim, tag: str):
 
 def claim_lemma(claim_id: str, component: int = 0, tag: str | None = None) -> ClaimLemma:
     """The lemma ``gap >= 0`` of one component of a claim (``tag``: default the implementation's statement)."""
-    from . import implementation_tag
-
     cl = find_claim(claim_id)
     tag = tag or implementation_tag(cl)
     gap = gaps(_statement(cl, tag))[component]
@@ -106,8 +106,6 @@ def _contains(dep: Region, reg: Region) -> str:
 
 def check_claim_use(use: Use, plan: Plan) -> None:
     """The checks 1-3 of the module docstring for one use (CheckError when one fails)."""
-    from . import plan_for
-    from .certificate import read
 
     lem = use.lemma
     if not isinstance(lem, ClaimLemma):

@@ -8,7 +8,7 @@ the lemma's symbols to expressions of the statement's.
 
 This library is the trusted base of the certificates: a lemma's proof is code that checks identities, and
 the textbook step that turns them into ``gap >= 0`` is in its text.  So every lemma is small, general and
-reviewed here, and the checker refuses a lemma that is not in :data:`LIBRARY` (a claim-sized "lemma"
+reviewed here, and the checker refuses a lemma that is not in :data:`.library.LIBRARY` (a claim-sized "lemma"
 defined in a plan would carry its proof unchecked).  The one other kind of lemma is a claim that is itself
 certified (:mod:`.compose`), checked against its own certificate and domain.
 """
@@ -256,21 +256,6 @@ MIN_LE = Lemma(
     _min_proof)
 
 
-def _library() -> dict[str, Lemma]:
-    from . import lemmas_c000, lemmas_c001, lemmas_c002, lemmas_c004
-
-    lems = (YOUNG, ABS_PRODUCT, CAUCHY_SCHWARZ3, NORM2_LE_NORM1, DOT_BALL3, LDL2, LAYER, LEMMA1_002, COSH_TANH,
-            OUTSIDE_002, TRIANGLE3, TANH_MONO, MIN_LE, *lemmas_c000.LEMMAS, *lemmas_c001.LEMMAS,
-            *lemmas_c002.LEMMAS, *lemmas_c004.LEMMAS)
-    out: dict[str, Lemma] = {}
-    for lem in lems:
-        if lem.name in out:
-            raise ValueError(f"two lemmas named {lem.name}")
-        out[lem.name] = lem
-    return out
-
-
-LIBRARY: dict[str, Lemma] = _library()
 
 
 def vector_mapping(lemma: Lemma, **vectors) -> dict:
