@@ -99,7 +99,7 @@ def stale_families(gen_dir: Path = GEN, families=None, root: Path | None = None)
 def regenerate(gen_dir: Path = GEN, force: bool = False, log=print, families=None,
                root: Path | None = None) -> list[str]:
     """Bring ``gen_dir`` up to date under its lock; return the families re-derived ([] if none)."""
-    from rpo.runtime.compiled import file_lock
+    from rpo.runtime.model.cache import file_lock
     from rpo.symbolic import codegen, functions
 
     root = functions.SYMBOLIC_DIR if root is None else root
@@ -164,7 +164,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"wrote generated/ in {time.perf_counter() - t0:.1f} s")
     if args.no_compile:
         return 0
-    from rpo.runtime.compiled import build_library
+    from rpo.runtime.model.library import build_library
 
     try:
         lib, compiled = build_library(GEN, log=print, jobs=args.jobs)

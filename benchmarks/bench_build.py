@@ -57,7 +57,7 @@ def _timed(cmd: list[str], cwd: Path, env: dict) -> tuple[float, str]:
 
 
 RUN_CODE = ("import sys; sys.path.insert(0, '.'); import build; build._bootstrap(); "
-            "from rpo.runtime.cli import main; sys.exit(main(sys.argv[1:]))")
+            "from rpo.runtime.cli.main import main; sys.exit(main(sys.argv[1:]))")
 
 
 def main(argv: list[str] | None = None) -> int:

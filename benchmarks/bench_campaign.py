@@ -91,7 +91,8 @@ def main() -> None:
 
     from rpo.runtime.campaign import load_campaign
     from rpo.runtime.campaign.execute import BLOCKS_PER_BATCH, default_workers
-    from rpo.runtime.compiled import load_model, read_manifest
+    from rpo.runtime.model.loader import load_model
+    from rpo.runtime.model.manifest import read_manifest
 
     camp0 = load_campaign(args.campaign, read_manifest(), runs=args.runs, duration=args.duration)
     model = load_model("auto", controllers=[camp0.scenario_data["simulation"].get("controller", "baseline")])

@@ -6,7 +6,7 @@ Each repetition runs the whole command as a user types it, in a fresh process, i
 under a temporary directory (the compile cache is the user's, ``RPO_CACHE_DIR`` if set; one
 unmeasured run first fills it):
 
-* ``run_total_s``: wall time of ``python -m rpo.runtime.cli run <scenario> --out <folder>``
+* ``run_total_s``: wall time of ``python -m rpo.runtime.cli.main run <scenario> --out <folder>``
   (start of the interpreter to exit: imports, scenario, model load, simulation, metrics, data
   files, figures, the atomic rename);
 * ``run_write_s``: the part spent writing the folder (data files, figures, rename), as the
@@ -18,7 +18,7 @@ unmeasured run first fills it):
 
 Medians of ``--repeat`` runs are printed; with ``--json`` the last line is one JSON object with
 these keys.  ``--profile`` adds where the time goes: the CLI's import time
-(``python -X importtime -m rpo.runtime.cli --help``) and each stage of one in-process
+(``python -X importtime -m rpo.runtime.cli.main --help``) and each stage of one in-process
 ``execute_run`` (scenario, model, simulation, metrics, write = data files + the wait for the
 figures after them).  Extra arguments after ``--`` are
 passed to ``rpo run`` (e.g. ``-- --format parquet,mat``).
@@ -47,7 +47,7 @@ def folder_mb(path: Path) -> float:
 
 def one_run(scenario: str, out: Path, extra: list[str]) -> tuple[float, float, float]:
     """(wall time, writing time as printed, CPU time of the command and the workers it waited for)."""
-    cmd = [sys.executable, "-m", "rpo.runtime.cli", "run", scenario, "--out", str(out), *extra]
+    cmd = [sys.executable, "-m", "rpo.runtime.cli.main", "run", scenario, "--out", str(out), *extra]
     ru0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     res = subprocess.run(cmd, cwd=ROOT, capture_output=True, text=True, check=False)
@@ -61,7 +61,7 @@ def one_run(scenario: str, out: Path, extra: list[str]) -> tuple[float, float, f
 
 
 def import_time() -> float:
-    res = subprocess.run([sys.executable, "-X", "importtime", "-m", "rpo.runtime.cli", "--help"], cwd=ROOT,
+    res = subprocess.run([sys.executable, "-X", "importtime", "-m", "rpo.runtime.cli.main", "--help"], cwd=ROOT,
                          capture_output=True, text=True, check=True)
     top = [int(line.split("|")[1]) for line in res.stderr.splitlines()
            if line.startswith("import time:") and line.split("|")[2].strip() and
@@ -71,9 +71,9 @@ def import_time() -> float:
 
 def stage_profile(scenario: str, out: Path) -> dict[str, float]:
     code = ("import json, sys, time; t0 = time.perf_counter()\n"
-            "from rpo.runtime.figure_workers import start; start()\n"  # as rpo run does, first
-            "from rpo.runtime.runner import execute_run\n"
-            "from rpo.runtime.compiled import load_model\n"
+            "from rpo.runtime.outputs.figure_workers import start; start()\n"  # as rpo run does, first
+            "from rpo.runtime.jobs.runner import execute_run\n"
+            "from rpo.runtime.model import load_model\n"
             "t1 = time.perf_counter()\n"
             "o = execute_run(sys.argv[1], sys.argv[2], lambda c: load_model(controllers=[c]))\n"
             "print(json.dumps({'imports': t1 - t0, **o.timings}))\n")

@@ -81,7 +81,7 @@ def references(model, sim, z0, controller: str, repeat: int, casadi_steps: int =
 
     import casadi as ca
 
-    from rpo.runtime.compiled import generated_dir
+    from rpo.runtime.model.manifest import generated_dir
     from rpo.symbolic import functions
     from rpo.symbolic.numpy_reference import numpy_step
 
@@ -123,10 +123,10 @@ def main(argv=None) -> int:
     ap.add_argument("--references", action="store_true", help="also CasADi's VM and NumPy per step (slow setup)")
     args = ap.parse_args(argv)
 
-    from rpo.runtime import fastcall
-    from rpo.runtime.compiled import load_model
+    from rpo.runtime.model import fastcall
+    from rpo.runtime.model.loader import load_model
+    from rpo.runtime.run.simulate import Simulation
     from rpo.runtime.scenario import load_scenario
-    from rpo.runtime.simulate import Simulation
 
     model = load_model(log=print)
     run = load_scenario(SCENARIO).to_run(model)

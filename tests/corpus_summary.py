@@ -203,19 +203,25 @@ def materialise(case: Case, folder: Path) -> tuple[Path, contextlib.AbstractCont
 def manifest_read_once() -> Iterator[None]:
     """Every CLI call reads the manifest and hashes every generated file against it (about 37 ms);
     the corpus makes ~360 calls in one process, so the verified manifest is read once here."""
-    from rpo.runtime import compiled
 
-    manifest = compiled.read_manifest()
-    real = compiled.read_manifest
+    from rpo.runtime.model import library, loader
+    from rpo.runtime.model import manifest as manifest_module
+
+    # every module that calls read_manifest by its own global name (the local imports read the first)
+    modules = (manifest_module, loader, library)
+    real = manifest_module.read_manifest
+    manifest = real()
 
     def once(gen_dir=None, verify=True):
         return manifest if gen_dir is None else real(gen_dir, verify)
 
-    compiled.read_manifest = once
+    for m in modules:
+        m.read_manifest = once  # type: ignore[attr-defined]
     try:
         yield
     finally:
-        compiled.read_manifest = real
+        for m in modules:
+            m.read_manifest = real  # type: ignore[attr-defined]
 
 
 @dataclass
@@ -231,7 +237,7 @@ class Outcome:
 
 def invoke(argv: list[str]) -> tuple[int | None, str, str]:
     """``rpo ARGV`` in this process (the entry point's ``main``), stdout and stderr captured."""
-    from rpo.runtime.cli import main
+    from rpo.runtime.cli.main import main
 
     out, err = io.StringIO(), io.StringIO()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):

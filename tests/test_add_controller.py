@@ -16,7 +16,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 RUN = ("import sys; sys.path.insert(0, '.'); import build; build._bootstrap(); "
-       "from rpo.runtime.cli import main; sys.exit(main(sys.argv[1:]))")
+       "from rpo.runtime.cli.main import main; sys.exit(main(sys.argv[1:]))")
 
 
 def _git(repo: Path, *args: str) -> str:

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial.transform import Rotation
 
-from rpo.runtime.simulate import Simulation
+from rpo.runtime.run.simulate import Simulation
 
 from conftest import DEG, Q_C0_III, Q_T0_III, ZERO_GAINS, quiet_params, unit
 

@@ -119,7 +119,7 @@ def test_wheel_speed_and_momentum_round_trip():
 
 def test_wheel_momenta_match_rpo_s_generated_wheel_speeds(model):
     """rpo's own route (the scenario reader's _wheel_momentum, through the generated env_outputs)."""
-    from rpo.runtime.simulate import Simulation
+    from rpo.runtime.run.simulate import Simulation
 
     sim = Simulation(model, params=quiet_params(), gains=ZERO_GAINS)
     w = np.radians([3.0, -2.0, 4.0])

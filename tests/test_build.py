@@ -23,8 +23,13 @@ import pytest
 import tiny_model
 
 import build
-from rpo.runtime import compiled
 from rpo.runtime.errors import ModelError
+from rpo.runtime.model import library
+from rpo.runtime.model.functions import CompiledFunction
+from rpo.runtime.model.library import build_library, library_key, prune_cache
+from rpo.runtime.model.loader import load_model
+from rpo.runtime.model.manifest import MANIFEST_FORMAT, manifest_hash, read_manifest, selected_sources
+from rpo.runtime.model.toolchain import compile_object, compiler_identity, find_compiler
 from rpo.symbolic import codegen, functions
 
 from conftest import target_state
@@ -63,7 +68,7 @@ def _files(gen: Path) -> dict[str, bytes]:
 
 def test_one_file_set_per_function_with_banner(tiny):
     src, gen, _ = tiny
-    m = compiled.read_manifest(gen)
+    m = read_manifest(gen)
     assert set(m["functions"]) == {"tiny_rhs", "tiny_out", "law_a", "step_a", "law_b", "step_b"}
     assert m["sources"] == sorted(f"{n}.c" for n in m["functions"])
     for name, desc in m["functions"].items():
@@ -135,7 +140,7 @@ def test_removed_family_removes_its_files(tiny):
     result = codegen.generate(tiny_model.families(src, controllers=("a",)), src, reuse=gen)
     codegen.update_folder(result, gen)
     assert not list(gen.glob("*_b.*"))
-    assert set(compiled.read_manifest(gen)["controllers"]) == {"a"}
+    assert set(read_manifest(gen)["controllers"]) == {"a"}
 
 
 def test_model_definition_errors_are_reported():
@@ -174,7 +179,7 @@ def test_concurrent_regenerations_leave_a_consistent_folder(tiny):
     outs = sorted(p.communicate(timeout=300)[0].strip() for p in procs)
     assert all(p.returncode == 0 for p in procs)
     assert outs == ["['ctrl_a']", "[]"]
-    compiled.read_manifest(gen)
+    read_manifest(gen)
     assert not [f for f in gen.iterdir() if f.name.startswith(".") and f.name != ".lock"]
 
 
@@ -185,7 +190,7 @@ def test_rpo_families_cover_every_controller_module():
     fams = functions.families()
     assert [f.name for f in fams] == ["plant", *(f"controller_{n}" for n in functions.controller_names())]
     assert set(functions.controller_names()) >= {"baseline", "c000", "c001", "c002", "c004"}
-    m = compiled.read_manifest(ROOT / "generated")
+    m = read_manifest(ROOT / "generated")
     assert set(m["families"]) == {f.name for f in fams}
     assert set(m["controllers"]) == set(functions.controller_names())
 
@@ -202,7 +207,7 @@ def test_family_closures_follow_the_imports(tmp_path):
         return {k: v["hash"] for k, v in codegen.family_hashes(fams, dst).items()}
 
     h0 = hashes()
-    m = compiled.read_manifest(ROOT / "generated")
+    m = read_manifest(ROOT / "generated")
     assert h0 == {k: v["hash"] for k, v in m["families"].items()}  # generated/ is of these sources
     for claims in (dst / "lyapunov").rglob("*.py"):
         claims.write_text(claims.read_text() + "\n# edit\n")
@@ -230,8 +235,8 @@ def test_manifest_records_hashes_versions_and_io(model):
 
 def test_manifest_hash_and_format_definitions_agree():
     m = json.loads((ROOT / "generated" / "manifest.json").read_text())
-    assert codegen.manifest_hash(m) == compiled.manifest_hash(m) == m["manifest_hash"]
-    assert codegen.FORMAT_VERSION == compiled.MANIFEST_FORMAT == m["format_version"]
+    assert codegen.manifest_hash(m) == manifest_hash(m) == m["manifest_hash"]
+    assert codegen.FORMAT_VERSION == MANIFEST_FORMAT == m["format_version"]
 
 
 # --------------------------------------------------------------------------- compiling and loading
@@ -240,15 +245,15 @@ def test_manifest_hash_and_format_definitions_agree():
 def test_compile_is_cached_per_object_and_parallel(tiny):
     src, gen, cache = tiny
     lines: list[str] = []
-    lib1, built = compiled.build_library(gen, cache, log=lines.append, jobs=2)
+    lib1, built = build_library(gen, cache, log=lines.append, jobs=2)
     assert built and lib1.exists()
     assert "compiling 7 of 7 C files on 2 cores (0 cached)" in lines[0]
     assert sum("left)" in ln for ln in lines) == 7  # one progress line per file
-    assert compiled.build_library(gen, cache) == (lib1, False)
+    assert build_library(gen, cache) == (lib1, False)
     _edit(src / "ctrl_a.py", "K = 0.5", "K = 0.4")
     _generate(src, gen)
     lines.clear()
-    lib2, built = compiled.build_library(gen, cache, log=lines.append)
+    lib2, built = build_library(gen, cache, log=lines.append)
     assert built and lib2 != lib1 and lib1.exists()  # a loaded library is never replaced in place
     assert "compiling 2 of 7 C files" in lines[0] and "(5 cached)" in lines[0]
     assert not [f for f in cache.rglob("*") if "tmp" in f.name]
@@ -257,7 +262,7 @@ def test_compile_is_cached_per_object_and_parallel(tiny):
 def test_tiny_library_evaluates_like_casadi(tiny, monkeypatch):
     src, gen, cache = tiny
     monkeypatch.setenv("RPO_CACHE_DIR", str(cache))
-    model = compiled.load_model(gen_dir=gen)
+    model = load_model(gen_dir=gen)
     rng = np.random.default_rng(1)
     import gzip
 
@@ -282,21 +287,21 @@ def test_tiny_library_evaluates_like_casadi(tiny, monkeypatch):
 
 def test_library_name_follows_the_content(tiny):
     src, gen, _ = tiny
-    cc = compiled.find_compiler()
-    m = compiled.read_manifest(gen)
-    k1 = compiled.library_key(gen, m, compiled.compiler_identity(cc))
-    assert compiled.library_key(gen, m, "another compiler 1.0") != k1
+    cc = find_compiler()
+    m = read_manifest(gen)
+    k1 = library_key(gen, m, compiler_identity(cc))
+    assert library_key(gen, m, "another compiler 1.0") != k1
     _edit(src / "shared.py", "GAIN = 2.0", "GAIN = 2.5")
     _generate(src, gen)
-    assert compiled.library_key(gen, compiled.read_manifest(gen), compiled.compiler_identity(cc)) != k1
+    assert library_key(gen, read_manifest(gen), compiler_identity(cc)) != k1
 
 
 def test_two_concurrent_builds_are_safe(tiny):
     """Two processes build the same library into an empty cache at once: one compiles, the other
     waits on the lock and reuses it; no partial file is ever visible under the final name."""
     _, gen, cache = tiny
-    code = ("import sys; from pathlib import Path; from rpo.runtime import compiled; "
-            "lib, built = compiled.build_library(Path(sys.argv[1]), Path(sys.argv[2])); print(lib, built)")
+    code = ("import sys; from pathlib import Path; from rpo.runtime.model.library import build_library; "
+            "lib, built = build_library(Path(sys.argv[1]), Path(sys.argv[2])); print(lib, built)")
     procs = [subprocess.Popen([sys.executable, "-c", code, str(gen), str(cache)], stdout=subprocess.PIPE,
                               text=True) for _ in range(2)]
     outs = [p.communicate(timeout=300)[0].split() for p in procs]
@@ -312,14 +317,14 @@ def test_hand_edited_generated_source_is_refused(tiny):
     c = gen / "step_a.c"
     c.write_text(c.read_text().replace("casadi_real a0", "casadi_real  a0", 1))
     with pytest.raises(ModelError, match="step_a.c does not match manifest"):
-        compiled.read_manifest(gen)
+        read_manifest(gen)
 
 
 def test_missing_generated_file_is_refused(tiny):
     _, gen, _ = tiny
     (gen / "law_b.c").unlink()
     with pytest.raises(ModelError, match="law_b.c is missing"):
-        compiled.read_manifest(gen)
+        read_manifest(gen)
 
 
 def test_hand_edited_manifest_is_refused(gen_copy):
@@ -331,17 +336,17 @@ def test_hand_edited_manifest_is_refused(gen_copy):
     lay[i], lay[j] = lay[j], lay[i]
     path.write_text(json.dumps(m))
     with pytest.raises(ModelError, match="does not match its recorded hash"):
-        compiled.read_manifest(gen_copy)
+        read_manifest(gen_copy)
 
 
 def test_old_manifest_format_is_refused(tiny):
     _, gen, _ = tiny
     m = json.loads((gen / "manifest.json").read_text())
     m["format_version"] = 1
-    m["manifest_hash"] = compiled.manifest_hash(m)
+    m["manifest_hash"] = manifest_hash(m)
     (gen / "manifest.json").write_text(json.dumps(m))
     with pytest.raises(ModelError, match="format 1, this runtime reads format 2"):
-        compiled.read_manifest(gen)
+        read_manifest(gen)
 
 
 def test_loaded_library_is_checked_against_the_manifest(tiny, monkeypatch):
@@ -350,10 +355,10 @@ def test_loaded_library_is_checked_against_the_manifest(tiny, monkeypatch):
     monkeypatch.setenv("RPO_CACHE_DIR", str(cache))
     m = json.loads((gen / "manifest.json").read_text())
     m["functions"]["tiny_out"]["inputs"][0]["shape"] = [2, 1]
-    m["manifest_hash"] = compiled.manifest_hash(m)  # consistent manifest, inconsistent library
+    m["manifest_hash"] = manifest_hash(m)  # consistent manifest, inconsistent library
     (gen / "manifest.json").write_text(json.dumps(m))
     with pytest.raises(ModelError, match="tiny_out"):
-        compiled.load_model(gen_dir=gen)
+        load_model(gen_dir=gen)
 
 
 def test_no_compiler_gives_a_clear_error(tiny, tmp_path, monkeypatch):
@@ -361,7 +366,7 @@ def test_no_compiler_gives_a_clear_error(tiny, tmp_path, monkeypatch):
     monkeypatch.setenv("CC", str(tmp_path / "no-such-cc"))
     monkeypatch.setenv("RPO_CACHE_DIR", str(tmp_path / "empty-cache"))
     with pytest.raises(ModelError, match="no C compiler found.*apt-get install gcc.*--backend casadi"):
-        compiled.load_model(gen_dir=gen)
+        load_model(gen_dir=gen)
 
 
 def test_compiler_error_is_reported_with_the_file(tiny, tmp_path):
@@ -370,10 +375,10 @@ def test_compiler_error_is_reported_with_the_file(tiny, tmp_path):
     broken.write_text(broken.read_text() + "\n#error planted\n")
     m = json.loads((gen / "manifest.json").read_text())
     m["files"]["tiny_out.c"] = hashlib.sha256(broken.read_bytes()).hexdigest()
-    m["manifest_hash"] = compiled.manifest_hash(m)
+    m["manifest_hash"] = manifest_hash(m)
     (gen / "manifest.json").write_text(json.dumps(m))
     with pytest.raises(ModelError, match="compiling tiny_out.c failed.*planted"):
-        compiled.build_library(gen, cache)
+        build_library(gen, cache)
     assert not list(cache.glob("*.so"))
 
 
@@ -384,20 +389,20 @@ def test_compiler_error_is_reported_with_the_file(tiny, tmp_path):
 def test_fast_math_library_is_refused(tiny, tmp_path, monkeypatch, flag, error):
     """A $CC that adds -ffast-math or -ffinite-math-only breaks NaN detection: refused."""
     _, gen, _ = tiny
-    cc = compiled.find_compiler()
+    cc = find_compiler()
     wrapper = tmp_path / "ccwrap"
     wrapper.write_text(f'#!/bin/sh\nexec {cc[0]} {flag} "$@"\n')
     wrapper.chmod(0o755)
     monkeypatch.setenv("CC", str(wrapper))
     monkeypatch.setenv("RPO_CACHE_DIR", str(tmp_path / "cache"))
     with pytest.raises(ModelError, match=error):
-        compiled.load_model(gen_dir=gen)
+        load_model(gen_dir=gen)
 
 
 def test_casadi_fallback_is_explicit_warned_and_equal(model):
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
-        fb = compiled.load_model(backend="casadi")
+        fb = load_model(backend="casadi")
     assert any("100x slower" in str(w.message) for w in caught)
     rng = np.random.default_rng(0)
     p, k = model.vector("p"), model.vector("k_baseline")
@@ -425,18 +430,18 @@ def test_library_for_some_controllers_compiles_only_what_they_need(tiny, monkeyp
     fraction of the model; a later full build reuses those objects."""
     _, gen, cache = tiny
     monkeypatch.setenv("RPO_CACHE_DIR", str(cache))
-    m = compiled.read_manifest(gen)
-    assert compiled.selected_sources(m, ["a"]) == ["law_a.c", "step_a.c", "tiny_out.c", "tiny_rhs.c"]
+    m = read_manifest(gen)
+    assert selected_sources(m, ["a"]) == ["law_a.c", "step_a.c", "tiny_out.c", "tiny_rhs.c"]
     lines: list[str] = []
-    model = compiled.load_model(gen_dir=gen, controllers=["a"], log=lines.append)
+    model = load_model(gen_dir=gen, controllers=["a"], log=lines.append)
     assert "compiling 5 of 5 C files" in lines[0]  # 4 generated + the loop driver
     assert set(model.functions) == {"law_a", "step_a", "tiny_out", "tiny_rhs"}
     with pytest.raises(ModelError, match="step_b is not loaded"):
         model.function("step_b")
     with pytest.raises(ModelError, match="unknown controller z; available: a, b"):
-        compiled.load_model(gen_dir=gen, controllers=["z"])
+        load_model(gen_dir=gen, controllers=["z"])
     lines.clear()
-    full = compiled.load_model(gen_dir=gen, log=lines.append)
+    full = load_model(gen_dir=gen, log=lines.append)
     assert "compiling 2 of 7 C files" in lines[0] and full.library != model.library
 
 
@@ -476,7 +481,7 @@ def test_a_dependent_family_is_rederived_when_its_dependency_files_change(tiny):
     src, gen, _ = tiny
     m = json.loads((gen / "manifest.json").read_text())
     m["families"]["ctrl_a"]["depends_files"]["plant"] = "0" * 64
-    m["manifest_hash"] = compiled.manifest_hash(m)
+    m["manifest_hash"] = manifest_hash(m)
     (gen / "manifest.json").write_text(json.dumps(m))
     result = codegen.generate(tiny_model.families(src), src, reuse=gen)
     assert result.rebuilt == ["ctrl_a"] and result.reused == ["plant", "ctrl_b"]
@@ -487,7 +492,7 @@ def test_sources_are_compiled_from_the_bytes_their_key_was_computed_from(tiny, m
     the compiler is given the verified bytes, not the file."""
     src, gen, cache = tiny
     seen = []
-    real = compiled._compile_object
+    real = compile_object
 
     def racing(cc, name, source, obj, flags=None):
         if name == "law_a.c" and not seen:  # a build.py rewrites generated/ right now
@@ -496,30 +501,30 @@ def test_sources_are_compiled_from_the_bytes_their_key_was_computed_from(tiny, m
             seen.append(name)
         return real(cc, name, source, obj, flags)
 
-    monkeypatch.setattr(compiled, "_compile_object", racing)
+    monkeypatch.setattr(library, "compile_object", racing)
     monkeypatch.setenv("RPO_CACHE_DIR", str(cache))
     old = codegen.generate(tiny_model.families(tiny_model.FIXTURE), tiny_model.FIXTURE, reuse=None).manifest
-    lib, _ = compiled.build_library(gen, cache, manifest=old)  # built for the manifest read before the edit
+    lib, _ = build_library(gen, cache, manifest=old)  # built for the manifest read before the edit
     assert seen
     lib_c = __import__("ctypes").CDLL(str(lib))
-    f = compiled.CompiledFunction(lib_c, "law_a", old["functions"]["law_a"])
+    f = CompiledFunction(lib_c, "law_a", old["functions"]["law_a"])
     assert np.allclose(f(np.array([1.0, 2.0, 3.0]))[0], [-0.5, -1.0, -1.5])
 
 
 def test_prune_keeps_what_the_current_model_uses(tiny):
     src, gen, cache = tiny
-    old_lib, _ = compiled.build_library(gen, cache)
-    compiled.build_library(gen, cache, controllers=["a"])
+    old_lib, _ = build_library(gen, cache)
+    build_library(gen, cache, controllers=["a"])
     _edit(src / "ctrl_b.py", "K = 0.25", "K = 0.35")
     _generate(src, gen)
-    new_lib, _ = compiled.build_library(gen, cache)
-    assert compiled.prune_cache(gen, cache, dry_run=True)[0] >= 3  # old library, law_b and step_b objects
+    new_lib, _ = build_library(gen, cache)
+    assert prune_cache(gen, cache, dry_run=True)[0] >= 3  # old library, law_b and step_b objects
     assert old_lib.exists()
-    n, size = compiled.prune_cache(gen, cache)
+    n, size = prune_cache(gen, cache)
     assert n >= 3 and size > 0 and not old_lib.exists() and new_lib.exists()
-    assert compiled.build_library(gen, cache) == (new_lib, False)  # nothing the current model needs is gone
+    assert build_library(gen, cache) == (new_lib, False)  # nothing the current model needs is gone
     lines: list[str] = []
-    compiled.build_library(gen, cache, controllers=["a"], log=lines.append)
+    build_library(gen, cache, controllers=["a"], log=lines.append)
     assert not any("compiling" in ln for ln in lines)  # the "a" selection was kept: objects and library
 
 
@@ -530,4 +535,4 @@ def test_a_dead_build_s_temporary_files_are_cleaned_up(tiny):
     _edit(src / "ctrl_a.py", "K = 0.5", "K = 0.55")
     _generate(src, gen)
     assert sorted(f.name for f in gen.iterdir() if f.name.startswith(".")) == []
-    compiled.read_manifest(gen)
+    read_manifest(gen)

@@ -328,7 +328,7 @@ def _quat_mul(p, q):
 def _closed_loop(model, params, gains=None, duration=200.0, att0_deg=60.0, r0=(20.0, -10.0, 15.0),
                  v0=(0.2, 0.0, -0.1), seed=0):
     """Chaser 'att0_deg' off the interface frame of a tumbling target, with a position/velocity error."""
-    from rpo.runtime.simulate import Simulation
+    from rpo.runtime.run.simulate import Simulation
 
     sim = Simulation(model, "c000", params=params, gains=gains or {})
     q_t = np.array([0.38831, 0.22356, -0.34408, 0.82512])
@@ -375,7 +375,7 @@ def test_adaptive_states_stay_bounded_in_the_full_plant(model):
 
     sc = load_scenario("scenarios/000_scenario_I.toml").with_overrides(duration=200.0)
     inputs = sc.to_run(model)
-    from rpo.runtime.simulate import Simulation
+    from rpo.runtime.run.simulate import Simulation
 
     sim = Simulation(model, "c000", params=inputs.params, gains=inputs.gains)
     res = sim.run(sim.initial_state(inputs.plant), inputs.duration, seed=inputs.seed)
@@ -440,8 +440,8 @@ def test_desired_acceleration_input_with_and_without(model):
     (acc_d = -v(0) / 150 s, eq. 88) shortens the approach (distance at 300 s: ~9 m WITH, ~87 m WITHOUT),
     and leaves the attitude unchanged (it only enters the translation law; the chaser's
     gravity-gradient torque depends on its position, hence 0.05 deg)."""
+    from rpo.runtime.run.simulate import Simulation
     from rpo.runtime.scenario import load_scenario
-    from rpo.runtime.simulate import Simulation
 
     inputs = load_scenario("scenarios/000_III_ideal.toml").to_run(model)
     out = {}

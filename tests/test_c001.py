@@ -427,8 +427,8 @@ SCENARIO = __import__("pathlib").Path(__file__).resolve().parents[1] / "scenario
 
 
 def _closed_loop(model, duration, gains=None, record_every=100, plant="paper", params=None):
+    from rpo.runtime.run.simulate import Simulation
     from rpo.runtime.scenario import load_scenario
-    from rpo.runtime.simulate import Simulation
 
     inputs = load_scenario(SCENARIO).with_overrides(plant=plant).to_run(model)
     sim = Simulation(model, "c001", params={**inputs.params, **(params or {})}, gains={**inputs.gains, **(gains or {})})

@@ -338,8 +338,8 @@ SCEN = __import__("pathlib").Path(__file__).resolve().parents[1] / "scenarios"
 
 
 def fly(model, scenario, duration, plant="paper", gains=None):
+    from rpo.runtime.run.simulate import Simulation
     from rpo.runtime.scenario import load_scenario
-    from rpo.runtime.simulate import Simulation
 
     inputs = load_scenario(SCEN / scenario).with_overrides(duration=duration, plant=plant).to_run(model)
     g = {**inputs.gains, **{k: np.atleast_1d(np.asarray(v, float)) for k, v in (gains or {}).items()}}

@@ -423,8 +423,8 @@ SCENARIO = __import__("pathlib").Path(__file__).resolve().parents[1] / "scenario
 
 
 def run_004(model, duration, gains=None, plant="paper"):
+    from rpo.runtime.run.simulate import Simulation
     from rpo.runtime.scenario import load_scenario
-    from rpo.runtime.simulate import Simulation
 
     sc = load_scenario(SCENARIO, model.manifest).with_overrides(plant=plant)
     ri = sc.to_run(model)

@@ -291,7 +291,7 @@ def test_same_summary_bytes_in_process_pool_and_dask(model, tmp_path):
 
 def _rpo(*args, **kw) -> subprocess.CompletedProcess:
     env = {**os.environ, "PYTHONWARNINGS": "default"}
-    return subprocess.run([sys.executable, "-m", "rpo.runtime.cli", *map(str, args)], env=env, capture_output=True,
+    return subprocess.run([sys.executable, "-m", "rpo.runtime.cli.main", *map(str, args)], env=env, capture_output=True,
                           text=True, timeout=kw.pop("timeout", 300), **kw)
 
 
@@ -329,7 +329,7 @@ def test_sigkill_at_any_moment_then_resume_gives_the_same_summary(model, tmp_pat
                "8 lines": lambda f: lines(f) >= 8, "40 lines": lambda f: lines(f) >= 40}
     for name, cond in moments.items():
         folder = tmp_path / name.replace(" ", "_")
-        proc = subprocess.Popen([sys.executable, "-m", "rpo.runtime.cli", "mc", "run", str(path), "--out",
+        proc = subprocess.Popen([sys.executable, "-m", "rpo.runtime.cli.main", "mc", "run", str(path), "--out",
                                  str(folder), "--workers", "2", "-q"], start_new_session=True,
                                 stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
         _wait_for(lambda f=folder, c=cond, p=proc: c(f) or p.poll() is not None)
@@ -346,7 +346,7 @@ def test_sigkill_at_any_moment_then_resume_gives_the_same_summary(model, tmp_pat
     # of the runs so far and exits 130 (143) naming resume; resume then gives the same summary
     for sig, code in ((signal.SIGINT, 130), (signal.SIGTERM, 143)):
         folder = tmp_path / f"signal_{code}"
-        proc = subprocess.Popen([sys.executable, "-m", "rpo.runtime.cli", "mc", "run", str(path), "--out",
+        proc = subprocess.Popen([sys.executable, "-m", "rpo.runtime.cli.main", "mc", "run", str(path), "--out",
                                  str(folder), "--workers", "2", "-q"], stdout=subprocess.PIPE,
                                 stderr=subprocess.PIPE, text=True)
         _wait_for(lambda f=folder, p=proc: lines(f) >= 8 or p.poll() is not None)
@@ -555,7 +555,7 @@ def test_one_case_flown_alone_is_the_campaigns_run(model, tmp_path):
 
 def test_report_of_a_campaign_folder(cw_folder):
     from rpo.runtime.campaign import load_history, load_summary
-    from rpo.runtime.campaign.report import write_report
+    from rpo.runtime.campaign.reporting import write_report
 
     folder, camp = cw_folder
     path = write_report(folder, figures=False)

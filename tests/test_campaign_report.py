@@ -1,4 +1,4 @@
-"""runtime/campaign/report.py on a synthetic campaign folder built here to the runner's format."""
+"""runtime/campaign/reporting.py on a synthetic campaign folder built here to the runner's format."""
 
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ import pyarrow.parquet as pq
 import pytest
 from scipy import stats as sps
 
-from rpo.runtime.campaign import report as R
+from rpo.runtime.campaign import reporting as R
 from rpo.runtime.campaign import storage
 
 UNITS = {
@@ -388,7 +388,8 @@ def test_degenerate_folders(tmp_path):
 
 def test_imports_stay_light():
     # the runtime never imports sympy; pandas is not a dependency; matplotlib only when drawing
-    code = ("import sys; import rpo.runtime.campaign.report, rpo.runtime.campaign.stats, rpo.runtime.campaign.figures; "
+    code = ("import sys; import rpo.runtime.campaign.reporting, rpo.runtime.campaign.stats, "
+            "rpo.runtime.campaign.figures; "
             "print(sorted(m for m in ('sympy', 'pandas', 'matplotlib') if m in sys.modules))")
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout
     assert out.strip() == "[]"

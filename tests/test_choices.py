@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from rpo.runtime.choices import collect, render, scenario_files
+from rpo.runtime.docgen.choices import collect, render, scenario_files
 
 ROOT = Path(__file__).resolve().parents[1]
 

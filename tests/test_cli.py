@@ -20,9 +20,9 @@ PAPER = paper_data(III)
 
 
 def rpo(*args, cwd=None, timeout=120) -> subprocess.CompletedProcess:
-    """``python -m rpo.runtime.cli ARGS`` (the same entry point as the ``rpo`` script)."""
+    """``python -m rpo.runtime.cli.main ARGS`` (the same entry point as the ``rpo`` script)."""
     env = {**os.environ, "PYTHONWARNINGS": "default", "COLUMNS": "100"}
-    return subprocess.run([sys.executable, "-m", "rpo.runtime.cli", *map(str, args)], cwd=cwd, env=env,
+    return subprocess.run([sys.executable, "-m", "rpo.runtime.cli.main", *map(str, args)], cwd=cwd, env=env,
                           capture_output=True, text=True, timeout=timeout)
 
 
@@ -85,10 +85,11 @@ def test_run_json_names_the_plant(tmp_path):
 
 
 def test_runtime_never_imports_sympy():
-    code = ("import sys, rpo.runtime.cli, rpo.runtime.scenario, rpo.runtime.output, rpo.runtime.plots, "
-            "rpo.runtime.frames, rpo.runtime.simulate\n"
+    code = ("import sys, rpo.runtime.cli.main, rpo.runtime.scenario, rpo.runtime.outputs.writers, "
+            "rpo.runtime.outputs.plots, "
+            "rpo.runtime.frames, rpo.runtime.run.simulate\n"
             "from rpo.runtime.scenario import load_scenario\n"
-            "from rpo.runtime.compiled import load_model\n"
+            "from rpo.runtime.model import load_model\n"
             f"load_scenario({str(III)!r}).to_run(load_model())\n"
             "bad = [m for m in sys.modules if m == 'sympy' or m.startswith(('sympy.', 'rpo.symbolic'))]\n"
             "assert not bad, bad\n")

@@ -194,7 +194,7 @@ def test_pwpf_duty_cycle_tracks_the_demand(model, demand):
 def test_wheel_transport_delay_is_exact_within_the_step(model):
     """A torque command issued at t_k acts only after t_k + delay: with the chaser at rest, the
     wheel momentum after one step changes by T (dt - delay) and by T dt in the next step."""
-    from rpo.runtime.simulate import Simulation
+    from rpo.runtime.run.simulate import Simulation
 
     from conftest import Q_C0_III, Q_T0_III, quiet_params, unit
 

@@ -15,8 +15,8 @@ import numpy as np
 import pytest
 
 from rpo.runtime.errors import ScenarioError
+from rpo.runtime.run.simulate import Simulation
 from rpo.runtime.scenario import load_scenario, loads_scenario
-from rpo.runtime.simulate import Simulation
 
 from conftest import ZERO_GAINS, quiet_params, unit
 

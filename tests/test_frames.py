@@ -114,7 +114,7 @@ def test_orbit_frame_axes_in_lvlh():
 
 @pytest.fixture(scope="module")
 def model():
-    from rpo.runtime.compiled import load_model
+    from rpo.runtime.model.loader import load_model
     return load_model()
 
 

@@ -9,10 +9,14 @@ import functools
 import numpy as np
 import pytest
 
-from rpo.runtime import compiled, lanes
-from rpo.runtime.compiled import load_model
+from rpo.runtime.model import cache, lanes
+from rpo.runtime.model.cache import object_key
+from rpo.runtime.model.functions import CompiledFunction
+from rpo.runtime.model.library import lane_sources
+from rpo.runtime.model.loader import load_model
+from rpo.runtime.model.manifest import generated_dir
+from rpo.runtime.run.simulate import Simulation
 from rpo.runtime.scenario import load_scenario
-from rpo.runtime.simulate import Simulation
 
 from conftest import SCENARIO_III
 
@@ -62,7 +66,7 @@ def _points(model, fn, n: int, rng) -> list[np.ndarray]:
 
 
 def test_every_generated_file_has_a_lane_form(model):
-    sources, skipped = compiled.lane_sources(compiled.generated_dir(), model.manifest)
+    sources, skipped = lane_sources(generated_dir(), model.manifest)
     assert skipped == {}, skipped
     assert len(sources) == len(model.manifest["sources"]) + 1  # + the lane loop driver
 
@@ -226,7 +230,7 @@ def test_batch_shapes_broadcast_and_errors(lane_model):
 
 def test_ctypes_path_equals_fast_path(lane_model):
     fast = lane_model.plant_rhs
-    plain = compiled.CompiledFunction(fast._lib, "plant_rhs", fast.desc)
+    plain = CompiledFunction(fast._lib, "plant_rhs", fast.desc)
     args = [a[0] for a in _points(lane_model, fast, 1, np.random.default_rng(5))]
     assert bits_equal(plain(*args)[0], fast(*args)[0])
     out = np.empty(fast.out_sizes[0])
@@ -235,9 +239,9 @@ def test_ctypes_path_equals_fast_path(lane_model):
 
 
 def test_lane_objects_are_keyed_by_the_headers(monkeypatch):
-    k1 = compiled.object_key(b"int x;", "cc")
-    monkeypatch.setattr(compiled, "headers_digest", lambda: "other")
-    assert compiled.object_key(b"int x;", "cc") != k1
+    k1 = object_key(b"int x;", "cc")
+    monkeypatch.setattr(cache, "headers_digest", lambda: "other")
+    assert object_key(b"int x;", "cc") != k1
 
 
 @pytest.mark.slow
@@ -255,10 +259,10 @@ def test_baseline_target_width_is_bit_identical_too(monkeypatch, tmp_path):
 
 
 def test_noise_is_the_documented_function_of_seed_step_and_index(lane_model):
-    """The C loops' noise against the NumPy version of its definition (runtime/noise.py)."""
+    """The C loops' noise against the NumPy version of its definition (runtime/run/noise.py)."""
     import ctypes
 
-    from rpo.runtime import noise
+    from rpo.runtime.run import noise
 
     lib = lane_model._lib
     lib.rpo_noise_key.restype = ctypes.c_ulonglong

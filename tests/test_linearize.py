@@ -1,4 +1,4 @@
-"""rpo.runtime.linearize: quaternion charts, AD step Jacobian against central differences of the
+"""rpo.runtime.run.linearize: quaternion charts, AD step Jacobian against central differences of the
 compiled step, plant A/B against plant_jac, and `rpo linearize` on the command line."""
 
 from __future__ import annotations
@@ -14,9 +14,9 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from rpo.runtime import linearize as lz
+from rpo.runtime.run import linearize as lz
+from rpo.runtime.run.simulate import Simulation
 from rpo.runtime.scenario import load_scenario
-from rpo.runtime.simulate import Simulation
 
 from conftest import target_state
 
@@ -26,9 +26,9 @@ RNG = np.random.default_rng(20261201)
 
 
 def rpo(*args, timeout=120) -> subprocess.CompletedProcess:
-    """``python -m rpo.runtime.cli ARGS``, as tests/test_cli.py runs it."""
+    """``python -m rpo.runtime.cli.main ARGS``, as tests/test_cli.py runs it."""
     env = {**os.environ, "PYTHONWARNINGS": "default", "COLUMNS": "100"}
-    return subprocess.run([sys.executable, "-m", "rpo.runtime.cli", *map(str, args)], env=env,
+    return subprocess.run([sys.executable, "-m", "rpo.runtime.cli.main", *map(str, args)], env=env,
                           capture_output=True, text=True, timeout=timeout)
 
 

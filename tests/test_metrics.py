@@ -1,11 +1,11 @@
-"""runtime/metrics.py on synthetic signals with known answers."""
+"""runtime/outputs/metrics.py on synthetic signals with known answers."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from rpo.runtime import metrics as M
+from rpo.runtime.outputs import metrics as M
 
 T = np.linspace(0.0, 100.0, 10001)  # dt = 0.01 s
 
@@ -214,7 +214,7 @@ def test_per_unit_use_without_params_or_on_ideal_actuators():
 def test_per_thruster_propellant_adds_up_to_the_plants_on_a_run(model):
     """On a real run (000 scenario III's wheels and PWPF thrusters), the units' propellant sums to
     the plant's m_prop and the shares to 1; no wheel exceeds its limits."""
-    from rpo.runtime.simulate import Simulation
+    from rpo.runtime.run.simulate import Simulation
 
     from conftest import Q_C0_III, Q_T0_III, unit
     sim = Simulation(model, "baseline")

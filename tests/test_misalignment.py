@@ -17,8 +17,8 @@ import pytest
 from scipy.spatial.transform import Rotation
 
 from rpo.runtime.errors import ScenarioError
+from rpo.runtime.run.simulate import Simulation
 from rpo.runtime.scenario import loads_scenario
-from rpo.runtime.simulate import Simulation
 
 from conftest import quiet_params, target_state
 

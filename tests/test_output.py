@@ -12,11 +12,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rpo.runtime.channels import DEFAULT_CHANNELS, ChannelError, select
 from rpo.runtime.errors import ScenarioError
-from rpo.runtime.output import matlab_names, written_rows
-from rpo.runtime.runner import execute_run
+from rpo.runtime.jobs.runner import execute_run
+from rpo.runtime.outputs.writers import matlab_names, written_rows
 from rpo.runtime.scenario import loads_scenario
+from rpo.runtime.scenario.channels import DEFAULT_CHANNELS, ChannelError, select
 
 ROOT = Path(__file__).resolve().parents[1]
 III = ROOT / "scenarios" / "000_scenario_III.toml"
@@ -188,8 +188,8 @@ def test_figure_format_from_the_output_table(model, tmp_path):
 def test_the_data_path_never_imports_matplotlib(tmp_path):
     """Figures are drawn by worker processes: the run's own process never imports matplotlib."""
     code = ("import sys\n"
-            "from rpo.runtime.runner import execute_run\n"
-            "from rpo.runtime.compiled import load_model\n"
+            "from rpo.runtime.jobs.runner import execute_run\n"
+            "from rpo.runtime.model import load_model\n"
             f"o = execute_run({str(III)!r}, {str(tmp_path / 'out')!r}, lambda c: load_model(controllers=[c]), "
             "duration=0.2)\n"
             "assert 'matplotlib' not in sys.modules, 'matplotlib imported in the data path'\n"
@@ -217,7 +217,7 @@ BAD_OUTPUT = {
 
 def rpo(*args, cwd=None) -> subprocess.CompletedProcess:
     env = {**os.environ, "PYTHONWARNINGS": "default", "COLUMNS": "100"}
-    return subprocess.run([sys.executable, "-m", "rpo.runtime.cli", *map(str, args)], cwd=cwd, env=env,
+    return subprocess.run([sys.executable, "-m", "rpo.runtime.cli.main", *map(str, args)], cwd=cwd, env=env,
                           capture_output=True, text=True, timeout=120)
 
 

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from rpo.runtime.simulate import Simulation
+from rpo.runtime.run.simulate import Simulation
 
 from conftest import quiet_params, target_state
 

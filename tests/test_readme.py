@@ -22,7 +22,7 @@ from pathlib import Path
 import click
 import pytest
 
-from rpo.runtime.cli import cli, main
+from rpo.runtime.cli.main import cli, main
 
 ROOT = Path(__file__).resolve().parents[1]
 README = ROOT / "README.md"

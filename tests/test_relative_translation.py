@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from rpo.runtime.simulate import Simulation
+from rpo.runtime.run.simulate import Simulation
 
 from conftest import DEG, Q_C0_III, Q_T0_III, SCENARIO_III, ZERO_GAINS, quiet_params, unit
 

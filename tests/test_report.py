@@ -77,7 +77,7 @@ intro = "Intro text."
 
 
 def rpo(*args, cwd):
-    return subprocess.run([sys.executable, "-m", "rpo.runtime.cli", *map(str, args)], cwd=cwd, capture_output=True,
+    return subprocess.run([sys.executable, "-m", "rpo.runtime.cli.main", *map(str, args)], cwd=cwd, capture_output=True,
                           text=True, timeout=300)
 
 
@@ -165,9 +165,9 @@ def test_metrics_of_a_real_short_run_are_finite(report):
 def test_diag_figures_one_panel_per_extra_field(model, tmp_path):
     """Controller-specific ctrl_* fields get one panel each in diagnostics.png; absent standard
     fields are skipped."""
-    from rpo.runtime.plots import make_plots
+    from rpo.runtime.outputs.plots import make_plots
+    from rpo.runtime.run.simulate import Simulation
     from rpo.runtime.scenario import load_scenario
-    from rpo.runtime.simulate import Simulation
 
     inputs = load_scenario(SCEN / "000_scenario_III.toml").with_overrides(controller="baseline").to_run(model)
     sim = Simulation(model, "baseline", params=inputs.params, gains=inputs.gains)
@@ -183,8 +183,8 @@ def test_diag_figures_one_panel_per_extra_field(model, tmp_path):
             {"name": "ctrl_s_att", "size": 2, "unit": "-", "labels": ["ctrl_s_att_x", "ctrl_s_att_y"]},
             {"name": "ctrl_theta_hat", "size": 1, "unit": "kg", "labels": ["ctrl_theta_hat"]}]}
 
-    from rpo.runtime.plotdata import PlotData
-    from rpo.runtime.plots import diag_fields
+    from rpo.runtime.outputs.plotdata import PlotData
+    from rpo.runtime.outputs.plots import diag_fields
 
     written = make_plots(res, Fake(), tmp_path)
     assert {"diagnostics.png", "controller.png", "constraints.png"} <= set(written)
@@ -199,7 +199,7 @@ def test_diag_figures_one_panel_per_extra_field(model, tmp_path):
 def test_report_reads_scenarios_through_the_one_loader():
     """Regression: the report's own TOML reader ignored ``extends`` and found no controller in
     000_III_no_acc_d.toml (its base selects c000); it now reads scenarios as load_scenario does."""
-    from rpo.runtime.report import PlannedRun, execute, scenario_controller
+    from rpo.runtime.jobs.reproduction import PlannedRun, execute, scenario_controller
     from rpo.runtime.scenario import load_scenario, read_scenario
 
     path = SCEN / "000_III_no_acc_d.toml"
@@ -217,7 +217,7 @@ def test_report_reads_scenarios_through_the_one_loader():
 
 def test_discovered_runs_are_the_committed_report_s_runs(model):
     """The [reproduction] tables of scenarios/ declare exactly the runs of docs/reproduction.json."""
-    from rpo.runtime.report import discover, fault_runs, plan
+    from rpo.runtime.jobs.reproduction import discover, fault_runs, plan
 
     run_list = discover(SCEN, model.manifest["controllers"])
     runs = plan(run_list, SCEN) + fault_runs(SCEN, model.manifest["controllers"])
@@ -241,7 +241,7 @@ def test_discovered_runs_are_the_committed_report_s_runs(model):
 def test_a_new_scenario_file_adds_its_runs(tmp_path, model):
     """Adding a scenario with a [reproduction] table adds its runs and claims, no list edited."""
     from rpo.runtime.errors import RpoError
-    from rpo.runtime.report import discover, plan
+    from rpo.runtime.jobs.reproduction import discover, plan
 
     base = (SCEN / "000_scenario_III.toml").read_text()
     (tmp_path / "base.toml").write_text(base)

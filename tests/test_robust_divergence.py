@@ -8,8 +8,8 @@ import json
 import numpy as np
 import pytest
 
-from rpo.runtime.output import run_record
-from rpo.runtime.simulate import Simulation
+from rpo.runtime.outputs.writers import run_record
+from rpo.runtime.run.simulate import Simulation
 
 from conftest import Q_C0_III, Q_T0_III, unit
 
@@ -94,8 +94,8 @@ def test_lanes_stop_per_lane_on_an_output_and_stay_bit_identical_to_run(model):
 def test_an_output_divergence_is_written_with_its_metrics(model, tmp_path):
     """The folder of a run stopped by a non-finite output: status diverged, the entry by name, the
     metrics (computed over the record, whose last output row is the non-finite one) valid JSON."""
-    from rpo.runtime.metrics import compute_metrics, result_columns
-    from rpo.runtime.output import OutputSpec, write_run
+    from rpo.runtime.outputs.metrics import compute_metrics, result_columns
+    from rpo.runtime.outputs.writers import OutputSpec, write_run
 
     sim, z0 = _sim(model)
     res = sim.run(z0, 1.0)

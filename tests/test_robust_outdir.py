@@ -9,11 +9,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rpo.runtime import output
 from rpo.runtime.errors import OutputError
-from rpo.runtime.output import OutputSpec, check_out_dir, write_run
-from rpo.runtime.runner import execute_run
-from rpo.runtime.simulate import Simulation
+from rpo.runtime.jobs.runner import execute_run
+from rpo.runtime.outputs import writers as output
+from rpo.runtime.outputs.writers import OutputSpec, check_out_dir, write_run
+from rpo.runtime.run.simulate import Simulation
 
 from conftest import Q_C0_III, Q_T0_III, unit
 

@@ -32,7 +32,10 @@ def mark(fn):
         return fn(*a, **k)
     return wrapper
 
-from rpo.runtime import cli, figure_workers, output, simulate
+from rpo.runtime.cli import main as cli
+from rpo.runtime.outputs import figure_workers
+from rpo.runtime.outputs import writers as output
+from rpo.runtime.run import simulate
 if moment == "inputs":
     simulate.Simulation.initial_state = mark(simulate.Simulation.initial_state)
 elif moment == "writing":

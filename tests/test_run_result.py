@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from rpo.runtime.simulate import Simulation
+from rpo.runtime.run.simulate import Simulation
 
 from conftest import Q_C0_III, Q_T0_III, unit
 

@@ -10,8 +10,8 @@ import pytest
 
 from rpo.runtime import frames as fr
 from rpo.runtime.errors import ScenarioError
+from rpo.runtime.run.simulate import Simulation
 from rpo.runtime.scenario import load_scenario, loads_scenario, paper_data, validate_scenario
-from rpo.runtime.simulate import Simulation
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENARIOS = sorted((ROOT / "scenarios").glob("000_scenario_*.toml"))
@@ -34,7 +34,7 @@ velocity = [0.0, 0.0, 0.0]
 
 @pytest.fixture(scope="module")
 def model():
-    from rpo.runtime.compiled import load_model
+    from rpo.runtime.model.loader import load_model
     return load_model()
 
 
@@ -320,7 +320,7 @@ def manifest():
     """A copy of the generated manifest, to patch what symbolic/ declared."""
     import copy
 
-    from rpo.runtime.compiled import read_manifest
+    from rpo.runtime.model.manifest import read_manifest
     return copy.deepcopy(read_manifest())
 
 

@@ -10,12 +10,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rpo.runtime import runner
-from rpo.runtime.compiled import read_manifest
 from rpo.runtime.errors import ScenarioError
+from rpo.runtime.jobs import runner
+from rpo.runtime.model.manifest import read_manifest
+from rpo.runtime.run.preflight import preflight
 from rpo.runtime.scenario import SCENARIO_DIR, load_scenario, scenario_params
 from rpo.runtime.scenario.params import Interval, gain_bounds
-from rpo.runtime.scenario.preflight import preflight
 from rpo.runtime.scenario.ranges import ranges_markdown
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -111,8 +111,8 @@ def test_preflight_packs_the_parameters_once_with_the_same_bits(tmp_path):
     """The pre-flight hands its Simulation the parameter vector packed on the way to the initial
     state: the same bytes as packing the run's parameters afresh, its own array, and the inputs
     the same as ``to_run``'s."""
-    from rpo.runtime.compiled import load_model
-    from rpo.runtime.simulate import Simulation
+    from rpo.runtime.model.loader import load_model
+    from rpo.runtime.run.simulate import Simulation
 
     model = load_model("auto")
     sc = variant(tmp_path, "[chaser]\nmass = 97.5\n", model.manifest)

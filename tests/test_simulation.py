@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from rpo.runtime.errors import ModelError
-from rpo.runtime.simulate import Simulation
+from rpo.runtime.run.simulate import Simulation
 
 from conftest import Q_C0_III, Q_T0_III, unit
 

@@ -11,7 +11,7 @@ import pytest
 from test_generated_vs_symbolic import Inputs
 from test_lanes import _model, bits_equal
 
-from rpo.runtime import compiled
+from rpo.runtime.model.manifest import generated_dir
 
 N_POINTS = 12
 
@@ -80,7 +80,7 @@ def test_step_tables_are_the_manifest_fields(model):
     """The C glue of every step tests exactly the p entries of each variant's fields."""
     offs = model.offsets("p")
     for ctrl in model.manifest["controllers"]:
-        text = (compiled.generated_dir() / f"step_{ctrl}.c").read_text()
+        text = (generated_dir() / f"step_{ctrl}.c").read_text()
         tables = {m.group(1): ([int(v) for v in m.group(2).split(", ")], m.group(3))
                   for m in re.finditer(r"static const casadi_int step_\w+_(z\d+_\d+)\[\d+\] = \{([\d, ]+)\};"
                                        r"  /\* (\w+):", text)}

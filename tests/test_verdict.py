@@ -1,4 +1,4 @@
-"""The verdict (runtime/verdict.py): goals reached and when, the main-reason rule on signals with
+"""The verdict (runtime/outputs/verdict.py): goals reached and when, the main-reason rule on signals with
 known answers, and `rpo run` ending with the verdict that metrics.json and run.json store."""
 
 from __future__ import annotations
@@ -9,9 +9,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rpo.runtime import metrics as M
-from rpo.runtime.cli import main
-from rpo.runtime.verdict import SATURATION_MIN, verdict
+from rpo.runtime.cli.main import main
+from rpo.runtime.outputs import metrics as M
+from rpo.runtime.outputs.verdict import SATURATION_MIN, verdict
 
 ROOT = Path(__file__).resolve().parents[1]
 T = np.linspace(0.0, 100.0, 1001)  # dt = 0.1 s
@@ -145,7 +145,7 @@ def test_rpo_run_ends_with_the_verdict_stored_in_metrics_and_run_json(tmp_path, 
 def test_saturation_and_constraints_alone_equal_the_verdicts_with_nan_samples():
     # the verdict shares the run's hold weights between its fractions and takes the finite-only
     # fast path when no sample is NaN; the public functions (and a NaN sample) give the same
-    from rpo.runtime.verdict import constraints, saturation
+    from rpo.runtime.outputs.verdict import constraints, saturation
     speed = np.where(T >= 70, 700.0, 100.0)
     fov = (T - 30) ** 2 / 100 - 1.0
     fov[[0, 500]] = np.nan

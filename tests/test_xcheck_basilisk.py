@@ -28,7 +28,7 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
-from rpo.runtime.simulate import Simulation
+from rpo.runtime.run.simulate import Simulation
 
 import basilisk_map as bmap
 from conftest import Q_T0_III, SCENARIO_III, ZERO_GAINS, quiet_params, unit

@@ -20,10 +20,10 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from ..errors import CampaignError
-from .execute import CampaignOutcome, check_resume, run_campaign, start_folder
-from .spec import Campaign, load_campaign, loads_campaign
-from .storage import read_history, read_rows
+from rpo.runtime.campaign.execute import CampaignOutcome, check_resume, run_campaign, start_folder
+from rpo.runtime.campaign.spec import Campaign, load_campaign, loads_campaign
+from rpo.runtime.campaign.storage import read_history, read_rows
+from rpo.runtime.errors import CampaignError
 
 __all__ = ["Campaign", "CampaignError", "CampaignOutcome", "check_resume", "load_campaign", "load_history",
            "load_summary", "loads_campaign", "read_history", "read_rows", "run_campaign", "start_folder"]

@@ -49,7 +49,7 @@ from typing import Any
 import numpy as np
 from scipy import special, stats
 
-from ..frames import dcm_from_quat, quat_conjugate, quat_multiply, rotation_angle
+from rpo.runtime.frames import dcm_from_quat, quat_conjugate, quat_multiply, rotation_angle
 
 DEG = math.pi / 180.0
 #: Smallest probability a truncation may keep: below it the draws would all sit at a bound to

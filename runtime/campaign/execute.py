@@ -34,12 +34,12 @@ from typing import Any
 
 import numpy as np
 
-from .. import interrupts
-from ..errors import CampaignError, RpoError
-from ..metrics import UNITS, compute_metrics, error_signals, norm_rows
-from ..verdict import verdict
-from . import storage
-from .spec import DERIVED, Campaign, campaign_from_resolved
+from rpo.runtime.campaign import storage
+from rpo.runtime.campaign.spec import DERIVED, Campaign, campaign_from_resolved
+from rpo.runtime.errors import CampaignError, RpoError
+from rpo.runtime.outputs.metrics import UNITS, compute_metrics, error_signals, norm_rows
+from rpo.runtime.outputs.verdict import verdict
+from rpo.runtime.run import interrupts
 
 #: Lane blocks per batch by default: enough runs per task to amortise its start, small enough that
 #: the last tasks finish together on every core.
@@ -68,7 +68,7 @@ _CAMPAIGNS: dict[str, Campaign] = {}
 
 def worker_model(controller: str) -> Any:
     """The model of this process (loaded once per process and controller)."""
-    from ..compiled import load_model
+    from rpo.runtime.model.loader import load_model
     key = (controller, os.environ.get("RPO_CACHE_DIR"))
     if key not in _MODELS:
         _MODELS[key] = load_model("auto", controllers=[controller])
@@ -89,7 +89,7 @@ def fly_batch(resolved: dict, key: str, cases: Sequence[int], folder: str,
     try:
         model = model if model is not None else worker_model(resolved["controller"])
         camp = _campaign(resolved, model.manifest, key)
-        from ..scenario.params import unchanging
+        from rpo.runtime.scenario.params import unchanging
         with unchanging(model.manifest):  # the loaded model's manifest: parsed once for the whole batch
             return _fly(camp, model, list(cases), Path(folder))
     except Exception as exc:  # the whole task failed: its runs are recorded as errors, resume re-flies them
@@ -104,7 +104,7 @@ def error_rows(resolved: dict, cases: Iterable[int], message: str, tb: str | Non
 
 
 def run_seed_of(resolved: dict, case: int) -> int:
-    from .sampling import run_seed
+    from rpo.runtime.campaign.sampling import run_seed
     return run_seed(int(resolved["seed"]), int(case))
 
 
@@ -113,8 +113,8 @@ def prepare_case(camp: Campaign, model: Any, case: int,
     """(the row so far, the draw columns, the pre-flight or the refusal text) of one case: its
     draws (``camp.draws(case)`` unless given), its scenario validated as `rpo run` would, and the
     pre-flight checks."""
-    from ..scenario import validate_scenario
-    from ..scenario.preflight import preflight
+    from rpo.runtime.run.preflight import preflight
+    from rpo.runtime.scenario import validate_scenario
 
     if draws is None:
         draws = camp.draws(case)
@@ -187,7 +187,7 @@ _NOMINAL: dict[tuple, tuple[np.ndarray, np.ndarray]] = {}
 
 def _nominal_vectors(camp: Campaign, model: Any) -> tuple[np.ndarray, np.ndarray] | None:
     """The parameter and gain vectors of the campaign's undispersed scenario (None if refused)."""
-    from ..scenario import validate_scenario
+    from rpo.runtime.scenario import validate_scenario
 
     key = (camp.hash, model.manifest["manifest_hash"])
     if key not in _NOMINAL:
@@ -223,7 +223,7 @@ def applied(model: Any, pre: Any, nominal: tuple[np.ndarray, np.ndarray] | None)
 def run_row(camp: Campaign, model: Any, inputs: Any, res: Any) -> tuple[dict[str, Any], dict[str, np.ndarray],
                                                                         dict[str, str]]:
     """(row fields, history columns, their units) of one flown run, from its in-memory record:
-    the metrics and verdict of ``rpo run`` (rpo.runtime.metrics, rpo.runtime.verdict), the outcome
+    the metrics and verdict of ``rpo run`` (rpo.runtime.outputs.metrics, rpo.runtime.outputs.verdict), the outcome
     flags, the chosen channels and the error signals the envelopes use."""
     cols = dict(zip(res.z_labels, res.z.T, strict=True))  # each column a view of the record
     cols.update(zip(res.y_labels, res.y.T, strict=True))
@@ -268,7 +268,7 @@ _H_W = tuple(f"h_w_{i}" for i in range(1, 5))
 
 def _selection(camp: Campaign, model: Any, controller: str) -> Any:
     """The history's columns (once per campaign, controller and model)."""
-    from ..channels import select
+    from rpo.runtime.scenario.channels import select
     key = (camp.channels, controller, model.manifest["manifest_hash"])
     if key not in _SELECTIONS:
         _SELECTIONS[key] = select(list(camp.channels), model.layouts[f"z_{controller}"],
@@ -356,7 +356,6 @@ def _warm(camp: Campaign, model: Any) -> None:
     vectors and the history's columns."""
     import pyarrow.parquet  # noqa: F401
 
-    from ..scenario import preflight  # noqa: F401
     _nominal_vectors(camp, model)
     _selection(camp, model, camp.scenario_data.get("simulation", {}).get("controller", "baseline"))
     _campaign(camp.resolved(), model.manifest, camp.hash)
@@ -466,7 +465,7 @@ def counts(rows: dict[int, dict]) -> dict[str, int]:
 def start_folder(camp: Campaign, model: Any, out: str | Path, command: str = "") -> Path:
     """Create the campaign folder (absent or empty: refused otherwise) with the campaign's text and
     resolved.json."""
-    from ..output import check_out_dir
+    from rpo.runtime.outputs.writers import check_out_dir
     folder = check_out_dir(out)
     folder.mkdir(parents=True, exist_ok=True)
     (folder / storage.HISTORIES).mkdir(exist_ok=True)
@@ -563,5 +562,5 @@ def diff(a: Any, b: Any, path: str = "") -> str:
         for i, (x, y) in enumerate(zip(a, b, strict=True)):
             if x != y:
                 return diff(x, y, f"{path}[{i}]")
-    from ..scenario.messages import show
+    from rpo.runtime.scenario.messages import show
     return f"{path}: {show(a)} then, {show(b)} now"

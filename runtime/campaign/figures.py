@@ -1,5 +1,5 @@
 """Figures of a Monte Carlo campaign (matplotlib, Agg, no pyplot; imported inside the functions so
-that importing :mod:`rpo.runtime.campaign.report` or the statistics costs no matplotlib).
+that importing :mod:`rpo.runtime.campaign.reporting` or the statistics costs no matplotlib).
 
 * :func:`envelope_figure`  percentile bands over time (5-95 % shaded, the median as a line), one
   panel per signal, and how many runs are still flying when some stopped early;
@@ -8,7 +8,7 @@ that importing :mod:`rpo.runtime.campaign.report` or the statistics costs no mat
 * :func:`scatter_figure`   one metric against every numeric dispersed value, Spearman's rho in each
   panel's title.
 
-The functions take arrays, not a campaign folder: :mod:`rpo.runtime.campaign.report` does the
+The functions take arrays, not a campaign folder: :mod:`rpo.runtime.campaign.reporting` does the
 reading.  Files are deterministic: same data, same bytes (no date or software version in the
 PNG/PDF metadata, a fixed SVG hash salt).
 """
@@ -23,7 +23,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .stats import Envelope, ecdf
+from rpo.runtime.campaign.stats import Envelope, ecdf
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

@@ -15,9 +15,9 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import CampaignError, ScenarioError
-from . import storage
-from .spec import Campaign, campaign_from_resolved
+from rpo.runtime.campaign import storage
+from rpo.runtime.campaign.spec import Campaign, campaign_from_resolved
+from rpo.runtime.errors import CampaignError, ScenarioError
 
 
 def toml_text(data: dict[str, Any], header: str = "") -> str:
@@ -69,7 +69,7 @@ def _tables(v: Any) -> bool:
 
 def case_scenario(folder: Path, case: int, model: Any, full_logging: bool = True) -> tuple[Any, Campaign]:
     """(the validated scenario of ``case``, the campaign); refused when the model changed."""
-    from ..scenario import validate_scenario
+    from rpo.runtime.scenario import validate_scenario
 
     resolved = storage.read_resolved(folder)
     if resolved.get("model_hash") != model.manifest["manifest_hash"]:
@@ -94,7 +94,7 @@ def case_scenario(folder: Path, case: int, model: Any, full_logging: bool = True
 def _subsample(res: Any, every: int) -> Any:
     """The record the campaign keeps of a run recorded at every step: every ``every``-th step and
     the last (Simulation.run's grid)."""
-    from ..simulate import RunResult, record_grid
+    from rpo.runtime.run.simulate import RunResult, record_grid
 
     steps = np.rint((res.t - res.t[0]) / res.dt).astype(np.int64)
     last = int(steps[-1])
@@ -108,7 +108,7 @@ def _subsample(res: Any, every: int) -> Any:
 def compare(folder: Path, camp: Campaign, model: Any, case: int, result: Any, inputs: Any) -> list[str]:
     """What differs between the case flown alone and the campaign's record of it (empty: the same
     bits: status, every metric, every history value)."""
-    from .execute import run_row
+    from rpo.runtime.campaign.execute import run_row
 
     rows = storage.read_rows(folder)
     if case not in rows:

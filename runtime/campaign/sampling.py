@@ -17,7 +17,7 @@ process and Python version, unlike ``hash``):
   added at the end leaves the earlier keys' draws unchanged; one inserted before them does not).
   ``runs`` should be a power of 2 for the sequence's balance (scipy warns otherwise; rpo accepts it).
 
-The run's own noise seed (random torques, sensor noise: :mod:`rpo.runtime.noise`) is the 64-bit
+The run's own noise seed (random torques, sensor noise: :mod:`rpo.runtime.run.noise`) is the 64-bit
 state of ``SeedSequence(seed, spawn_key=(NOISE_STREAM, i))``.
 """
 
@@ -30,7 +30,7 @@ from collections.abc import Sequence
 import numpy as np
 from scipy.stats import qmc
 
-from .dispersions import Dispersion
+from rpo.runtime.campaign.dispersions import Dispersion
 
 SAMPLINGS = ("random", "lhs", "sobol")
 #: Stream id of the runs' noise seeds: a fixed constant ("noise"); a key's sha256-derived id equals

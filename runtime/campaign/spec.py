@@ -30,7 +30,7 @@ A dispersed key is a model parameter (``rpo info``), a controller gain
 distributions: :mod:`.dispersions`.
 
 **Invalid draws.**  Each run's scenario (the base with that run's draws) is validated exactly as
-``rpo run`` validates a file, and given the same pre-flight (:mod:`rpo.runtime.scenario.preflight`).
+``rpo run`` validates a file, and given the same pre-flight (:mod:`rpo.runtime.run.preflight`).
 A draw that is refused is recorded as status ``invalid`` with the one-line reason and is not
 flown; it is never clipped, replaced or redrawn (either would change the distribution without
 saying so).  The report gives the invalid count and rate apart from the flown runs' statistics.
@@ -53,18 +53,18 @@ from typing import Annotated, Any, Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
-from ..errors import CampaignError, ScenarioError
-from ..scenario import read_scenario, scenario_params, validate_scenario
-from ..scenario.loader import ScenarioSource, parse_toml
-from ..scenario.messages import first_error, show
-from ..scenario.params import manifest_defaults
-from .dispersions import Dispersion, DispersionError
-from .sampling import SAMPLINGS, Design, run_seed, run_seeds
+from rpo.runtime.campaign.dispersions import Dispersion, DispersionError
+from rpo.runtime.campaign.sampling import SAMPLINGS, Design, run_seed, run_seeds
+from rpo.runtime.errors import CampaignError, ScenarioError
+from rpo.runtime.scenario import read_scenario, scenario_params, validate_scenario
+from rpo.runtime.scenario.loader import ScenarioSource, parse_toml
+from rpo.runtime.scenario.messages import first_error, show
+from rpo.runtime.scenario.params import manifest_defaults
 
 FORMAT = 1
-#: The histories' channels by default (fields of the state and outputs; rpo.runtime.channels).
+#: The histories' channels by default (fields of the state and outputs; rpo.runtime.scenario.channels).
 CHANNELS: tuple[str, ...] = ("q_c", "w_c", "h_w", "r", "v", "m_prop")
-#: Columns every history gets, derived from the record (rpo.runtime.metrics.error_signals).
+#: Columns every history gets, derived from the record (rpo.runtime.outputs.metrics.error_signals).
 DERIVED = ("err_att_rad", "err_pos_m", "h_w_norm")
 #: Most runs a campaign file may ask for (a typo guard: 10 million runs of 1 ms each is hours).
 MAX_RUNS = 10_000_000
@@ -334,7 +334,7 @@ def load_campaign(path: str | Path | ScenarioSource, manifest: dict | None = Non
     """Read and validate a campaign file; ``runs`` and ``duration`` [s] override the file's (a quick
     look).  Raises :class:`CampaignError` / :class:`ScenarioError` with one line."""
     if manifest is None:
-        from ..compiled import read_manifest
+        from rpo.runtime.model.manifest import read_manifest
         manifest = read_manifest()
     src = path if isinstance(path, ScenarioSource) else read_scenario(path)
     data = copy.deepcopy(src.data)
@@ -346,7 +346,7 @@ def load_campaign(path: str | Path | ScenarioSource, manifest: dict | None = Non
 def loads_campaign(text: str, source: str = "campaign", manifest: dict | None = None, **kw: Any) -> Campaign:
     """A campaign from TOML text (no ``extends``: the text holds the whole scenario)."""
     if manifest is None:
-        from ..compiled import read_manifest
+        from rpo.runtime.model.manifest import read_manifest
         manifest = read_manifest()
     return campaign_from_table(parse_toml(text, source), source, text, manifest, **kw)
 
@@ -426,7 +426,7 @@ def campaign_from_table(data: dict, source: str, text: str, manifest: dict, *, r
 
 
 def _check_channels(camp: Campaign, manifest: dict, source: str) -> None:
-    from ..channels import ChannelError, select
+    from rpo.runtime.scenario.channels import ChannelError, select
     ctrl = camp.scenario_data.get("simulation", {}).get("controller", "baseline")
     lay = manifest["layouts"]
     try:

@@ -41,8 +41,8 @@ from typing import Any
 import numpy as np
 import orjson
 
-from ..errors import CampaignError
-from ..metrics import UNITS
+from rpo.runtime.errors import CampaignError
+from rpo.runtime.outputs.metrics import UNITS
 
 RESOLVED = "resolved.json"
 MANIFEST = "manifest.jsonl"
@@ -51,7 +51,7 @@ HISTORIES = "histories"
 CAMPAIGN_COPY = "campaign.toml"
 STATUSES = ("ok", "diverged", "invalid", "error")
 OUTCOMES = ("att_reached", "pos_reached", "diverged", "constraint_violated", "failed")
-#: The summary's metric columns: the scalar metrics of rpo.runtime.metrics, in its order.
+#: The summary's metric columns: the scalar metrics of rpo.runtime.outputs.metrics, in its order.
 METRICS = tuple(UNITS)
 
 

@@ -40,12 +40,20 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from .initial_state import RunInputs, run_inputs
-from .loader import ScenarioSource, merge, parse_toml, read_scenario
-from .messages import format_error
-from .params import Interval, ScenarioParam, manifest_defaults, scenario_params
-from .reproduction import Reproduction
-from .schema import DEG, MAX_RECORD_BYTES, QUAT_TOL, RPM, Scenario, apply_preset, scenario_model, validate_scenario
+from rpo.runtime.scenario.initial_state import RunInputs, run_inputs
+from rpo.runtime.scenario.loader import ScenarioSource, merge, parse_toml, read_scenario
+from rpo.runtime.scenario.messages import format_error
+from rpo.runtime.scenario.params import Interval, ScenarioParam, manifest_defaults, scenario_params
+from rpo.runtime.scenario.reproduction import Reproduction
+from rpo.runtime.scenario.schema import (
+    MAX_RECORD_BYTES,
+    QUAT_TOL,
+    Scenario,
+    apply_preset,
+    scenario_model,
+    validate_scenario,
+)
+from rpo.runtime.scenario.units import DEG, RPM
 
 #: The scenarios of this checkout (``<repo>/scenarios``); absent in an installed copy.
 SCENARIO_DIR = Path(__file__).resolve().parents[2] / "scenarios"

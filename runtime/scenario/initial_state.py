@@ -12,14 +12,14 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .. import frames
-from ..errors import ModelError, ScenarioError
-from .params import param
-from .schema import RPM, _Body
+from rpo.runtime import frames
+from rpo.runtime.errors import ModelError, ScenarioError
+from rpo.runtime.scenario.params import param
+from rpo.runtime.scenario.units import RPM
 
 if TYPE_CHECKING:
-    from ..compiled import Model
-    from .schema import Scenario
+    from rpo.runtime.model.loader import Model
+    from rpo.runtime.scenario.schema import Scenario, _Body
 
 
 @dataclass
@@ -53,7 +53,7 @@ class RunInputs:
 
 
 def run_inputs(sc: Scenario, model: Model) -> RunInputs:
-    """Inputs of :class:`~rpo.runtime.simulate.Simulation` for ``model``: all parameters in SI,
+    """Inputs of :class:`~rpo.runtime.run.simulate.Simulation` for ``model``: all parameters in SI,
     the gains, and the plant's initial state with attitudes relative to ECI."""
     return packed_run_inputs(sc, model)[0]
 

@@ -22,8 +22,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from ..errors import RpoError, ScenarioError
-from .messages import show
+from rpo.runtime.errors import RpoError, ScenarioError
+from rpo.runtime.scenario.messages import show
 
 #: Top-level tables that a variant does not inherit from its base.
 OWN_TABLES = ("reproduction",)

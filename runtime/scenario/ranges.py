@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from .params import Interval, gain_bounds, scenario_params
+from rpo.runtime.scenario.params import Interval, gain_bounds, scenario_params
 
 #: Where :func:`ranges_markdown` is written (``python -m rpo.runtime.scenario.ranges --write``).
 RANGES_DOC = "docs/parameters.md"
@@ -27,7 +27,7 @@ loop). *per step*: a rate the step must resolve, checked against the scenario's
 The relations between fields (perigee above the surface, `u_off < u_on`, the wheel delay within
 the delay line, ideal actuators with their limits) are checked too (`runtime/scenario/schema.py`),
 and `rpo validate` and `rpo run` then build the initial state and the controller's initial states
-and try step 0 (`runtime/scenario/preflight.py`): a combination that gives a nan there is
+and try step 0 (`runtime/run/preflight.py`): a combination that gives a nan there is
 refused as well.
 
 The files themselves: a scenario and every file its `extends` chain names (at most 16) must be a
@@ -86,7 +86,7 @@ def _md_value(v: Any) -> str:
 if __name__ == "__main__":  # python -m rpo.runtime.scenario.ranges [--write docs/parameters.md]
     import sys
 
-    from ..compiled import read_manifest
+    from rpo.runtime.model.manifest import read_manifest
 
     page = ranges_markdown(read_manifest())
     if len(sys.argv) == 3 and sys.argv[1] == "--write":

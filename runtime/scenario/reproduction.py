@@ -1,5 +1,5 @@
 """The ``[reproduction]`` table of a scenario file: its runs in ``rpo report`` and its paper's
-published values (read by :mod:`rpo.runtime.report`).  A file declares only its own runs and
+published values (read by :mod:`rpo.runtime.jobs.reproduction`).  A file declares only its own runs and
 claims (the table is not inherited through ``extends``), so adding a scenario adds its runs to
 the report without editing any list.  Layout::
 

@@ -35,10 +35,10 @@ from pydantic import (
 )
 from pydantic_core import PydanticCustomError
 
-from ..errors import ModelError, ScenarioError
-from .faults import Fault, FaultConflict, fault_params, fault_value_unit
-from .messages import field_error, first_error, unknown_key
-from .params import (
+from rpo.runtime.errors import ModelError, ScenarioError
+from rpo.runtime.scenario.faults import Fault, FaultConflict, fault_params, fault_value_unit
+from rpo.runtime.scenario.messages import field_error, first_error, unknown_key
+from rpo.runtime.scenario.params import (
     Interval,
     ScenarioParam,
     _cached,
@@ -49,14 +49,14 @@ from .params import (
     param,
     scenario_params,
 )
-from .reproduction import Reproduction
+from rpo.runtime.scenario.reproduction import Reproduction
+from rpo.runtime.scenario.units import DEG
 
 if TYPE_CHECKING:
-    from ..compiled import Model
-    from .initial_state import RunInputs
+    from rpo.runtime.model.loader import Model
+    from rpo.runtime.scenario.initial_state import RunInputs
 
-DEG = math.pi / 180.0
-RPM = 2.0 * math.pi / 60.0
+
 #: Tolerance on |q| - 1 for a quaternion typed in a scenario (4 printed digits).
 QUAT_TOL = 1e-3
 #: Largest time history a run may record (z and y, float64), so a typo cannot exhaust memory.
@@ -202,10 +202,10 @@ FIGURE_FORMATS = ("png", "svg", "pdf")
 
 
 class OutputSection(_Section):
-    """``[output]``: what a run writes (:mod:`rpo.runtime.channels`, :mod:`rpo.runtime.output`).
+    """``[output]``: what a run writes (:mod:`rpo.runtime.scenario.channels`, :mod:`rpo.runtime.outputs.writers`).
 
     ``channels``: field names, column labels or glob patterns over the layouts ``z_<controller>``
-    and ``y_<controller>`` (omitted: :data:`rpo.runtime.channels.DEFAULT_CHANNELS`; ``"default"``
+    and ``y_<controller>`` (omitted: :data:`rpo.runtime.scenario.channels.DEFAULT_CHANNELS`; ``"default"``
     inside the list stands for that set).  ``every`` (steps of 1 / rate) or ``rate_hz``: the
     written rows, a multiple of ``simulation.record_every`` (omitted: every recorded row).  The
     metrics are always computed from the full in-memory record, never from the written rows.
@@ -289,7 +289,7 @@ class Relative(_Section):
 
 class Scenario(_Section):
     """A validated scenario.  Build it with :func:`~rpo.runtime.scenario.load_scenario`; turn it
-    into the inputs of a :class:`~rpo.runtime.simulate.Simulation` with :meth:`to_run`.
+    into the inputs of a :class:`~rpo.runtime.run.simulate.Simulation` with :meth:`to_run`.
 
     The class validated is :func:`scenario_model` of the manifest, a subclass that adds the
     parameter keys; read those with :meth:`get` (``sc.get("orbit.eccentricity")``).
@@ -397,7 +397,7 @@ class Scenario(_Section):
     def _cross_checks(self, info: ValidationInfo):
         manifest = (info.context or {}).get("manifest")
         if manifest is None:
-            from ..compiled import read_manifest
+            from rpo.runtime.model.manifest import read_manifest
             manifest = read_manifest()
         self._manifest = manifest
         self._check_controller(manifest)
@@ -555,7 +555,7 @@ class Scenario(_Section):
                                   "(the step must resolve it)" + ("" if given is not None else "; this is the default"))
 
     def _check_output(self, manifest: dict, dt: float) -> None:
-        from ..channels import ChannelError, select
+        from rpo.runtime.scenario.channels import ChannelError, select
 
         out, rec = self.output, self.simulation.record_every
         if out.rate_hz is not None:
@@ -634,9 +634,9 @@ class Scenario(_Section):
         return sc
 
     def to_run(self, model: Model) -> RunInputs:
-        """Inputs of :class:`~rpo.runtime.simulate.Simulation` for ``model`` (see
+        """Inputs of :class:`~rpo.runtime.run.simulate.Simulation` for ``model`` (see
         :func:`~rpo.runtime.scenario.initial_state.run_inputs`)."""
-        from .initial_state import run_inputs
+        from rpo.runtime.scenario.initial_state import run_inputs
         return run_inputs(self, model)
 
 
@@ -754,7 +754,7 @@ def validate_scenario(data: dict, source: str = "scenario", manifest: dict | Non
     """Validate a parsed scenario table; raises :class:`ScenarioError` with a one-line message.
     ``own``: the caller hands ``data`` over (it will not change it), so it is kept without a copy."""
     if manifest is None:
-        from ..compiled import read_manifest
+        from rpo.runtime.model.manifest import read_manifest
         manifest = read_manifest()
     cls = scenario_model(manifest)
     try:

@@ -1,6 +1,6 @@
 """Linearisation of the generated model: the plant's A, B and the closed-loop step's Jacobian.
 
-Two functions taking the :class:`~rpo.runtime.compiled.Model` (functions, not methods, so that
+Two functions taking the :class:`~rpo.runtime.model.loader.Model` (functions, not methods, so that
 ``compiled.py`` stays the loader only):
 
 * :func:`plant_jacobians` -- continuous-time ``A = df/dx``, ``B = df/du`` of ``plant_rhs`` at
@@ -60,9 +60,10 @@ from typing import Any
 
 import numpy as np
 
-from .compiled import Model, generated_dir
-from .errors import ModelError
-from .frames import quat_conjugate, quat_multiply
+from rpo.runtime.errors import ModelError
+from rpo.runtime.frames import quat_conjugate, quat_multiply
+from rpo.runtime.model.loader import Model
+from rpo.runtime.model.manifest import generated_dir
 
 #: The attitude fields of z replaced by rotation vectors (the controllers' own layouts keep none).
 QUATERNIONS = ("q_c", "q_t")
@@ -528,9 +529,9 @@ def linearize_scenario(path: str | Path, model: Model | None = None, controller:
                        log=None) -> ScenarioLinearization:
     """Linearise the closed loop of a scenario at its goal (default) or its initial state, at time t
     (the target's attitude and rate at the start of the scenario; noise zero)."""
-    from .compiled import load_model
-    from .scenario import load_scenario
-    from .simulate import Simulation
+    from rpo.runtime.model.loader import load_model
+    from rpo.runtime.run.simulate import Simulation
+    from rpo.runtime.scenario import load_scenario
 
     if at not in ("goal", "initial"):
         raise ModelError(f"at must be 'goal' or 'initial', got {at!r}")

@@ -5,7 +5,7 @@ loop (``runtime/csrc/sim_loop.c``) in chunks, so Python is entered once per chun
 progress bar and the random torques), not once per step.
 
 The noise inputs w (random torques, 000 eq. 5, and measurement noise) are standard-normal
-samples drawn in C as a pure function of (seed, step, index) (:mod:`rpo.runtime.noise`) and held
+samples drawn in C as a pure function of (seed, step, index) (:mod:`rpo.runtime.run.noise`) and held
 over each step: the same seed gives the same run whatever the chunk size, and the same case run
 alone or in any lane of a batch gives the same bits.
 """
@@ -20,9 +20,10 @@ from typing import Any
 
 import numpy as np
 
-from . import noise
-from .compiled import CompiledFunction, Model
-from .errors import ModelError
+from rpo.runtime.errors import ModelError
+from rpo.runtime.model.functions import CompiledFunction
+from rpo.runtime.model.loader import Model
+from rpo.runtime.run import noise
 
 _DP = ctypes.POINTER(ctypes.c_double)
 

@@ -1,12 +1,12 @@
 """Everything a run checks before its first step, in the one function ``rpo run`` (through
-:func:`rpo.runtime.runner.execute_run`) and ``rpo validate`` both call, so the two cannot disagree.
+:func:`rpo.runtime.jobs.runner.execute_run`) and ``rpo validate`` both call, so the two cannot disagree.
 
 :func:`preflight` takes a validated :class:`~.schema.Scenario` (its schema checks: types, ranges,
 cross-field and step-dependent checks) and the model, and does what the run does next:
 
 1. the inputs (:func:`~.initial_state.run_inputs`: SI parameters, gains, the initial state with
    attitudes relative to ECI, wheel speeds to momenta);
-2. the closed loop (:class:`~rpo.runtime.simulate.Simulation`) and its packed initial state,
+2. the closed loop (:class:`~rpo.runtime.run.simulate.Simulation`) and its packed initial state,
    including the controller's own initial states (``xc0_<name>`` from the first measurement);
 3. the run's argument checks (duration, record_every, seed, a finite initial state);
 4. **step 0 on trial**: the generated step function once from that state, with the run's own
@@ -25,13 +25,13 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..errors import ScenarioError
+from rpo.runtime.errors import ScenarioError
 
 if TYPE_CHECKING:
-    from ..compiled import Model
-    from ..simulate import Simulation
-    from .initial_state import RunInputs
-    from .schema import Scenario
+    from rpo.runtime.model.loader import Model
+    from rpo.runtime.run.simulate import Simulation
+    from rpo.runtime.scenario.initial_state import RunInputs
+    from rpo.runtime.scenario.schema import Scenario
 
 
 @dataclass
@@ -48,9 +48,9 @@ class Preflight:
 def preflight(sc: Scenario, model: Model) -> Preflight:
     """Every check of a run before its first step; raises :class:`ScenarioError` (one line) or
     :class:`~rpo.runtime.errors.ModelError`."""
-    from .. import noise
-    from ..simulate import Simulation
-    from .initial_state import packed_run_inputs
+    from rpo.runtime.run import noise
+    from rpo.runtime.run.simulate import Simulation
+    from rpo.runtime.scenario.initial_state import packed_run_inputs
 
     inputs, p = packed_run_inputs(sc, model)  # = sc.to_run(model), and its parameter vector
     sim = Simulation(model, inputs.controller, params=inputs.params, gains=inputs.gains, packed_p=p)

@@ -19,7 +19,7 @@ from typing import Any
 
 import click
 
-from .errors import CampaignError
+from rpo.runtime.errors import CampaignError
 
 EXIT_RUN_ERRORS = 1
 
@@ -66,7 +66,7 @@ class _Progress:
 
 
 def _model(controller: str, quiet: bool) -> Any:
-    from .compiled import load_model
+    from rpo.runtime.model.loader import load_model
     return load_model("auto", log=None if quiet else _err, controllers=[controller])
 
 
@@ -82,7 +82,7 @@ def _dask_option(value: str | None) -> str | None:
 
 def _fly(camp: Any, model: Any, folder: Path, workers: int | None, dask: str | None, batch: int | None,
          quiet: bool, what: str) -> int:
-    from .campaign import execute, storage
+    from rpo.runtime.campaign import execute, storage
 
     done = storage.read_rows(folder)
     todo = sum(1 for c in range(camp.runs) if c not in done or done[c]["status"] == "error")
@@ -101,7 +101,7 @@ def _fly(camp: Any, model: Any, folder: Path, workers: int | None, dask: str | N
     rows = storage.read_rows(folder)
     failed = sum(1 for r in rows.values() if r.get("outcome", {}).get("failed"))
     if out.interrupted is not None:
-        from .interrupts import Interrupted
+        from rpo.runtime.run.interrupts import Interrupted
         raise Interrupted(out.interrupted, f"interrupted: {len(rows)} of {camp.runs} runs are recorded in {folder}; "
                              f"`rpo mc resume {folder}` flies the rest")
     if not quiet:
@@ -147,10 +147,10 @@ def mc() -> None:
 def run_cmd(campaign_file: str, out: str, workers: int | None, dask: str | None, runs: int | None,
             duration: float | None, batch: int | None, quiet: bool) -> int:
     """Fly CAMPAIGN_FILE (a scenario with [campaign] and [dispersions]) into a new folder."""
-    from .campaign import execute
-    from .campaign.spec import load_campaign
-    from .compiled import read_manifest
-    from .output import check_out_dir
+    from rpo.runtime.campaign import execute
+    from rpo.runtime.campaign.spec import load_campaign
+    from rpo.runtime.model.manifest import read_manifest
+    from rpo.runtime.outputs.writers import check_out_dir
 
     dask = _dask_option(dask)
     camp = load_campaign(campaign_file, read_manifest(), runs=runs, duration=duration)
@@ -173,8 +173,8 @@ def run_cmd(campaign_file: str, out: str, workers: int | None, dask: str | None,
 def resume_cmd(folder: Path, workers: int | None, dask: str | None, batch: int | None, quiet: bool) -> int:
     """Fly the runs of FOLDER that are missing or ended in an error; refused, naming what changed,
     if the model or the campaign (its file, or the scenario it extends) changed since it started."""
-    from .campaign import execute, storage
-    from .campaign.spec import load_campaign
+    from rpo.runtime.campaign import execute, storage
+    from rpo.runtime.campaign.spec import load_campaign
 
     dask = _dask_option(dask)
     resolved = storage.read_resolved(folder)
@@ -200,8 +200,8 @@ def resume_cmd(folder: Path, workers: int | None, dask: str | None, batch: int |
 def report_cmd(folder: Path, coverage: float, confidence: float, no_figures: bool) -> int:
     """Write FOLDER/report.md and FOLDER/figures/: statistics of every metric, failure rates with
     confidence intervals, envelopes, CDFs, sensitivities and the worst cases."""
-    from .campaign.report import write_report
-    from .campaign.storage import read_resolved
+    from rpo.runtime.campaign.reporting import write_report
+    from rpo.runtime.campaign.storage import read_resolved
 
     read_resolved(folder)  # a clear error for a folder that is not a campaign
     path = write_report(folder, coverage=coverage, confidence=confidence, figures=not no_figures)

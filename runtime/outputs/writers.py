@@ -26,14 +26,14 @@ Written rows are the recorded rows whose step is a multiple of :attr:`OutputSpec
 always the final row.
 
 * ``scenario.toml``   the scenario as read (when given);
-* ``metrics.json``    the metrics of :mod:`rpo.runtime.metrics` (computed by the caller from the
+* ``metrics.json``    the metrics of :mod:`rpo.runtime.outputs.metrics` (computed by the caller from the
   full in-memory record, not from the written rows);
 * ``run.json``        status (``ok``/``diverged`` with the divergence message, step, time and
   state label), steps, wall time, backend, seed, controller, model source hash, versions, what
   was written (``output``) and the figure files;
-* the figures of :mod:`rpo.runtime.plots` (``<name>.png|svg|pdf``; unless disabled).
+* the figures of :mod:`rpo.runtime.outputs.plots` (``<name>.png|svg|pdf``; unless disabled).
 
-Figures are rendered by worker processes (:mod:`rpo.runtime.figure_workers`; :func:`warm_figures`
+Figures are rendered by worker processes (:mod:`rpo.runtime.outputs.figure_workers`; :func:`warm_figures`
 starts them early, so matplotlib is imported off the data path while the simulation runs), from
 the full-rate in-memory columns, while this process writes the data files; :func:`write_run`
 waits for them before the rename, so the folder appears complete or not at all.
@@ -63,14 +63,15 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from . import figure_workers, interrupts
-from .channels import Selection, select
-from .errors import OutputError
-from .plotdata import FIGURE_FIELDS, FIGURE_FORMATS, FIGURE_ORDER, PlotData
+from rpo.runtime.errors import OutputError
+from rpo.runtime.outputs import figure_workers
+from rpo.runtime.outputs.plotdata import FIGURE_FIELDS, FIGURE_FORMATS, FIGURE_ORDER, PlotData
+from rpo.runtime.run import interrupts
+from rpo.runtime.scenario.channels import Selection, select
 
 if TYPE_CHECKING:
-    from .compiled import Model
-    from .simulate import RunResult
+    from rpo.runtime.model.loader import Model
+    from rpo.runtime.run.simulate import RunResult
 
 CSV_FORMAT = "%.17g"  # round-trips every double: the CSV equals the in-memory data
 FORMATS = ("parquet", "mat", "csv", "npz")
@@ -80,7 +81,7 @@ MATLAB_NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]{0,62}$")
 
 @dataclass(frozen=True)
 class OutputSpec:
-    """What :func:`write_run` writes: ``channels`` (entries of :func:`rpo.runtime.channels.select`;
+    """What :func:`write_run` writes: ``channels`` (entries of :func:`rpo.runtime.scenario.channels.select`;
     None: the default set), ``every`` (steps between written rows; None: every recorded row),
     ``formats`` (of :data:`FORMATS`), ``figures`` and their ``figure_format``."""
 
@@ -351,7 +352,7 @@ def write_npz(path: Path, cols: Sequence[Column], meta_json: str, z_count: int) 
 
 def warm_figures() -> None:
     """Start the figure workers now (they import matplotlib while the caller simulates)."""
-    from . import figure_workers
+    from rpo.runtime.outputs import figure_workers
     figure_workers.start()
 
 
@@ -363,7 +364,7 @@ def write_run(result: RunResult, out_dir: str | Path, model: Model, scenario_pat
               params: dict | None = None, gains: dict | None = None, title: str = "",
               metrics: dict | None = None, output: OutputSpec | None = None,
               timings: dict[str, float] | None = None) -> Path:
-    """Write ``result`` (a :class:`~rpo.runtime.simulate.RunResult`) into the new folder ``out_dir``.
+    """Write ``result`` (a :class:`~rpo.runtime.run.simulate.RunResult`) into the new folder ``out_dir``.
 
     ``scenario_text`` (else the file ``scenario_path``) is copied as ``scenario.toml``;
     ``extra_meta`` is merged into ``run.json``; ``params``/``gains`` give the plots their limits

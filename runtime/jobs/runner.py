@@ -4,14 +4,14 @@
 
 1. **scenario**: read and validate the file (or take a validated :class:`Scenario`), apply the
    overrides (duration, seed, controller, plant, gains) and validate again;
-2. **output folder**: checked completely (:func:`rpo.runtime.output.check_out_dir`: not empty,
+2. **output folder**: checked completely (:func:`rpo.runtime.outputs.writers.check_out_dir`: not empty,
    writable, parent writable, symlinks resolved) before anything slow happens;
 3. **inputs**: load the model (``model`` may be a callable, so a bad scenario or folder never
    waits for a compile), map the scenario to SI parameters, gains and the initial state;
 4. **simulation** (every ``simulation.record_every``-th step kept in memory, default every
-   step); 5. **metrics** (:mod:`rpo.runtime.metrics`) and the **verdict**
-   (:mod:`rpo.runtime.verdict`, in metrics.json and run.json) from that full in-memory record;
-   6. **outputs** (:func:`rpo.runtime.output.write_run`, atomic, never over existing files): the
+   step); 5. **metrics** (:mod:`rpo.runtime.outputs.metrics`) and the **verdict**
+   (:mod:`rpo.runtime.outputs.verdict`, in metrics.json and run.json) from that full in-memory record;
+   6. **outputs** (:func:`rpo.runtime.outputs.writers.write_run`, atomic, never over existing files): the
    scenario's ``[output]`` (channels, rows, formats, figures) with the command-line overrides.
    The figure workers are started at stage 2, so matplotlib is imported while the run simulates.
 
@@ -30,15 +30,15 @@ from typing import Any
 
 import numpy as np
 
-from . import interrupts
-from .compiled import Model
-from .interrupts import Interrupted
-from .metrics import compute_metrics, result_columns
-from .output import OutputSpec, check_out_dir, warm_figures, write_run
-from .scenario import RunInputs, Scenario, load_scenario
-from .scenario.preflight import preflight
-from .simulate import RunResult
-from .verdict import verdict
+from rpo.runtime.model.loader import Model
+from rpo.runtime.outputs.metrics import compute_metrics, result_columns
+from rpo.runtime.outputs.verdict import verdict
+from rpo.runtime.outputs.writers import OutputSpec, check_out_dir, warm_figures, write_run
+from rpo.runtime.run import interrupts
+from rpo.runtime.run.interrupts import Interrupted
+from rpo.runtime.run.preflight import preflight
+from rpo.runtime.run.simulate import RunResult
+from rpo.runtime.scenario import RunInputs, Scenario, load_scenario
 
 
 @dataclass
@@ -85,7 +85,7 @@ def execute_run(scenario: str | Path | Scenario, out_dir: str | Path | None, mod
     replace the scenario's ``[output] formats`` / ``figure_format``; ``plots=False`` writes no
     figure.
 
-    SIGINT and SIGTERM (:mod:`rpo.runtime.interrupts`): before the simulation, nothing is written;
+    SIGINT and SIGTERM (:mod:`rpo.runtime.run.interrupts`): before the simulation, nothing is written;
     during it, the run stops at its next chunk and the folder is written with what was computed,
     ``status = "interrupted"`` in ``run.json`` and ``metrics.json``, then :class:`Interrupted` is
     raised (naming the folder); while the folder is written (or a second signal), the temporary
@@ -196,7 +196,7 @@ def plant_summary(params: Mapping[str, Any], plant: str | None) -> dict[str, str
 
 def output_spec(sc: Scenario, *, formats: Iterable[str] | None = None, figure_format: str | None = None,
                 plots: bool = True) -> OutputSpec:
-    """The :class:`~rpo.runtime.output.OutputSpec` of a validated scenario's ``[output]`` table,
+    """The :class:`~rpo.runtime.outputs.writers.OutputSpec` of a validated scenario's ``[output]`` table,
     with the command-line ``formats`` / ``figure_format`` and ``plots=False`` applied."""
     o = sc.output
     dt = float(sc.params()["dt"][0])

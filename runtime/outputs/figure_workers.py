@@ -1,6 +1,6 @@
 """Figures drawn by worker processes, off the data path.
 
-:func:`start` launches ``python -m rpo.runtime.figure_workers`` processes (plain subprocesses, not
+:func:`start` launches ``python -m rpo.runtime.outputs.figure_workers`` processes (plain subprocesses, not
 :mod:`multiprocessing`: that would import the caller's main script again in each child, which an
 unguarded script or notebook does not survive).  The first worker imports matplotlib and draws a small
 figure to load the fonts, then forks the others (a warm copy costs nothing; it is a clean process
@@ -82,7 +82,7 @@ def _launch(n: int) -> list[_Worker]:
         pairs.append(((jobs_w, res_r), (jobs_r, res_w)))
     theirs = [fd for _, t in pairs for fd in t]
     try:
-        proc = subprocess.Popen([sys.executable, "-m", "rpo.runtime.figure_workers",
+        proc = subprocess.Popen([sys.executable, "-m", "rpo.runtime.outputs.figure_workers",
                                  *(f"{r},{w}" for _, (r, w) in pairs)],
                                 stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL,
                                 pass_fds=theirs)
@@ -121,7 +121,7 @@ atexit.register(stop)
 
 
 def _draw_here(job: tuple) -> list[str]:
-    from .plots import render
+    from rpo.runtime.outputs.plots import render
     data, folder, fmt, name = job
     return render(data, folder, fmt, [name])
 
@@ -208,7 +208,7 @@ def draw(jobs: Sequence[tuple]) -> Drawing:
 def _serve(jobs: Any, results: Any) -> int:  # pragma: no cover - runs in a worker process
     import traceback
 
-    from . import plots
+    from rpo.runtime.outputs import plots
     while True:
         try:
             job = pickle.load(jobs)
@@ -231,7 +231,7 @@ def _main(argv: list[str]) -> int:  # pragma: no cover - runs in the worker proc
     # draw that figure itself.  The workers exit when their pipes close.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     warnings.simplefilter("ignore")
-    from . import plots
+    from rpo.runtime.outputs import plots
     fig = plots.Figure(figsize=(2, 1))  # fonts and the Agg canvas loaded before the first job
     fig.subplots().plot([0, 1], [0, 1], label="x")
     fig.legend()

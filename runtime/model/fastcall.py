@@ -18,7 +18,7 @@ import sysconfig
 from pathlib import Path
 from types import ModuleType
 
-from .errors import ModelError
+from rpo.runtime.errors import ModelError
 
 SOURCE = "fastcall.c"
 _loaded: dict[str, ModuleType | None] = {}
@@ -28,7 +28,10 @@ why_not: list[str] = []
 
 def load(cache: Path | None = None) -> ModuleType | None:
     """The ``_rpo_fastcall`` module, built if needed; None when it cannot be (see :data:`why_not`)."""
-    from .compiled import _compiler, _run_cc, cache_dir, csrc_dir, ensure_built
+    from rpo.runtime.model.cache import cache_dir, ensure_built
+    from rpo.runtime.model.toolchain import compiler_command as _compiler
+    from rpo.runtime.model.toolchain import csrc_dir
+    from rpo.runtime.model.toolchain import run_cc as _run_cc
 
     if os.environ.get("RPO_NO_FASTCALL"):
         why_not[:] = ["RPO_NO_FASTCALL is set"]

@@ -2,7 +2,7 @@
 main reason rpo can measure (pure NumPy, from the recorded columns, the metrics and the run's
 parameters; no model).
 
-Goals (as :mod:`rpo.runtime.metrics` defines them): **attitude** reached when its settling time
+Goals (as :mod:`rpo.runtime.outputs.metrics` defines them): **attitude** reached when its settling time
 exists (the error stays below ``att_deg``, 1 deg by default, from then to the end of the run), at
 that time; **position** likewise with ``pos_m`` (0.5 m).  A goal whose error the controller does
 not log is "not measured".
@@ -55,7 +55,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .metrics import (
+from rpo.runtime.outputs.metrics import (
     SPEED_LIMIT_TOL,
     TORQUE_LIMIT_TOL,
     XYZ,
@@ -66,7 +66,7 @@ from .metrics import (
     hold_weights,
     param,
 )
-from .scenario.faults import active_faults
+from rpo.runtime.scenario.faults import active_faults
 
 #: a family saturated for less than this fraction of the run is not named as the main reason
 SATURATION_MIN = 0.05
@@ -210,7 +210,7 @@ def verdict(metrics: Mapping[str, Any], t: ArrayLike, columns: Mapping[str, Any]
     ``not measured``, ``diverged``), per goal ``reached``/``time_s``/``final``/``reason``, the
     ``saturation`` of each actuator family, the ``constraints``, the ``divergence`` message and
     ``line``, the one-line summary ``rpo run`` prints.  ``divergence``: the run's
-    :class:`~rpo.runtime.simulate.Divergence` (its ``time``, ``label``, ``message()``) or None."""
+    :class:`~rpo.runtime.run.simulate.Divergence` (its ``time``, ``label``, ``message()``) or None."""
     t = np.asarray(t, float)
     w, span = _weights(t)  # shared by every time fraction of the run
     sat = _saturation(columns, params, w, span)

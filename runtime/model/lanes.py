@@ -137,7 +137,7 @@ def _kernel_body(lines: list[str], where: str) -> list[str]:
         elif line.strip() == "return 0;":
             out.append("  return 0;")
         else:
-            raise LaneError(f"{where}: no lane form for the line {line.strip()!r} (runtime/lanes.py knows "
+            raise LaneError(f"{where}: no lane form for the line {line.strip()!r} (runtime/model/lanes.py knows "
                             "CasADi's one-operation lines and the math of runtime/csrc/rpo_math.h)")
     if temps:
         out.insert(0, "  rpo_v " + ", ".join(temps) + ";")
@@ -250,7 +250,7 @@ def lane_source(name: str, text: str) -> tuple[str, list[str]]:
     ``<fn>_lanes(const rpo_v** arg, rpo_v** res, long long* iw, rpo_v* w, int mem)`` and
     ``<fn>_lanes_work(void)`` (work vector length, in rpo_v), and the names of the functions it calls."""
     lines = text.splitlines()
-    out = [f"/* Lane form of {name}, written by rpo.runtime.lanes (version {LANES_VERSION}) from the",
+    out = [f"/* Lane form of {name}, written by rpo.runtime.model.lanes (version {LANES_VERSION}) from the",
            " * verified generated file: the same operations over rpo_v (see runtime/csrc/rpo_lanes.h). */",
            '#include "rpo_lanes.h"', ""]
     kernels: set[str] = set()

@@ -3,7 +3,7 @@
 Exit codes: 0 success; 2 a user error (bad scenario, bad option, output folder not empty,
 missing compiler...), printed as one ``error: ...`` line on stderr without a traceback;
 3 the simulation diverged (the results up to the divergence are written, the message says
-where); 130 interrupted.  Also runnable as ``python -m rpo.runtime.cli``.
+where); 130 interrupted.  Also runnable as ``python -m rpo.runtime.cli.main``.
 """
 
 from __future__ import annotations
@@ -19,11 +19,13 @@ from typing import TYPE_CHECKING, Any
 import click
 import numpy as np
 
-from . import frames, interrupts
-from .errors import RpoError
+from rpo.runtime import frames
+from rpo.runtime.errors import RpoError
+from rpo.runtime.model.toolchain import find_compiler, native_target
+from rpo.runtime.run import interrupts
 
 if TYPE_CHECKING:
-    from .compiled import Model
+    from rpo.runtime.model.loader import Model
 
 EXIT_USAGE = 2
 EXIT_DIVERGED = 3
@@ -50,15 +52,15 @@ def _loader(quiet: bool):
 
 def _load_model(backend: str, quiet: bool, controllers: list[str] | None = None):
     """The model; ``controllers``: only these (a run loads, and on first use compiles, what it flies)."""
-    from .compiled import load_model
+    from rpo.runtime.model.loader import load_model
     return load_model(backend, log=_loader(quiet), controllers=controllers)
 
 
 def _formats(ctx, param, value: str | None) -> tuple[str, ...] | None:
-    """``--format parquet,mat``: each name checked against the writers of rpo.runtime.output."""
+    """``--format parquet,mat``: each name checked against the writers of rpo.runtime.outputs.writers."""
     if value is None:
         return None
-    from .output import FORMATS
+    from rpo.runtime.outputs.writers import FORMATS
     names = [v.strip() for v in value.split(",") if v.strip()]
     bad = [n for n in names if n not in FORMATS]
     if bad or not names:
@@ -138,10 +140,10 @@ def run(scenario: str | None, out: str | None, campaign: Path | None, case: int 
     elif scenario is None:
         raise click.UsageError("missing SCENARIO (a scenario file), or --campaign DIR --case N")
     if not no_plots:  # matplotlib is imported by the figure workers while this process works
-        from .figure_workers import start
+        from rpo.runtime.outputs.figure_workers import start
         start()
-    from .metrics import format_table
-    from .runner import execute_run
+    from rpo.runtime.jobs.runner import execute_run
+    from rpo.runtime.outputs.metrics import format_table
 
     loaded: list[Model] = []
 
@@ -152,8 +154,8 @@ def run(scenario: str | None, out: str | None, campaign: Path | None, case: int 
     source: Any = scenario
     camp = None
     if campaign is not None:
-        from .campaign.replay import case_scenario
-        from .campaign.storage import read_resolved
+        from rpo.runtime.campaign.replay import case_scenario
+        from rpo.runtime.campaign.storage import read_resolved
         m = model(read_resolved(campaign)["controller"])
         source, camp = case_scenario(campaign, int(case or 0), m)
         out = out if out is not None else str(campaign / "cases" / f"case_{case:06d}")
@@ -167,7 +169,7 @@ def run(scenario: str | None, out: str | None, campaign: Path | None, case: int 
         bar.close()
     result = outcome.result
     if camp is not None:
-        from .campaign.replay import compare
+        from rpo.runtime.campaign.replay import compare
         assert campaign is not None and case is not None
         diffs = compare(campaign, camp, outcome.model, case, result, outcome.inputs)
         if diffs:
@@ -183,9 +185,9 @@ def run(scenario: str | None, out: str | None, campaign: Path | None, case: int 
         return EXIT_DIVERGED
     if not quiet:
         _summary(result, outcome.model, outcome.inputs, outcome.out_dir, outcome.write_time)
-        click.echo("metrics (metrics.json; definitions in rpo.runtime.metrics):")
+        click.echo("metrics (metrics.json; definitions in rpo.runtime.outputs.metrics):")
         click.echo(format_table(outcome.metrics))
-        # last, so that the run ends with it (rule: rpo.runtime.verdict, docs/verdict.md)
+        # last, so that the run ends with it (rule: rpo.runtime.outputs.verdict, docs/verdict.md)
         click.echo(outcome.metrics["verdict"]["line"])
     return 0
 
@@ -244,9 +246,9 @@ def report(run_list: str, out_base: str, md_path: str, json_path: str, notes_pat
 
     RUN_LIST is a folder of scenario files (default: scenarios), whose [reproduction] tables
     declare the runs and published values, or a TOML run list.  Each run goes through the same
-    code as `rpo run`; see rpo.runtime.report for the formats.
+    code as `rpo run`; see rpo.runtime.jobs.reproduction for the formats.
     """
-    from .report import make_report, summary_line
+    from rpo.runtime.jobs.reproduction import make_report, summary_line
 
     model = _load_model(backend, quiet)
     state: dict = {"lines": []}
@@ -289,8 +291,8 @@ def validate(scenario: str, backend: str) -> int:
     (attitudes relative to ECI and to LVLH) and every parameter the scenario changes from the
     manifest defaults.
     """
-    from .scenario import load_scenario
-    from .scenario.preflight import preflight
+    from rpo.runtime.run.preflight import preflight
+    from rpo.runtime.scenario import load_scenario
 
     sc = load_scenario(scenario)
     model = _load_model(backend, quiet=True)
@@ -312,7 +314,7 @@ def validate(scenario: str, backend: str) -> int:
     echo(f"  orbit       a = {a / 1e3:.6g} km, e = {e:g}, perigee altitude {h_p:.6g} km, "
          f"i = {math.degrees(p['orbit_inc']):g} deg, period {2 * math.pi * math.sqrt(a**3 / mu) / 60:.5g} min, "
          f"LVLH rate n(0) = {inputs.frame_info['n0']:.6g} rad/s")
-    from .runner import plant_summary
+    from rpo.runtime.jobs.runner import plant_summary
     summary = plant_summary(inputs.params, None)
     echo(f"  plant       target orbit {summary['target_orbit']}; {summary['actuators']}")
     pl = inputs.plant
@@ -371,12 +373,12 @@ def linearize(scenario: str, controller: str | None, plant: str | None, at: str,
 
     The step's Jacobian is CasADi AD of the generated step_<controller>, in reduced coordinates
     (attitudes as rotation vectors, actuator and controller states listed separately); see
-    docs/linearization.md and rpo.runtime.linearize.
+    docs/linearization.md and rpo.runtime.run.linearize.
     """
     import json
 
-    from .linearize import format_report, linearize_scenario
-    from .scenario import load_scenario
+    from rpo.runtime.run.linearize import format_report, linearize_scenario
+    from rpo.runtime.scenario import load_scenario
 
     load_scenario(scenario)  # a bad file fails before anything is compiled
     res = linearize_scenario(scenario, model=None, controller=controller, plant=plant, at=at, log=_loader(False))
@@ -394,7 +396,7 @@ def linearize(scenario: str, controller: str | None, plant: str | None, at: str,
               help="Backend to load (compiles the model into the cache if needed).")
 def info(backend: str) -> int:
     """Show the generated model: source hash, tools, library, functions, layouts, parameters."""
-    from .scenario import ScenarioParam
+    from rpo.runtime.scenario import ScenarioParam
 
     model = _load_model(backend, quiet=False)
     m = model.manifest
@@ -414,11 +416,11 @@ def info(backend: str) -> int:
                                                                           "click")))
     echo(f"backend          {model.backend}" + (f", library {model.library}" if model.library else ""))
     if model.backend == "compiled":
-        from . import compiled, fastcall
+        from rpo.runtime.model import fastcall
 
-        native, _target = compiled.native_target(compiled.find_compiler() or ["cc"])
+        native, _target = native_target(find_compiler() or ["cc"])
         echo(f"lockstep lanes   built on first batch for {' '.join(native) or 'the default target'} "
-             "(runtime/lanes.py; Simulation.run_batch, f.batch)")
+             "(runtime/model/lanes.py; Simulation.run_batch, f.batch)")
         echo("single calls     " + ("in place (fast-call extension)" if not fastcall.why_not
                                     else f"ctypes ({fastcall.why_not[0]})"))
     echo(f"quaternions      {m.get('quaternion_convention', '?')}")
@@ -469,7 +471,7 @@ def info(backend: str) -> int:
               help="Exit 1 if this file differs from the table (for CI).")
 def choices(folder: Path, target: Path | None, check: Path | None) -> int:
     """Table of the values the scenario files mark as chosen (the papers are silent there)."""
-    from .choices import render, scenario_files
+    from rpo.runtime.docgen.choices import render, scenario_files
 
     text = render(scenario_files(folder))
     if check is not None:
@@ -492,7 +494,8 @@ def choices(folder: Path, target: Path | None, check: Path | None) -> int:
 @click.option("--dry-run", is_flag=True, help="With --prune: only say what would be deleted.")
 def cache(prune: bool, dry_run: bool) -> int:
     """The compile cache ($RPO_CACHE_DIR, else ~/.cache/rpo): where it is and how large; --prune."""
-    from .compiled import cache_dir, prune_cache
+    from rpo.runtime.model.cache import cache_dir
+    from rpo.runtime.model.library import prune_cache
 
     root = cache_dir()
     files = [f for f in root.rglob("*") if f.is_file() and not f.name.startswith(".")] if root.is_dir() else []
@@ -535,12 +538,12 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _register() -> None:
-    from .cli_campaign import mc
+    from rpo.runtime.cli.campaign import mc
     cli.add_command(mc)
 
 
 _register()
 
 
-if __name__ == "__main__":  # python -m rpo.runtime.cli
+if __name__ == "__main__":  # python -m rpo.runtime.cli.main
     sys.exit(main())

@@ -1,8 +1,8 @@
 """Figures of one run (matplotlib, Agg; no pyplot, so no global backend state is touched).
 
-The figures are drawn from a :class:`~rpo.runtime.plotdata.PlotData` (the time, the columns the
+The figures are drawn from a :class:`~rpo.runtime.outputs.plotdata.PlotData` (the time, the columns the
 figures use at the rate of the in-memory record, the layouts and a few run facts), so they can be
-rendered in another process (:mod:`rpo.runtime.output` does, while it writes the data files).  Every figure
+rendered in another process (:mod:`rpo.runtime.outputs.writers` does, while it writes the data files).  Every figure
 is a column of panels over time; titles, axis labels and legends use words and units ("wheel
 speed [rpm]"), not layout ids.  Long series are drawn through a min/max envelope per horizontal
 pixel (:func:`envelope`), which looks the same as every point and keeps vector files small.
@@ -35,11 +35,11 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
-from .metrics import quat_angle  # NumPy only (frames would import scipy.spatial into the workers)
-from .plotdata import FIGURE_FORMATS, STANDARD_DIAG, PlotData
+from rpo.runtime.outputs.metrics import quat_angle
+from rpo.runtime.outputs.plotdata import FIGURE_FORMATS, STANDARD_DIAG, PlotData
 
 if TYPE_CHECKING:
-    from .simulate import RunResult
+    from rpo.runtime.run.simulate import RunResult
 
 RAD2DEG = 180.0 / np.pi
 RADS2RPM = 60.0 / (2.0 * np.pi)

@@ -40,8 +40,8 @@ import numpy as np
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from . import stats as S
-from .storage import history_path, read_histories, read_rows
+from rpo.runtime.campaign import stats as S
+from rpo.runtime.campaign.storage import history_path, read_histories, read_rows
 
 STATUSES = ("ok", "diverged", "invalid", "error")
 FLOWN = ("ok", "diverged")
@@ -320,7 +320,7 @@ def _read_histories(c: CampaignFolder, flown: np.ndarray) -> _Histories:
 def _write_figures(c: CampaignFolder, fig_dir: Path, ok: np.ndarray, flown: np.ndarray, hist: _Histories,
                    correlations: Mapping[tuple[str, str], S.RankCorrelation], fmt: str) -> list[tuple[str, str]]:
     """Draw the figures; returns [(file name, caption), ...] of those written."""
-    from . import figures as F
+    from rpo.runtime.campaign import figures as F
 
     fig_dir.mkdir(parents=True, exist_ok=True)
     written: list[tuple[str, str]] = []

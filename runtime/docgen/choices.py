@@ -88,7 +88,7 @@ Two steps, so that the metrics never depend on what is written:
 | `figures` | `true` | `false` writes no figure (as `rpo run --no-plots`) |
 | `figure_format` | `"png"` | `"png"`, `"svg"` or `"pdf"`; `rpo run --figure-format` replaces it |
 
-The default set (`rpo.runtime.channels.DEFAULT_CHANNELS`) is what the figures and the metrics
+The default set (`rpo.runtime.scenario.channels.DEFAULT_CHANNELS`) is what the figures and the metrics
 read plus the physical state: `q_c`, `w_c`, `h_w`, `q_t`, `w_t`, `r`, `v`, `m_prop`, `meas_q_e`,
 `meas_w_e`, `cmd_*`, `wheel_applied`, `thr_duty`, `thr_on`, `env_m_c`, `env_wheel_speed`,
 `env_tau_applied`, `env_F_applied`, `env_beta_fov`, `env_beta_ca`, `ctrl_*` (156 of 306 columns

@@ -1,5 +1,5 @@
 """What the figures of one run need, without matplotlib: :class:`PlotData` and which fields each
-figure of :mod:`rpo.runtime.plots` reads (:data:`FIGURE_FIELDS`), so the data path can hand each
+figure of :mod:`rpo.runtime.outputs.plots` reads (:data:`FIGURE_FIELDS`), so the data path can hand each
 figure only its columns (to another process) without importing matplotlib itself."""
 
 from __future__ import annotations
@@ -10,11 +10,11 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .channels import select
-from .scenario.faults import active_faults
+from rpo.runtime.scenario.channels import select
+from rpo.runtime.scenario.faults import active_faults
 
 if TYPE_CHECKING:
-    from .simulate import RunResult
+    from rpo.runtime.run.simulate import RunResult
 
 FIGURE_FORMATS = ("png", "svg", "pdf")
 #: Standard diagnostic fields every paper controller logs first (in the ``controller`` figure).
@@ -30,7 +30,7 @@ FIGURE_FIELDS: dict[str, tuple[str, ...]] = {
     "thrusters": ("thr_on", "thr_duty", "m_prop"),
     "constraints": ("env_beta_fov", "env_beta_ca"),
 }
-#: The figures in reading order (``run.json`` lists them so; :data:`rpo.runtime.plots.FIGURES`).
+#: The figures in reading order (``run.json`` lists them so; :data:`rpo.runtime.outputs.plots.FIGURES`).
 FIGURE_ORDER = ("attitude", "translation", "actuators", "thrusters", "controller", "constraints", "diagnostics")
 FIGURE_CHANNELS = tuple(dict.fromkeys(p for ps in FIGURE_FIELDS.values() for p in ps))
 
