@@ -61,7 +61,7 @@ def _v2_lemma1(st: Statement) -> Plan:
         rest = sp.expand(g / kappa)
         return kappa, rest
 
-    return Plan([reg], "chi1_i in [-4, 4] (i = 1..3), kappa_1 in [0.01, 5] 1/s", reduce=reduce)
+    return Plan([reg], "chi1_i in [-4, 4] (i = 1..3, dimensionless), kappa_1 in [0.01, 5] N m", reduce=reduce)
 
 
 def _axes(n: dict):
