@@ -54,7 +54,7 @@ def _v2_lemma1(st: Statement) -> Plan:
     """Lemma 1 (mu = 1) summed over the three axes: kappa_1 > 0 factored out, the rest on the box."""
     chi = sorted((s for s in st.free_symbols() if s.name.startswith("chi1_")), key=lambda s: s.name)
     (kappa,) = [s for s in st.free_symbols() if s.name == "kappa_1"]
-    reg = Region(tuple(Coordinate(c, -4.0, 4.0) for c in chi) + (Coordinate(kappa, 0.01, 5.0, "1/s"),),
+    reg = Region(tuple(Coordinate(c, -4.0, 4.0) for c in chi) + (Coordinate(kappa, 0.01, 5.0, "N m"),),
                  describe="the search domain")
 
     def reduce(g):
