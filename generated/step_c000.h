@@ -1,33 +1,34 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c000: one closed-loop step (plant + c000 + actuators), RK4 over dt: measure, control_c000, plant_advance
- * Produced by `python build.py` from family 'controller_c000' (hash 2acef4cd0275cee3fc3592fdd6b34217d7a9aa8390473a7545b3f2a4e5a31029),
+ * Produced by `python build.py` from family 'controller_c000' (hash 5e79c0037cd45dfb7e03fcd47ddc37a8daba4146eae87f4782c96b49786f3c07),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
- *   symbolic/c_composition.py
  *   symbolic/closed_loop.py
- *   symbolic/codegen.py
+ *   symbolic/codegen/__init__.py
+ *   symbolic/codegen/c_composition.py
+ *   symbolic/codegen/codegen.py
+ *   symbolic/codegen/functions.py
+ *   symbolic/codegen/reciprocals.py
+ *   symbolic/codegen/specialisation.py
+ *   symbolic/codegen/structural_cse.py
+ *   symbolic/codegen/to_casadi.py
  *   symbolic/constraints.py
  *   symbolic/controllers/__init__.py
  *   symbolic/controllers/c000.py
  *   symbolic/environment.py
  *   symbolic/faults.py
- *   symbolic/functions.py
  *   symbolic/kepler.py
  *   symbolic/layout.py
  *   symbolic/mass_properties.py
  *   symbolic/orbit.py
  *   symbolic/plant.py
- *   symbolic/reciprocals.py
  *   symbolic/relative_attitude.py
  *   symbolic/relative_translation.py
  *   symbolic/rigid_body.py
  *   symbolic/rotations.py
  *   symbolic/special.py
- *   symbolic/specialisation.py
- *   symbolic/structural_cse.py
  *   symbolic/target_orbit_state.py
- *   symbolic/to_casadi.py
  * Operations: 29029 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus

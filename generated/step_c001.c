@@ -1,33 +1,34 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c001: one closed-loop step (plant + c001 + actuators), RK4 over dt: measure, control_c001, plant_advance
- * Produced by `python build.py` from family 'controller_c001' (hash 72fab3d75429c7304e448e3e6249455ee900894ce4806824470ab95a334e8aa4),
+ * Produced by `python build.py` from family 'controller_c001' (hash 252b6fb1522524b528094f03c2297a6af4d2199bdb067e2a0075f6e1d775690a),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
- *   symbolic/c_composition.py
  *   symbolic/closed_loop.py
- *   symbolic/codegen.py
+ *   symbolic/codegen/__init__.py
+ *   symbolic/codegen/c_composition.py
+ *   symbolic/codegen/codegen.py
+ *   symbolic/codegen/functions.py
+ *   symbolic/codegen/reciprocals.py
+ *   symbolic/codegen/specialisation.py
+ *   symbolic/codegen/structural_cse.py
+ *   symbolic/codegen/to_casadi.py
  *   symbolic/constraints.py
  *   symbolic/controllers/__init__.py
  *   symbolic/controllers/c001.py
  *   symbolic/environment.py
  *   symbolic/faults.py
- *   symbolic/functions.py
  *   symbolic/kepler.py
  *   symbolic/layout.py
  *   symbolic/mass_properties.py
  *   symbolic/orbit.py
  *   symbolic/plant.py
- *   symbolic/reciprocals.py
  *   symbolic/relative_attitude.py
  *   symbolic/relative_translation.py
  *   symbolic/rigid_body.py
  *   symbolic/rotations.py
  *   symbolic/special.py
- *   symbolic/specialisation.py
- *   symbolic/structural_cse.py
  *   symbolic/target_orbit_state.py
- *   symbolic/to_casadi.py
  * Operations: 30886 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus

@@ -1,33 +1,34 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c002: one closed-loop step (plant + c002 + actuators), RK4 over dt: measure, control_c002, plant_advance
- * Produced by `python build.py` from family 'controller_c002' (hash 5730f72dd13c2e801cfbd6541d8e6f793502350b9ae5fc16a9b3149f16aa6e6a),
+ * Produced by `python build.py` from family 'controller_c002' (hash 83c8a543d4810efc5aca6fc60f49b12775259b912c766de5f6c0fcef85fbe3ae),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/actuators.py
- *   symbolic/c_composition.py
  *   symbolic/closed_loop.py
- *   symbolic/codegen.py
+ *   symbolic/codegen/__init__.py
+ *   symbolic/codegen/c_composition.py
+ *   symbolic/codegen/codegen.py
+ *   symbolic/codegen/functions.py
+ *   symbolic/codegen/reciprocals.py
+ *   symbolic/codegen/specialisation.py
+ *   symbolic/codegen/structural_cse.py
+ *   symbolic/codegen/to_casadi.py
  *   symbolic/constraints.py
  *   symbolic/controllers/__init__.py
  *   symbolic/controllers/c002.py
  *   symbolic/environment.py
  *   symbolic/faults.py
- *   symbolic/functions.py
  *   symbolic/kepler.py
  *   symbolic/layout.py
  *   symbolic/mass_properties.py
  *   symbolic/orbit.py
  *   symbolic/plant.py
- *   symbolic/reciprocals.py
  *   symbolic/relative_attitude.py
  *   symbolic/relative_translation.py
  *   symbolic/rigid_body.py
  *   symbolic/rotations.py
  *   symbolic/special.py
- *   symbolic/specialisation.py
- *   symbolic/structural_cse.py
  *   symbolic/target_orbit_state.py
- *   symbolic/to_casadi.py
  * Operations: 30193 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus

@@ -68,7 +68,7 @@ LANE_LOOP_SOURCE = "lanes_loop.c"
 #: -z defs (GNU ld): a callee missing from the link is an error now, not a library that fails to load
 LDFLAGS = ("-shared", "-Wl,-z,defs") if sys.platform.startswith("linux") else ("-shared",)
 LOOP_SOURCE = "sim_loop.c"
-#: The manifest format this runtime reads (``rpo.symbolic.codegen.FORMAT_VERSION``; a test checks they agree).
+#: The manifest format this runtime reads (``rpo.symbolic.codegen.codegen.FORMAT_VERSION``; a test checks they agree).
 MANIFEST_FORMAT = 2
 
 _DOUBLE_P = ctypes.POINTER(ctypes.c_double)
@@ -131,7 +131,7 @@ def read_manifest(gen_dir: Path | None = None, verify: bool = True) -> dict:
 def manifest_hash(manifest: dict) -> str:
     """sha256 of the manifest's canonical JSON without its ``manifest_hash`` field.
 
-    Same definition as ``rpo.symbolic.codegen.manifest_hash`` (the runtime must not import
+    Same definition as ``rpo.symbolic.codegen.codegen.manifest_hash`` (the runtime must not import
     rpo.symbolic); ``tests/test_build.py`` checks that the two agree.
     """
     body = {k: v for k, v in manifest.items() if k != "manifest_hash"}

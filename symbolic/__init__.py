@@ -2,7 +2,7 @@
 
 Every equation lives here exactly once, with the paper equation it implements beside it.
 The same SymPy objects feed the Lyapunov checks and, translated to CasADi by
-:mod:`rpo.symbolic.to_casadi`, the generated C code in ``generated/``.
+:mod:`rpo.symbolic.codegen.to_casadi`, the generated C code in ``generated/``.
 
 Conventions (see ``docs/conventions.md``):
 

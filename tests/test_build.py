@@ -25,7 +25,7 @@ import tiny_model
 import build
 from rpo.runtime import compiled
 from rpo.runtime.errors import ModelError
-from rpo.symbolic import codegen, functions
+from rpo.symbolic.codegen import codegen, functions
 
 from conftest import target_state
 
@@ -442,7 +442,7 @@ def test_library_for_some_controllers_compiles_only_what_they_need(tiny, monkeyp
 
 def test_composed_c_refuses_a_call_that_does_not_match_its_callee():
     """The C glue is generated only from a composition whose calls match the callees' signatures."""
-    from rpo.symbolic.c_composition import Call, Callee, composed_c
+    from rpo.symbolic.codegen.c_composition import Call, Callee, composed_c
 
     x = ca.SX.sym("x", 3)
     f = Callee.of(ca.Function("f", [x], [2 * x, x[0]], ["x"], ["y", "s"]))

@@ -9,7 +9,7 @@ from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation
 
 from rpo.symbolic import environment as env
-from rpo.symbolic.to_casadi import LAMBDIFY_MODULES
+from rpo.symbolic.codegen.to_casadi import LAMBDIFY_MODULES
 
 from conftest import DEG
 

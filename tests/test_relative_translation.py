@@ -154,7 +154,7 @@ def _drag_accel(model):
     import sympy as sp
 
     from rpo.symbolic import environment as env
-    from rpo.symbolic.to_casadi import numpy_function
+    from rpo.symbolic.codegen.to_casadi import numpy_function
 
     d = {k: float(np.ravel(v)[0]) for k, v in model.defaults("p").items() if np.size(v) == 1}
     r, v = sp.Matrix(sp.symbols("rx ry rz")), sp.Matrix(sp.symbols("vx vy vz"))
