@@ -1,10 +1,8 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_baseline: one closed-loop step (plant + baseline + actuators), RK4 over dt: measure, control_baseline, plant_advance
- * Produced by `python build.py` from family 'controller_baseline' (hash 2031411f326d4143c4f67b2ff9058f3495799ceac9b5f43ba9ec211fea545e89),
+ * Produced by `python build.py` from family 'controller_baseline' (hash 998e1c8dbd653b6e527688afd4bae360c698cb3804b1f23315338cd9fc832516),
  * derived from:
  *   symbolic/__init__.py
- *   symbolic/actuators.py
- *   symbolic/closed_loop.py
  *   symbolic/codegen/__init__.py
  *   symbolic/codegen/c_composition.py
  *   symbolic/codegen/codegen.py
@@ -13,22 +11,25 @@
  *   symbolic/codegen/specialisation.py
  *   symbolic/codegen/structural_cse.py
  *   symbolic/codegen/to_casadi.py
- *   symbolic/constraints.py
  *   symbolic/controllers/__init__.py
  *   symbolic/controllers/baseline.py
- *   symbolic/environment.py
- *   symbolic/faults.py
- *   symbolic/kepler.py
- *   symbolic/layout.py
- *   symbolic/mass_properties.py
- *   symbolic/orbit.py
- *   symbolic/plant.py
- *   symbolic/relative_attitude.py
- *   symbolic/relative_translation.py
- *   symbolic/rigid_body.py
- *   symbolic/rotations.py
- *   symbolic/special.py
- *   symbolic/target_orbit_state.py
+ *   symbolic/physics/__init__.py
+ *   symbolic/physics/actuators.py
+ *   symbolic/physics/closed_loop.py
+ *   symbolic/physics/constraints.py
+ *   symbolic/physics/environment.py
+ *   symbolic/physics/faults.py
+ *   symbolic/physics/kepler.py
+ *   symbolic/physics/layout.py
+ *   symbolic/physics/mass_properties.py
+ *   symbolic/physics/orbit.py
+ *   symbolic/physics/plant.py
+ *   symbolic/physics/relative_attitude.py
+ *   symbolic/physics/relative_translation.py
+ *   symbolic/physics/rigid_body.py
+ *   symbolic/physics/rotations.py
+ *   symbolic/physics/special.py
+ *   symbolic/physics/target_orbit_state.py
  * Operations: 28285 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus

@@ -1,10 +1,8 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c001: one closed-loop step (plant + c001 + actuators), RK4 over dt: measure, control_c001, plant_advance
- * Produced by `python build.py` from family 'controller_c001' (hash 252b6fb1522524b528094f03c2297a6af4d2199bdb067e2a0075f6e1d775690a),
+ * Produced by `python build.py` from family 'controller_c001' (hash ca3b6ca5e12fe1dbaf78a5ed7ee49f0e91e0de61e95bb23bd11a720e8c8ab47b),
  * derived from:
  *   symbolic/__init__.py
- *   symbolic/actuators.py
- *   symbolic/closed_loop.py
  *   symbolic/codegen/__init__.py
  *   symbolic/codegen/c_composition.py
  *   symbolic/codegen/codegen.py
@@ -13,22 +11,25 @@
  *   symbolic/codegen/specialisation.py
  *   symbolic/codegen/structural_cse.py
  *   symbolic/codegen/to_casadi.py
- *   symbolic/constraints.py
  *   symbolic/controllers/__init__.py
  *   symbolic/controllers/c001.py
- *   symbolic/environment.py
- *   symbolic/faults.py
- *   symbolic/kepler.py
- *   symbolic/layout.py
- *   symbolic/mass_properties.py
- *   symbolic/orbit.py
- *   symbolic/plant.py
- *   symbolic/relative_attitude.py
- *   symbolic/relative_translation.py
- *   symbolic/rigid_body.py
- *   symbolic/rotations.py
- *   symbolic/special.py
- *   symbolic/target_orbit_state.py
+ *   symbolic/physics/__init__.py
+ *   symbolic/physics/actuators.py
+ *   symbolic/physics/closed_loop.py
+ *   symbolic/physics/constraints.py
+ *   symbolic/physics/environment.py
+ *   symbolic/physics/faults.py
+ *   symbolic/physics/kepler.py
+ *   symbolic/physics/layout.py
+ *   symbolic/physics/mass_properties.py
+ *   symbolic/physics/orbit.py
+ *   symbolic/physics/plant.py
+ *   symbolic/physics/relative_attitude.py
+ *   symbolic/physics/relative_translation.py
+ *   symbolic/physics/rigid_body.py
+ *   symbolic/physics/rotations.py
+ *   symbolic/physics/special.py
+ *   symbolic/physics/target_orbit_state.py
  * Operations: 30886 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus

@@ -1,10 +1,8 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c004: one closed-loop step (plant + c004 + actuators), RK4 over dt: measure, control_c004, plant_advance
- * Produced by `python build.py` from family 'controller_c004' (hash 44ce3e428007c452734a34ae06d897325f257e3b845b6c868359d3a4f013ad5e),
+ * Produced by `python build.py` from family 'controller_c004' (hash 4bb59dd3f5d14b790ba5a4382caa296fe18ea0aa913696a6ff65e9df0e593aa8),
  * derived from:
  *   symbolic/__init__.py
- *   symbolic/actuators.py
- *   symbolic/closed_loop.py
  *   symbolic/codegen/__init__.py
  *   symbolic/codegen/c_composition.py
  *   symbolic/codegen/codegen.py
@@ -13,22 +11,25 @@
  *   symbolic/codegen/specialisation.py
  *   symbolic/codegen/structural_cse.py
  *   symbolic/codegen/to_casadi.py
- *   symbolic/constraints.py
  *   symbolic/controllers/__init__.py
  *   symbolic/controllers/c004.py
- *   symbolic/environment.py
- *   symbolic/faults.py
- *   symbolic/kepler.py
- *   symbolic/layout.py
- *   symbolic/mass_properties.py
- *   symbolic/orbit.py
- *   symbolic/plant.py
- *   symbolic/relative_attitude.py
- *   symbolic/relative_translation.py
- *   symbolic/rigid_body.py
- *   symbolic/rotations.py
- *   symbolic/special.py
- *   symbolic/target_orbit_state.py
+ *   symbolic/physics/__init__.py
+ *   symbolic/physics/actuators.py
+ *   symbolic/physics/closed_loop.py
+ *   symbolic/physics/constraints.py
+ *   symbolic/physics/environment.py
+ *   symbolic/physics/faults.py
+ *   symbolic/physics/kepler.py
+ *   symbolic/physics/layout.py
+ *   symbolic/physics/mass_properties.py
+ *   symbolic/physics/orbit.py
+ *   symbolic/physics/plant.py
+ *   symbolic/physics/relative_attitude.py
+ *   symbolic/physics/relative_translation.py
+ *   symbolic/physics/rigid_body.py
+ *   symbolic/physics/rotations.py
+ *   symbolic/physics/special.py
+ *   symbolic/physics/target_orbit_state.py
  * Operations: 29159 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus

@@ -210,7 +210,7 @@ def test_family_closures_follow_the_imports(tmp_path):
     (dst / "controllers" / "c001.py").write_text((dst / "controllers" / "c001.py").read_text() + "\n# edit\n")
     h1 = hashes()
     assert {k for k in h0 if h0[k] != h1[k]} == {"controller_c001"}
-    (dst / "environment.py").write_text((dst / "environment.py").read_text() + "\n# edit\n")
+    (dst / "physics" / "environment.py").write_text((dst / "physics" / "environment.py").read_text() + "\n# edit\n")
     h2 = hashes()
     assert all(h2[k] != h1[k] for k in h0)
 

@@ -2,7 +2,7 @@
 
 The reference path is SymPy -> ``sympy.lambdify`` -> NumPy, which shares no code with the
 SymPy -> CasADi -> C path except the SymPy expressions themselves.  The closed-loop step is
-compared with the same composition (:func:`rpo.symbolic.closed_loop.step`) run on NumPy.
+compared with the same composition (:func:`rpo.symbolic.physics.closed_loop.step`) run on NumPy.
 
 Tolerance: 1e-12 relative, per output field, to the field's magnitude at that point
 (``max(|ref|)`` over the field's entries).  Two fields are differences of much larger terms, so

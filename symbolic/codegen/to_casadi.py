@@ -14,8 +14,8 @@ import casadi as ca
 import numpy as np
 import sympy as sp
 
-from ..kepler import KeplerE, solve_kepler
-from ..special import Fmax, Step
+from ..physics.kepler import KeplerE, solve_kepler
+from ..physics.special import Fmax, Step
 
 _UNARY = {
     sp.sin: ca.sin,

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ...rotations import dot
+from ...physics.rotations import dot
 from ..core import (
     lie_derivative,
     symbols_vec,
