@@ -7,7 +7,7 @@
     python build.py --no-compile
 
 Generated code is organised in families (the plant; one per controller module; see
-``symbolic/functions.py``).  A family is re-derived only when a module it imports changed, and a
+``symbolic/codegen/functions.py``).  A family is re-derived only when a module it imports changed, and a
 controller family reuses the plant's CasADi functions from ``generated/`` instead of deriving the
 plant again.  Compilation is one object file per generated function, compiled in parallel on
 every core and cached by content hash; the library is linked from the cached objects.
@@ -59,7 +59,7 @@ def compare(new: dict[str, bytes], gen_dir: Path) -> list[str]:
 
     Serialised functions are compared decompressed, so a different zlib cannot cause a false alarm.
     """
-    from rpo.symbolic.codegen import is_generated_name
+    from rpo.symbolic.codegen.codegen import is_generated_name
 
     out = []
     old = {p.name for p in gen_dir.iterdir() if p.is_file() and is_generated_name(p.name)}
@@ -84,9 +84,9 @@ def compare(new: dict[str, bytes], gen_dir: Path) -> list[str]:
 def stale_families(gen_dir: Path = GEN, families=None, root: Path | None = None) -> tuple[list[str], list[str]]:
     """(families to re-derive, families generated/ has that the model no longer defines).
 
-    ``families``/``root`` default to rpo's model (``symbolic/functions.py``); tests pass a fixture model.
+    ``families``/``root`` default to rpo's model (``symbolic/codegen/functions.py``); tests pass a fixture model.
     """
-    from rpo.symbolic import codegen, functions
+    from rpo.symbolic.codegen import codegen, functions
 
     fams = functions.families() if families is None else families
     hashes = codegen.family_hashes(fams, functions.SYMBOLIC_DIR if root is None else root)
@@ -100,7 +100,7 @@ def regenerate(gen_dir: Path = GEN, force: bool = False, log=print, families=Non
                root: Path | None = None) -> list[str]:
     """Bring ``gen_dir`` up to date under its lock; return the families re-derived ([] if none)."""
     from rpo.runtime.model.cache import file_lock
-    from rpo.symbolic import codegen, functions
+    from rpo.symbolic.codegen import codegen, functions
 
     root = functions.SYMBOLIC_DIR if root is None else root
     with file_lock(gen_dir / ".lock"):  # a second build waits here, then finds nothing to do
@@ -131,8 +131,8 @@ def main(argv: list[str] | None = None) -> int:
 
     _bootstrap()
     from rpo.runtime.errors import RpoError
-    from rpo.symbolic import codegen, functions
-    from rpo.symbolic.codegen import ModelDefinitionError
+    from rpo.symbolic.codegen import codegen, functions
+    from rpo.symbolic.codegen.codegen import ModelDefinitionError
 
     t0 = time.perf_counter()
     if args.check:

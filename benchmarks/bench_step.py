@@ -82,8 +82,8 @@ def references(model, sim, z0, controller: str, repeat: int, casadi_steps: int =
     import casadi as ca
 
     from rpo.runtime.model.manifest import generated_dir
-    from rpo.symbolic import functions
-    from rpo.symbolic.numpy_reference import numpy_step
+    from rpo.symbolic.codegen import functions
+    from rpo.symbolic.codegen.numpy_reference import numpy_step
 
     step_name = model.manifest["controllers"][controller]["step"]
     step_ca = ca.Function.deserialize(gzip.decompress((generated_dir() / f"{step_name}.casadi.gz").read_bytes())

@@ -1,33 +1,35 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_baseline: one closed-loop step (plant + baseline + actuators), RK4 over dt: measure, control_baseline, plant_advance
- * Produced by `python build.py` from family 'controller_baseline' (hash a42bd3e38caf3024db00fa1cd00cfc5db6fa0551b3cad5d347f0946537aee378),
+ * Produced by `python build.py` from family 'controller_baseline' (hash 998e1c8dbd653b6e527688afd4bae360c698cb3804b1f23315338cd9fc832516),
  * derived from:
  *   symbolic/__init__.py
- *   symbolic/actuators.py
- *   symbolic/c_composition.py
- *   symbolic/closed_loop.py
- *   symbolic/codegen.py
- *   symbolic/constraints.py
+ *   symbolic/codegen/__init__.py
+ *   symbolic/codegen/c_composition.py
+ *   symbolic/codegen/codegen.py
+ *   symbolic/codegen/functions.py
+ *   symbolic/codegen/reciprocals.py
+ *   symbolic/codegen/specialisation.py
+ *   symbolic/codegen/structural_cse.py
+ *   symbolic/codegen/to_casadi.py
  *   symbolic/controllers/__init__.py
  *   symbolic/controllers/baseline.py
- *   symbolic/environment.py
- *   symbolic/faults.py
- *   symbolic/functions.py
- *   symbolic/kepler.py
- *   symbolic/layout.py
- *   symbolic/mass_properties.py
- *   symbolic/orbit.py
- *   symbolic/plant.py
- *   symbolic/reciprocals.py
- *   symbolic/relative_attitude.py
- *   symbolic/relative_translation.py
- *   symbolic/rigid_body.py
- *   symbolic/rotations.py
- *   symbolic/special.py
- *   symbolic/specialisation.py
- *   symbolic/structural_cse.py
- *   symbolic/target_orbit_state.py
- *   symbolic/to_casadi.py
+ *   symbolic/physics/__init__.py
+ *   symbolic/physics/actuators.py
+ *   symbolic/physics/closed_loop.py
+ *   symbolic/physics/constraints.py
+ *   symbolic/physics/environment.py
+ *   symbolic/physics/faults.py
+ *   symbolic/physics/kepler.py
+ *   symbolic/physics/layout.py
+ *   symbolic/physics/mass_properties.py
+ *   symbolic/physics/orbit.py
+ *   symbolic/physics/plant.py
+ *   symbolic/physics/relative_attitude.py
+ *   symbolic/physics/relative_translation.py
+ *   symbolic/physics/rigid_body.py
+ *   symbolic/physics/rotations.py
+ *   symbolic/physics/special.py
+ *   symbolic/physics/target_orbit_state.py
  * Operations: 28285 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus

@@ -1,33 +1,35 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c004: one closed-loop step (plant + c004 + actuators), RK4 over dt: measure, control_c004, plant_advance
- * Produced by `python build.py` from family 'controller_c004' (hash d55af476846d80a07a0a0444fb33a6a10b6715d19b2db526f7c23b6478400935),
+ * Produced by `python build.py` from family 'controller_c004' (hash 4bb59dd3f5d14b790ba5a4382caa296fe18ea0aa913696a6ff65e9df0e593aa8),
  * derived from:
  *   symbolic/__init__.py
- *   symbolic/actuators.py
- *   symbolic/c_composition.py
- *   symbolic/closed_loop.py
- *   symbolic/codegen.py
- *   symbolic/constraints.py
+ *   symbolic/codegen/__init__.py
+ *   symbolic/codegen/c_composition.py
+ *   symbolic/codegen/codegen.py
+ *   symbolic/codegen/functions.py
+ *   symbolic/codegen/reciprocals.py
+ *   symbolic/codegen/specialisation.py
+ *   symbolic/codegen/structural_cse.py
+ *   symbolic/codegen/to_casadi.py
  *   symbolic/controllers/__init__.py
  *   symbolic/controllers/c004.py
- *   symbolic/environment.py
- *   symbolic/faults.py
- *   symbolic/functions.py
- *   symbolic/kepler.py
- *   symbolic/layout.py
- *   symbolic/mass_properties.py
- *   symbolic/orbit.py
- *   symbolic/plant.py
- *   symbolic/reciprocals.py
- *   symbolic/relative_attitude.py
- *   symbolic/relative_translation.py
- *   symbolic/rigid_body.py
- *   symbolic/rotations.py
- *   symbolic/special.py
- *   symbolic/specialisation.py
- *   symbolic/structural_cse.py
- *   symbolic/target_orbit_state.py
- *   symbolic/to_casadi.py
+ *   symbolic/physics/__init__.py
+ *   symbolic/physics/actuators.py
+ *   symbolic/physics/closed_loop.py
+ *   symbolic/physics/constraints.py
+ *   symbolic/physics/environment.py
+ *   symbolic/physics/faults.py
+ *   symbolic/physics/kepler.py
+ *   symbolic/physics/layout.py
+ *   symbolic/physics/mass_properties.py
+ *   symbolic/physics/orbit.py
+ *   symbolic/physics/plant.py
+ *   symbolic/physics/relative_attitude.py
+ *   symbolic/physics/relative_translation.py
+ *   symbolic/physics/rigid_body.py
+ *   symbolic/physics/rotations.py
+ *   symbolic/physics/special.py
+ *   symbolic/physics/target_orbit_state.py
  * Operations: 29159 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus

@@ -1,8 +1,14 @@
 """rpo.symbolic: the physical plant, environment, actuators and controllers as SymPy expressions.
 
-Every equation lives here exactly once, with the paper equation it implements beside it.
+Every equation lives here exactly once, with the paper equation it implements beside it.  Two halves:
+
+* the model: :mod:`rpo.symbolic.physics` (plant, environment, actuators, the closed-loop step),
+  :mod:`rpo.symbolic.controllers` (the papers' designs) and :mod:`rpo.symbolic.lyapunov` (their
+  stability claims);
+* the engine: :mod:`rpo.symbolic.codegen`, which turns those expressions into CasADi and C.
+
 The same SymPy objects feed the Lyapunov checks and, translated to CasADi by
-:mod:`rpo.symbolic.to_casadi`, the generated C code in ``generated/``.
+:mod:`rpo.symbolic.codegen.to_casadi`, the generated C code in ``generated/``.
 
 Conventions (see ``docs/conventions.md``):
 

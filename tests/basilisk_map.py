@@ -24,7 +24,7 @@ Body rates
 
 Reaction wheels
     rpo's state is the **axial absolute angular momentum** ``h_i`` [N m s] of each wheel
-    (symbolic/actuators.py ``wheel_speeds``); Basilisk's is the wheel speed ``Omega_i`` **relative to
+    (symbolic/physics/actuators.py ``wheel_speeds``); Basilisk's is the wheel speed ``Omega_i`` **relative to
     the body** [rad/s] (``rwSpeedOutMsg.wheelSpeeds``; its factory takes rpm).  With spin axis
     ``a_i`` (column i of rpo's pyramid matrix, Basilisk ``gsHat_B``) and spin inertia ``J_s``:
     ``Omega_i = h_i / J_s - a_i . omega``, ``h_i = J_s (Omega_i + a_i . omega)``.
@@ -32,7 +32,7 @@ Reaction wheels
 Inertia
     rpo's chaser inertia ``I_c`` (``chaser_inertia``, about the centre of mass) **excludes** the
     wheels' spin-axis inertia: the whole spacecraft's inertia is ``I_c + J_s sum_i a_i a_i^T`` and its
-    angular momentum ``I_c omega + A h`` (symbolic/rigid_body.py: ``I_c omega_dot = -omega x (I_c omega
+    angular momentum ``I_c omega + A h`` (symbolic/physics/rigid_body.py: ``I_c omega_dot = -omega x (I_c omega
     + A h) + ...``, ``dh/dt = -T``).  Basilisk's **balanced** wheels (``BalancedWheels``, 2.12.1) add
     neither mass nor inertia to the spacecraft (their ``updateEffectorMassProps`` is empty for that
     model; ``Jt``, ``Jg`` and the wheel mass are unused) but take ``Js gs gs^T`` OUT of the hub's

@@ -25,7 +25,7 @@ def model():
 
 @functools.cache
 def _sources():
-    from rpo.symbolic import functions
+    from rpo.symbolic.codegen import functions
 
     return functions.sources()
 
@@ -38,7 +38,7 @@ def sources():
 
 @functools.cache
 def _lambdified(name):
-    from rpo.symbolic.numpy_reference import lambdified
+    from rpo.symbolic.codegen.numpy_reference import lambdified
 
     return lambdified(_sources()[0][name])
 

@@ -45,5 +45,5 @@ def test_the_discovered_folders_are_described():
 
 def test_the_check_sees_a_module_missing_from_the_doc():
     """The check can fail: a module the doc does not name is reported, and only that one."""
-    text = DOC.read_text().replace("symbolic/structural_cse.py", "(removed)")
-    assert _missing(text) == ["symbolic/structural_cse.py"]
+    text = DOC.read_text().replace("symbolic/codegen/structural_cse.py", "(removed)")
+    assert _missing(text) == ["symbolic/codegen/structural_cse.py"]

@@ -30,7 +30,7 @@ from rpo.runtime.model.library import build_library, library_key, prune_cache
 from rpo.runtime.model.loader import load_model
 from rpo.runtime.model.manifest import MANIFEST_FORMAT, manifest_hash, read_manifest, selected_sources
 from rpo.runtime.model.toolchain import compile_object, compiler_identity, find_compiler
-from rpo.symbolic import codegen, functions
+from rpo.symbolic.codegen import codegen, functions
 
 from conftest import target_state
 
@@ -215,7 +215,7 @@ def test_family_closures_follow_the_imports(tmp_path):
     (dst / "controllers" / "c001.py").write_text((dst / "controllers" / "c001.py").read_text() + "\n# edit\n")
     h1 = hashes()
     assert {k for k in h0 if h0[k] != h1[k]} == {"controller_c001"}
-    (dst / "environment.py").write_text((dst / "environment.py").read_text() + "\n# edit\n")
+    (dst / "physics" / "environment.py").write_text((dst / "physics" / "environment.py").read_text() + "\n# edit\n")
     h2 = hashes()
     assert all(h2[k] != h1[k] for k in h0)
 
@@ -447,7 +447,7 @@ def test_library_for_some_controllers_compiles_only_what_they_need(tiny, monkeyp
 
 def test_composed_c_refuses_a_call_that_does_not_match_its_callee():
     """The C glue is generated only from a composition whose calls match the callees' signatures."""
-    from rpo.symbolic.c_composition import Call, Callee, composed_c
+    from rpo.symbolic.codegen.c_composition import Call, Callee, composed_c
 
     x = ca.SX.sym("x", 3)
     f = Callee.of(ca.Function("f", [x], [2 * x, x[0]], ["x"], ["y", "s"]))

@@ -16,10 +16,10 @@ import sympy as sp
 from scipy.spatial.transform import Rotation
 
 from rpo.symbolic.controllers import c000 as C
-from rpo.symbolic.layout import XYZ, XYZW, Layout
-from rpo.symbolic.plant import make_plant
-from rpo.symbolic.relative_attitude import attitude_error, rate_error, rate_error_dynamics
-from rpo.symbolic.relative_translation import relative_acceleration
+from rpo.symbolic.physics.layout import XYZ, XYZW, Layout
+from rpo.symbolic.physics.plant import make_plant
+from rpo.symbolic.physics.relative_attitude import attitude_error, rate_error, rate_error_dynamics
+from rpo.symbolic.physics.relative_translation import relative_acceleration
 
 RNG = np.random.default_rng(20260)
 MU = 3.986004418e14
@@ -212,7 +212,7 @@ def test_quaternion_error_second_derivative_is_not_the_rate_error_derivative():
     """The proof's premise (eqs. 59-60: e_ddot = omega_e_dot) fails for the printed e = q_ev (eq. 54):
     d/dt q_ev = 1/2 (q_e4 w_e + q_ev x w_e).  With e_dot := omega_e (implemented) it holds by definition,
     and on s = 0 the quaternion error decays: d/dt |q_ev|^2 = -lambda q_e4 |q_ev|^2 sgn(q_e4) <= 0."""
-    from rpo.symbolic.rotations import quat_rate
+    from rpo.symbolic.physics.rotations import quat_rate
 
     q = _M(_rand_quat())
     w = _M(RNG.normal(size=3) * 0.1)
@@ -403,7 +403,7 @@ def test_law_on_the_spacecraft_equations_gives_the_proofs_sliding_dynamics(trial
     s_dot_j = omega_e_dot_j + lambda_0 e_dot_j = -(D_j + eps_j) sign(s_j), the identity behind eq. 68.
     With the printed literal u_1 = lambda_0 omega_e (e_dot = omega_e in u_1 too) a residual
     lambda_0 b_hat b (e_dot - omega_e) would remain (eq. 54's q_ev has e_dot != omega_e)."""
-    from rpo.symbolic.rotations import quat_rate
+    from rpo.symbolic.physics.rotations import quat_rate
 
     ctrl, meas, fn = _law_function()
     q_c, q_t = _M(_rand_quat()), _M(_rand_quat())

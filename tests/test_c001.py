@@ -17,11 +17,11 @@ import pytest
 import sympy as sp
 from scipy.spatial.transform import Rotation
 
+from rpo.symbolic.codegen.to_casadi import LAMBDIFY_MODULES, sympy_function
 from rpo.symbolic.controllers import c001 as C
-from rpo.symbolic.layout import Layout
-from rpo.symbolic.rotations import dq_mul, quat_mul
-from rpo.symbolic.special import Step
-from rpo.symbolic.to_casadi import LAMBDIFY_MODULES, sympy_function
+from rpo.symbolic.physics.layout import Layout
+from rpo.symbolic.physics.rotations import dq_mul, quat_mul
+from rpo.symbolic.physics.special import Step
 
 MU = 3.986004418e14
 RNG = np.random.default_rng(1)
@@ -283,7 +283,7 @@ def test_eso_gains_stable_at_the_plant_step():
 
 # --------------------------------------------------------------------------- the law against NumPy
 def _meas_layout():
-    from rpo.symbolic.plant import make_plant
+    from rpo.symbolic.physics.plant import make_plant
 
     return make_plant().meas
 

@@ -14,9 +14,9 @@ import pytest
 import sympy as sp
 from scipy.spatial.transform import Rotation
 
-from rpo.symbolic import orbit as orb
 from rpo.symbolic.controllers import c002 as C
-from rpo.symbolic.layout import XYZ, XYZW, Layout
+from rpo.symbolic.physics import orbit as orb
+from rpo.symbolic.physics.layout import XYZ, XYZW, Layout
 
 MU = 3.986004418e14
 RNG = np.random.default_rng(2002)
@@ -191,7 +191,7 @@ def test_translation_model_eqs_5_9_match_two_bodies(mu):
 
 
 def test_orbit_eqs_44_45_match_kepler():
-    """eq. 45 (sign corrected) equals the LVLH rate and its derivative of symbolic/orbit.py."""
+    """eq. 45 (sign corrected) equals the LVLH rate and its derivative of symbolic/physics/orbit.py."""
     e, nu = 0.3, np.deg2rad(47.0)
     a = float(C.semimajor_axis(6371e3, 400e3, e))
     assert a * (1 - e) == pytest.approx(6771e3)

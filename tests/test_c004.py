@@ -10,10 +10,10 @@ import pytest
 import sympy as sp
 from scipy.spatial.transform import Rotation
 
-from rpo.symbolic import rigid_body as rb
-from rpo.symbolic import rotations as rot
 from rpo.symbolic.controllers import c004 as c
-from rpo.symbolic.layout import Layout
+from rpo.symbolic.physics import rigid_body as rb
+from rpo.symbolic.physics import rotations as rot
+from rpo.symbolic.physics.layout import Layout
 
 from conftest import target_state
 

@@ -8,8 +8,8 @@ import sympy as sp
 from scipy.integrate import solve_ivp
 from scipy.spatial.transform import Rotation
 
-from rpo.symbolic import environment as env
-from rpo.symbolic.to_casadi import LAMBDIFY_MODULES
+from rpo.symbolic.codegen.to_casadi import LAMBDIFY_MODULES
+from rpo.symbolic.physics import environment as env
 
 from conftest import DEG
 
@@ -154,7 +154,7 @@ def test_pyramid_allocation_reproduces_the_command_within_limits(model):
 
 
 def test_thruster_allocation_is_exact_non_negative_and_never_fires_opposed_pairs(model):
-    from rpo.symbolic.actuators import thruster_layout
+    from rpo.symbolic.physics.actuators import thruster_layout
 
     pos, dirs = thruster_layout()
     B = np.array([np.concatenate([np.array(d, float).ravel(), np.cross(np.array(p, float).ravel(),

@@ -1,4 +1,4 @@
-"""Fault events (symbolic/faults.py, runtime/scenario/faults.py, docs/faults.md).
+"""Fault events (symbolic/physics/faults.py, runtime/scenario/faults.py, docs/faults.md).
 
 Each check states a consequence of the fault model that a wrong implementation breaks: a failed
 wheel's momentum is exactly constant, a stuck-on thruster burns at F / (Isp g0), the fault-aware
@@ -278,7 +278,7 @@ def test_two_faults_of_one_kind_on_one_unit_and_ideal_actuators_are_refused():
 
 
 def _thruster_B():
-    from rpo.symbolic.actuators import thruster_wrench_matrix
+    from rpo.symbolic.physics.actuators import thruster_wrench_matrix
 
     return np.array(thruster_wrench_matrix().tolist(), float)
 

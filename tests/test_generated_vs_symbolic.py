@@ -2,7 +2,7 @@
 
 The reference path is SymPy -> ``sympy.lambdify`` -> NumPy, which shares no code with the
 SymPy -> CasADi -> C path except the SymPy expressions themselves.  The closed-loop step is
-compared with the same composition (:func:`rpo.symbolic.closed_loop.step`) run on NumPy.
+compared with the same composition (:func:`rpo.symbolic.physics.closed_loop.step`) run on NumPy.
 
 Tolerance: 1e-12 relative, per output field, to the field's magnitude at that point
 (``max(|ref|)`` over the field's entries).  Two fields are differences of much larger terms, so
@@ -222,7 +222,7 @@ def compare_at_finite_points(model, fname, draw, reference, wanted: int, tries: 
 
 
 def test_generated_plant_advance_equals_numpy_composition(model, sources, numpy_piece):
-    from rpo.symbolic.numpy_reference import numpy_plant_advance
+    from rpo.symbolic.codegen.numpy_reference import numpy_plant_advance
 
     pieces, ctx = sources
     advance = numpy_plant_advance(pieces, ctx["plant"], make=numpy_piece)
@@ -240,7 +240,7 @@ def test_generated_plant_advance_equals_numpy_composition(model, sources, numpy_
 
 @pytest.mark.parametrize("ctrl", CONTROLLERS)
 def test_generated_control_equals_numpy_composition(model, sources, numpy_piece, ctrl):
-    from rpo.symbolic.numpy_reference import numpy_control
+    from rpo.symbolic.codegen.numpy_reference import numpy_control
 
     pieces, ctx = sources
     design = next(c for c in ctx["controllers"] if c.name == ctrl)
@@ -278,7 +278,7 @@ def test_generated_function_equals_sympy_source(model, numpy_piece, fname):
 
 @pytest.mark.parametrize("ctrl", CONTROLLERS)
 def test_generated_step_equals_numpy_composition(model, sources, numpy_piece, ctrl):
-    from rpo.symbolic.numpy_reference import numpy_step
+    from rpo.symbolic.codegen.numpy_reference import numpy_step
 
     pieces, ctx = sources
     design = next(c for c in ctx["controllers"] if c.name == ctrl)

@@ -13,8 +13,8 @@ import sympy as sp
 from rpo.symbolic.controllers import c000 as C
 from rpo.symbolic.lyapunov.c000 import attitude, boundary_layer, common, translation
 from rpo.symbolic.lyapunov.check import check_statement
-from rpo.symbolic.relative_translation import relative_acceleration
-from rpo.symbolic.rotations import quat_to_dcm
+from rpo.symbolic.physics.relative_translation import relative_acceleration
+from rpo.symbolic.physics.rotations import quat_to_dcm
 
 ROOT = Path(__file__).resolve().parents[1]
 

@@ -11,14 +11,14 @@ import numpy as np
 import sympy as sp
 from scipy.linalg import solve_continuous_lyapunov
 
-from rpo.symbolic import constraints
 from rpo.symbolic.controllers import c001 as c
 from rpo.symbolic.lyapunov import c001 as L
 from rpo.symbolic.lyapunov import domains
 from rpo.symbolic.lyapunov.c001 import apf, common, eso, pose
 from rpo.symbolic.lyapunov.check import _Evaluator, check_statement
 from rpo.symbolic.lyapunov.core import Statement
-from rpo.symbolic.rotations import dq_conj, dq_mul
+from rpo.symbolic.physics import constraints
+from rpo.symbolic.physics.rotations import dq_conj, dq_mul
 
 CLAIMS = {cl.id: cl for cl in L.CLAIMS}
 rng = np.random.default_rng(1)

@@ -14,7 +14,7 @@ from rpo.symbolic.lyapunov.c002 import common, gains, model, v1, v2
 from rpo.symbolic.lyapunov.check import _Evaluator, check_statement
 from rpo.symbolic.lyapunov.core import Statement
 from rpo.symbolic.lyapunov.domains import ball, box
-from rpo.symbolic.rotations import dot
+from rpo.symbolic.physics.rotations import dot
 
 RNG = np.random.default_rng(2)
 

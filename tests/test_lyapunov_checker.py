@@ -9,7 +9,6 @@ import pytest
 import sympy as sp
 from scipy.spatial.transform import Rotation
 
-from rpo.symbolic import rotations as rot
 from rpo.symbolic.lyapunov import core
 from rpo.symbolic.lyapunov.check import (
     DEFAULT,
@@ -24,6 +23,7 @@ from rpo.symbolic.lyapunov.check import (
 )
 from rpo.symbolic.lyapunov.core import Claim, Statement
 from rpo.symbolic.lyapunov.domains import ball, box, unit_quaternion
+from rpo.symbolic.physics import rotations as rot
 
 a, b, x, y, z = sp.symbols("a b x y z", real=True)
 k, d = sp.symbols("k delta", positive=True)

@@ -35,7 +35,7 @@ def rotation(theta) -> Rotation:
 
 def nominal_geometry(beta: float):
     """(wheel axes 3 x 4, thruster positions 16 x 3, thruster directions 16 x 3), body axes."""
-    from rpo.symbolic.actuators import thruster_layout
+    from rpo.symbolic.physics.actuators import thruster_layout
 
     c, s = math.cos(beta), math.sin(beta)
     A = np.array([[c, 0, -c, 0], [0, c, 0, -c], [s, s, s, s]])

@@ -153,8 +153,8 @@ def _drag_accel(model):
     with the plant on purpose; what is checked is the relative-motion formulation)."""
     import sympy as sp
 
-    from rpo.symbolic import environment as env
-    from rpo.symbolic.to_casadi import numpy_function
+    from rpo.symbolic.codegen.to_casadi import numpy_function
+    from rpo.symbolic.physics import environment as env
 
     d = {k: float(np.ravel(v)[0]) for k, v in model.defaults("p").items() if np.size(v) == 1}
     r, v = sp.Matrix(sp.symbols("rx ry rz")), sp.Matrix(sp.symbols("vx vy vz"))

@@ -1,4 +1,4 @@
-"""Check 3: rotation algebra (symbolic/rotations.py) against scipy.spatial.transform.Rotation."""
+"""Check 3: rotation algebra (symbolic/physics/rotations.py) against scipy.spatial.transform.Rotation."""
 
 from __future__ import annotations
 
@@ -7,7 +7,7 @@ import pytest
 import sympy as sp
 from scipy.spatial.transform import Rotation
 
-from rpo.symbolic import rotations as rot
+from rpo.symbolic.physics import rotations as rot
 
 rng = np.random.default_rng(42)
 Q = sp.Matrix(sp.symbols("qx qy qz qw", real=True))

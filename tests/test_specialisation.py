@@ -1,4 +1,4 @@
-"""The specialised copies of measure and plant_advance (rpo.symbolic.specialisation): each equals
+"""The specialised copies of measure and plant_advance (rpo.symbolic.codegen.specialisation): each equals
 the general function wherever its condition holds, the steps take them exactly when it holds
 (scalar and per lane), and a lane keeps the bits of its run alone whatever its neighbours take."""
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import sympy as sp
 
-from rpo.symbolic.structural_cse import structural_cse
+from rpo.symbolic.codegen.structural_cse import structural_cse
 
 
 def test_structural_cse_preserves_values_and_shares_nodes():

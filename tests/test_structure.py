@@ -28,7 +28,7 @@ def test_the_runtime_imports_only_down_its_layers():
 
 def test_the_layer_check_sees_an_upward_import_and_the_symbolic_side():
     g = {"rpo.runtime.model.loader": {"rpo.runtime.run.simulate"},
-         "rpo.runtime.run.simulate": {"rpo.symbolic.plant"}}
+         "rpo.runtime.run.simulate": {"rpo.symbolic.physics.plant"}}
     bad = structure.layer_violations(g)
     assert any("layer 1) imports rpo.runtime.run.simulate (layer 3)" in b for b in bad)
     assert any("never imports rpo.symbolic" in b for b in bad)

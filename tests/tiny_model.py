@@ -16,7 +16,7 @@ import shutil
 import sys
 from pathlib import Path
 
-from rpo.symbolic.codegen import Family, FamilyOutput, Generated
+from rpo.symbolic.codegen.codegen import Family, FamilyOutput, Generated
 
 FIXTURE = Path(__file__).resolve().parent / "fixtures" / "tiny_model"
 _counter = itertools.count()

@@ -44,7 +44,7 @@ typedef int (*rpo_lane_fn)(const rpo_v** arg, rpo_v** res, long long* iw, rpo_v*
 #define RPO_DISPATCH_MAX_RES 8
 #define RPO_DISPATCH_MAX_ENTRIES 512
 
-/* The lane form of a call with specialised variants (symbolic/c_composition.py): lane l takes
+/* The lane form of a call with specialised variants (symbolic/codegen/c_composition.py): lane l takes
  * fns[j] for the first j < n_alt - 1 whose n_zero[j] entries zero[j] of x are all 0 in lane l,
  * else fns[n_alt - 1] (the general function) -- the choice the scalar glue makes for that run
  * alone, so that every lane keeps the bits of its run alone.  When every lane makes the same

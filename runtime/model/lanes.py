@@ -13,7 +13,7 @@ result.  A ``sin`` and a ``cos`` of the same value become one ``rpo_sincos``.
 Every line must match a known form: an unknown construct raises :class:`LaneError` naming the
 file and the line, so a CasADi upgrade or a new operation can never be translated silently
 wrong.  The C glue of the composed steps (``step_<ctrl>``, written by
-``rpo.symbolic.c_composition``) is translated by type and callee name.
+``rpo.symbolic.codegen.c_composition``) is translated by type and callee name.
 
 Pure text work (no SymPy, no CasADi): the runtime transforms the verified bytes of
 ``generated/`` when it builds the lane library.

@@ -11,7 +11,7 @@ from pathlib import Path
 
 from rpo.runtime.errors import ModelError
 
-#: The manifest format this runtime reads (``rpo.symbolic.codegen.FORMAT_VERSION``; a test checks they agree).
+#: The manifest format this runtime reads (``rpo.symbolic.codegen.codegen.FORMAT_VERSION``; a test checks they agree).
 MANIFEST_FORMAT = 2
 
 
@@ -49,7 +49,7 @@ def read_manifest(gen_dir: Path | None = None, verify: bool = True) -> dict:
 def manifest_hash(manifest: dict) -> str:
     """sha256 of the manifest's canonical JSON without its ``manifest_hash`` field.
 
-    Same definition as ``rpo.symbolic.codegen.manifest_hash`` (the runtime must not import
+    Same definition as ``rpo.symbolic.codegen.codegen.manifest_hash`` (the runtime must not import
     rpo.symbolic); ``tests/test_build.py`` checks that the two agree.
     """
     body = {k: v for k, v in manifest.items() if k != "manifest_hash"}

@@ -6,7 +6,7 @@ key exist:
 * **parameters** of the model (orbit, environment, bodies' mass properties, wheels, thrusters,
   plant options, disturbances, sensors, constraints, the step): their key, unit, scale to SI and
   admissible range are recorded per field of layout ``p`` in ``generated/manifest.json`` (declared
-  in ``symbolic/plant.py``; ``rpo info`` lists them with their keys).  An omitted parameter takes
+  in ``symbolic/physics/plant.py``; ``rpo info`` lists them with their keys).  An omitted parameter takes
   the manifest default;
 * the keys written in :mod:`.schema`: ``[meta]`` (name, description, source); ``[simulation]``
   ``duration`` (*required*, s), ``seed``, ``controller``, ``record_every``;

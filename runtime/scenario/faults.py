@@ -10,7 +10,7 @@ Each entry is one fault of one unit over a window in time::
     value = 0.5             # only for the kinds that need one (see KINDS)
 
 The faults become runtime parameters (``fault_<unit>_<kind>_start``/``_end`` and the values, of
-``symbolic/faults.py``), so a fault needs no rebuild.  Nothing here models a fault: this module
+``symbolic/physics/faults.py``), so a fault needs no rebuild.  Nothing here models a fault: this module
 only maps the table to those parameters and refuses what cannot be flown, naming the entry.
 """
 
@@ -24,7 +24,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, ValidationInfo, field_validator, model_validator
 from pydantic_core import PydanticCustomError
 
-#: Window edge meaning "never" (``symbolic/faults.py`` NEVER, the manifest default of every window).
+#: Window edge meaning "never" (``symbolic/physics/faults.py`` NEVER, the manifest default of every window).
 NEVER = 1e30
 DEG = math.pi / 180.0
 

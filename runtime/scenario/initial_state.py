@@ -74,7 +74,7 @@ def packed_run_inputs(sc: Scenario, model: Model) -> tuple[RunInputs, np.ndarray
     n = float(np.ravel(n_arr)[0])
     q_IL = np.ravel(q_IL_arr)
     if float(params["gravity_on"][0]) == 0.0:
-        # free space: the frame of r, v ("lvlh") is fixed in ECI (symbolic/plant.py reference_frame)
+        # free space: the frame of r, v ("lvlh") is fixed in ECI (symbolic/physics/plant.py reference_frame)
         n, q_IL = 0.0, np.array([0.0, 0.0, 0.0, 1.0])
 
     def body(b: _Body) -> tuple[np.ndarray, np.ndarray]:

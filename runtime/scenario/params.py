@@ -1,7 +1,7 @@
 """The parameters a scenario sets, as ``generated/manifest.json`` describes them.
 
 Each field of layout ``p`` (and of a controller's gains ``k_<name>``) may carry, from
-``symbolic/layout.py`` ``Layout.add``:
+``symbolic/physics/layout.py`` ``Layout.add``:
 
 * ``bounds``: ``{"lo", "hi", "lo_open", "hi_open"}``, the admissible values of every entry, SI;
 * ``scenario``: ``{"key", "kind", "unit", "scale"[, "choices"]}``, the dotted TOML key that sets

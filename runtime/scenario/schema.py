@@ -8,7 +8,7 @@ layouts), ``[reproduction]`` and ``[output]`` (its channels checked against the 
 controller flown).  Every other key is a parameter of layout ``p`` whose key, kind,
 unit, scale and bounds the manifest records (:mod:`.params`): :func:`scenario_model` adds them
 to these sections, or makes new sections for them, so a parameter added or re-bounded in
-``symbolic/plant.py`` is validated here after ``python build.py`` with no edit of ``runtime/``.
+``symbolic/physics/plant.py`` is validated here after ``python build.py`` with no edit of ``runtime/``.
 """
 
 from __future__ import annotations

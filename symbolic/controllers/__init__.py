@@ -1,6 +1,6 @@
 """Controller designs.  Each maps the measurement layout of the plant to a command.
 
-A design provides gains ``k`` (a :class:`~rpo.symbolic.layout.Layout`), integrated controller
+A design provides gains ``k`` (a :class:`~rpo.symbolic.physics.layout.Layout`), integrated controller
 states ``xc`` (adaptive estimates, observer states; may be empty), diagnostic outputs, and
 :meth:`law` returning SymPy expressions for
 
@@ -12,7 +12,7 @@ states ``xc`` (adaptive estimates, observer states; may be empty), diagnostic ou
 
 from __future__ import annotations
 
-from ..layout import XYZ, Layout
+from ..physics.layout import XYZ, Layout
 
 
 def command_layout() -> Layout:

@@ -11,8 +11,8 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from ..layout import XYZ, Bounds, Layout
-from ..rotations import quat_to_dcm, quat_vec
+from ..physics.layout import XYZ, Bounds, Layout
+from ..physics.rotations import quat_to_dcm, quat_vec
 from . import command_layout
 
 

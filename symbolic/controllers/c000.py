@@ -68,9 +68,9 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from ..layout import XYZ, Bounds, Layout
-from ..relative_attitude import attitude_error_rate
-from ..rotations import quat_to_dcm, quat_vec
+from ..physics.layout import XYZ, Bounds, Layout
+from ..physics.relative_attitude import attitude_error_rate
+from ..physics.rotations import quat_to_dcm, quat_vec
 from . import command_layout
 
 AXES = (0, 1, 2)

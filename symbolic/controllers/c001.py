@@ -26,10 +26,22 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from .. import actuators as act
-from ..layout import XYZ, XYZW, Bounds, Layout
-from ..rotations import cross, dot, dq, dq_conj, dq_dual, dq_mul, dq_real, quat, quat_conj, quat_mul, quat_to_dcm
-from ..special import Step
+from ..physics import actuators as act
+from ..physics.layout import XYZ, XYZW, Bounds, Layout
+from ..physics.rotations import (
+    cross,
+    dot,
+    dq,
+    dq_conj,
+    dq_dual,
+    dq_mul,
+    dq_real,
+    quat,
+    quat_conj,
+    quat_mul,
+    quat_to_dcm,
+)
+from ..physics.special import Step
 from . import command_layout
 
 DEG = math.pi / 180

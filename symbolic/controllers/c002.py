@@ -27,9 +27,9 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from .. import actuators as act
-from ..layout import XYZ, XYZW, Bounds, Layout
-from ..rotations import dot, quat, quat_conj, quat_mul, quat_to_dcm, quat_vec, skew
+from ..physics import actuators as act
+from ..physics.layout import XYZ, XYZW, Bounds, Layout
+from ..physics.rotations import dot, quat, quat_conj, quat_mul, quat_to_dcm, quat_vec, skew
 from . import command_layout
 
 # =========================================================================== relative model

@@ -31,8 +31,8 @@ from dataclasses import dataclass, field
 
 import sympy as sp
 
-from ..layout import XYZ, XYZW, Bounds, Layout
-from ..rotations import dot, quat_conj, quat_from_mrp, quat_mul, quat_to_dcm, quat_vec, skew
+from ..physics.layout import XYZ, XYZW, Bounds, Layout
+from ..physics.rotations import dot, quat_conj, quat_from_mrp, quat_mul, quat_to_dcm, quat_vec, skew
 from . import command_layout
 
 THETA = ("11", "22", "33", "23", "13", "12")

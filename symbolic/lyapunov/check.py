@@ -31,7 +31,7 @@ import numpy as np
 import sympy as sp
 from scipy.optimize import differential_evolution, minimize
 
-from ..special import Step
+from ..physics.special import Step
 from .core import Claim, Statement
 
 TOL = {"==": 1e-8, "<=": 1e-9, ">=": 1e-9, ">": 1e-9}

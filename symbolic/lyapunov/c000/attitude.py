@@ -7,9 +7,9 @@ import numpy as np
 import sympy as sp
 
 from ...controllers import c000 as c
-from ...layout import XYZ
-from ...relative_attitude import rate_error, rate_error_dynamics
-from ...rotations import quat_rate
+from ...physics.layout import XYZ
+from ...physics.relative_attitude import rate_error, rate_error_dynamics
+from ...physics.rotations import quat_rate
 from ..core import (
     Statement,
     claim_factory,

@@ -7,7 +7,7 @@ import numpy as np
 import sympy as sp
 
 from ...controllers import c000 as c
-from ...layout import XYZ, XYZW, Layout
+from ...physics.layout import XYZ, XYZW, Layout
 from ..domains import (
     MU_EARTH,
     custom,

@@ -5,7 +5,7 @@ from __future__ import annotations
 import sympy as sp
 
 from ...controllers import c000 as c
-from ...rotations import quat_to_dcm
+from ...physics.rotations import quat_to_dcm
 from ..core import (
     Mutation,
     negate_output,

@@ -14,7 +14,7 @@ from __future__ import annotations
 import sympy as sp
 
 from ...controllers import c000 as c
-from ...relative_translation import relative_acceleration
+from ...physics.relative_translation import relative_acceleration
 from ..certify import Coordinate, Plan, Region
 from ..certify.lemmas import LAYER
 from ..certify.plan import Use

@@ -6,8 +6,8 @@ from __future__ import annotations
 import sympy as sp
 
 from ...controllers import c000 as c
-from ...relative_translation import relative_acceleration
-from ...rotations import quat_to_dcm
+from ...physics.relative_translation import relative_acceleration
+from ...physics.rotations import quat_to_dcm
 from ..core import (
     Claim,
     Statement,

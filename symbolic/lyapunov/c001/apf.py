@@ -6,7 +6,7 @@ import numpy as np
 import sympy as sp
 
 from ...controllers import c001 as c
-from ...rotations import dq_conj, dq_mul
+from ...physics.rotations import dq_conj, dq_mul
 from ..core import (
     Statement,
     claim_factory,

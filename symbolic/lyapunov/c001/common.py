@@ -9,7 +9,7 @@ import numpy as np
 import sympy as sp
 
 from ...controllers import c001 as c
-from ...special import Step
+from ...physics.special import Step
 from ..domains import (
     custom,
     qmul,

@@ -5,7 +5,7 @@ from __future__ import annotations
 import sympy as sp
 
 from ...controllers import c001 as c
-from ...special import Step
+from ...physics.special import Step
 from ..core import (
     Statement,
     claim_factory,

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ...rotations import quat_mul
+from ...physics.rotations import quat_mul
 from ..certify import Coordinate, Plan, Region
 from ..certify.lemmas import LDL2
 from ..certify.plan import Use

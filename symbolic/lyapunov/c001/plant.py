@@ -4,13 +4,14 @@ Lyapunov claims integrate) equals the motion of rpo's own rigid bodies.
 
 The plant side is built from ``symbolic/`` alone, never from the controller module:
 
-* attitude kinematics of each body, q_dot = 1/2 q (x) [omega, 0] (:func:`rpo.symbolic.rotations.quat_rate`,
+* attitude kinematics of each body, q_dot = 1/2 q (x) [omega, 0] (:func:`rpo.symbolic.physics.rotations.quat_rate`,
   000 eq. 24), q = C_{I<-B} scalar last, omega the body rate in body axes [rad/s];
-* the pose as a unit dual quaternion, :func:`rpo.symbolic.rotations.dq_from_pose` (position r [m] of the body's
+* the pose as a unit dual quaternion, :func:`rpo.symbolic.physics.rotations.dq_from_pose` (position r [m] of the body's
   origin in inertial axes, frame "A");
 * Newton's law in inertial axes, r_ddot = F/m with the force F [N] given in body axes;
-* Euler's equation J omega_dot = -omega^x J omega + tau (:func:`rpo.symbolic.rigid_body.chaser_angular_acceleration`,
-  000 eq. 6, h_rw = 0: 001's chaser is one rigid body with the principal inertia M).
+* Euler's equation J omega_dot = -omega^x J omega + tau
+  (:func:`rpo.symbolic.physics.rigid_body.chaser_angular_acceleration`, 000 eq. 6, h_rw = 0: 001's chaser is one
+  rigid body with the principal inertia M).
 
 With eq. 20's derivation from these functions (``c001.model.relative_acceleration``), the proof's model is tied
 to the plant end to end.  Every identity holds modulo the unit-quaternion constraints (Groebner reduction).
@@ -21,8 +22,8 @@ from __future__ import annotations
 import sympy as sp
 
 from ...controllers import c001 as c
-from ...rigid_body import chaser_angular_acceleration
-from ...rotations import dq_from_pose, quat_conj, quat_mul, quat_rate, quat_to_dcm
+from ...physics.rigid_body import chaser_angular_acceleration
+from ...physics.rotations import dq_from_pose, quat_conj, quat_mul, quat_rate, quat_to_dcm
 from ..core import (
     Statement,
     claim_factory,

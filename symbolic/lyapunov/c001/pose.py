@@ -7,8 +7,8 @@ import numpy as np
 import sympy as sp
 
 from ...controllers import c001 as c
-from ...rotations import cross, dq_conj, dq_mul
-from ...special import Step
+from ...physics.rotations import cross, dq_conj, dq_mul
+from ...physics.special import Step
 from ..core import (
     Statement,
     claim_factory,

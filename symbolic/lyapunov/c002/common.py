@@ -5,7 +5,7 @@ from __future__ import annotations
 import sympy as sp
 
 from ...controllers import c002 as c
-from ...rotations import dot
+from ...physics.rotations import dot
 from ..core import (
     lie_derivative,
     symbols_vec,

@@ -8,8 +8,8 @@ import sympy as sp
 from sympy.utilities.lambdify import implemented_function
 
 from ...controllers import c002 as c
-from ...layout import XYZ, XYZW, Layout
-from ...rotations import dot, quat_conj, quat_mul, quat_to_dcm, skew
+from ...physics.layout import XYZ, XYZW, Layout
+from ...physics.rotations import dot, quat_conj, quat_mul, quat_to_dcm, skew
 from ..core import (
     Statement,
     claim_factory,
@@ -273,7 +273,7 @@ def _law_identity(part: str) -> Statement:
         a, b = layout.offsets()[name]
         return vec[a:b, 0]
 
-    # ---- typed from the paper (rotations only from rpo.symbolic.rotations)
+    # ---- typed from the paper (rotations only from rpo.symbolic.physics.rotations)
     q = quat_mul(quat_conj(M["q_t"]), M["q_c"])                                   # eq. 1
     R = quat_to_dcm(q).T
     C_pL = quat_to_dcm(M["q_cL"]).T

@@ -5,7 +5,7 @@ from __future__ import annotations
 import sympy as sp
 
 from ...controllers import c002 as c
-from ...rotations import dot, skew
+from ...physics.rotations import dot, skew
 from ..certify import Coordinate, Plan, Region
 from ..certify import lemmas_c002 as lc
 from ..certify.lemmas import ABS_PRODUCT, DOT_BALL3, MIN_LE, YOUNG

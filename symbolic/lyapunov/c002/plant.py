@@ -4,10 +4,10 @@ relative motion of rpo's own rigid bodies.
 
 The plant side is built from ``symbolic/`` alone, never from the controller module:
 
-* attitude kinematics of each body, q_dot = 1/2 q (x) [omega, 0] (:func:`rpo.symbolic.rotations.quat_rate`,
+* attitude kinematics of each body, q_dot = 1/2 q (x) [omega, 0] (:func:`rpo.symbolic.physics.rotations.quat_rate`,
   000 eq. 24), q = C_{I<-B} scalar last, omega the body rate in body axes [rad/s];
 * the pursuer's Euler equation J omega_p_dot = -omega_p^x J omega_p + tau + tau_d
-  (:func:`rpo.symbolic.rigid_body.chaser_angular_acceleration`, 000 eq. 6, wheel momentum h_rw = 0:
+  (:func:`rpo.symbolic.physics.rigid_body.chaser_angular_acceleration`, 000 eq. 6, wheel momentum h_rw = 0:
   002's pursuer is one rigid body; with wheels, -omega_p^x h_rw is part of d_r);
 * the target's rate and its derivative omega_t, omega_t_dot [rad/s, rad/s^2] (target axes) are exogenous:
   free symbols, as in the paper (eq. 4 holds for any target motion).
@@ -22,8 +22,8 @@ from __future__ import annotations
 import sympy as sp
 
 from ...controllers import c002 as c
-from ...rigid_body import chaser_angular_acceleration
-from ...rotations import quat_conj, quat_mul, quat_rate, quat_to_dcm, skew
+from ...physics.rigid_body import chaser_angular_acceleration
+from ...physics.rotations import quat_conj, quat_mul, quat_rate, quat_to_dcm, skew
 from ..core import (
     Statement,
     claim_factory,

@@ -6,7 +6,7 @@ import numpy as np
 import sympy as sp
 
 from ...controllers import c002 as c
-from ...rotations import dot
+from ...physics.rotations import dot
 from ..core import (
     Statement,
     claim_factory,

@@ -5,7 +5,7 @@ from __future__ import annotations
 import sympy as sp
 
 from ...controllers import c002 as c
-from ...rotations import dot, skew
+from ...physics.rotations import dot, skew
 from ..core import (
     Statement,
     claim_factory,

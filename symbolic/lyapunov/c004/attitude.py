@@ -6,7 +6,7 @@ import numpy as np
 import sympy as sp
 
 from ...controllers import c004 as c
-from ...rotations import mrp_shadow
+from ...physics.rotations import mrp_shadow
 from ..core import (
     Statement,
     claim_factory,

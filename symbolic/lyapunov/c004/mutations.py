@@ -5,7 +5,7 @@ from __future__ import annotations
 import sympy as sp
 
 from ...controllers import c004 as c
-from ...rotations import quat_vec
+from ...physics.rotations import quat_vec
 from ..core import (
     Mutation,
     drop_terms,

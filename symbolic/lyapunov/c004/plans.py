@@ -5,7 +5,7 @@ from __future__ import annotations
 import sympy as sp
 
 from ...controllers import c004 as c
-from ...rotations import dot
+from ...physics.rotations import dot
 from ..certify import Coordinate, Plan, Region
 from ..certify import lemmas_c004 as L4
 from ..certify.lemmas import ABS_PRODUCT, CAUCHY_SCHWARZ3, NORM2_LE_NORM1, vector_mapping

@@ -4,12 +4,12 @@ and velocity dynamics) equal the motion of rpo's own rigid bodies.
 
 The plant side is built from ``symbolic/`` alone, never from the controller module:
 
-* attitude kinematics of each body, q_dot = 1/2 q (x) [omega, 0] (:func:`rpo.symbolic.rotations.quat_rate`,
+* attitude kinematics of each body, q_dot = 1/2 q (x) [omega, 0] (:func:`rpo.symbolic.physics.rotations.quat_rate`,
   000 eq. 24), q = C_{I<-B} scalar last, omega the body rate in body axes [rad/s]; the relative attitude
   q_ct = q_t^-1 (x) q_c (chaser c relative to target t) and its MRPs (:func:`mrp_from_quat`);
 * Newton's law in inertial axes, x^I_ddot = (f + d_f)/m with the force [N] given in body axes;
 * Euler's equation of the chaser J omega_dot = -omega^x J omega + tau + d_tau
-  (:func:`rpo.symbolic.rigid_body.chaser_angular_acceleration`, 000 eq. 6, wheel momentum h_rw = 0: 004's
+  (:func:`rpo.symbolic.physics.rigid_body.chaser_angular_acceleration`, 000 eq. 6, wheel momentum h_rw = 0: 004's
   chaser is one rigid body) and of the torque-free target (:func:`target_angular_acceleration`, 000 eq. 10).
 
 R = C_{c<-t} = quat_to_dcm(q_ct)^T is the plant's rotation; every identity holds modulo |q| = 1 (Groebner
@@ -21,8 +21,8 @@ from __future__ import annotations
 import sympy as sp
 
 from ...controllers import c004 as c
-from ...rigid_body import chaser_angular_acceleration, target_angular_acceleration
-from ...rotations import mrp_from_quat, quat_conj, quat_mul, quat_rate, quat_to_dcm, skew
+from ...physics.rigid_body import chaser_angular_acceleration, target_angular_acceleration
+from ...physics.rotations import mrp_from_quat, quat_conj, quat_mul, quat_rate, quat_to_dcm, skew
 from ..core import (
     Statement,
     claim_factory,

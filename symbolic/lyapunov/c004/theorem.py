@@ -6,7 +6,7 @@ import numpy as np
 import sympy as sp
 
 from ...controllers import c004 as c
-from ...rotations import quat_from_mrp
+from ...physics.rotations import quat_from_mrp
 from ..core import (
     Statement,
     claim_factory,

@@ -36,7 +36,7 @@ from dataclasses import dataclass
 import numpy as np
 import sympy as sp
 
-from ...special import Fmax, Step
+from ...physics.special import Fmax, Step
 
 INF = np.inf
 LIBM_REL = 1e-13       # relative widening of libm results (their error is a few ulps, ~1e-15)

@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ...rotations import dot, quat_to_dcm, skew
+from ...physics.rotations import dot, quat_to_dcm, skew
 from .lemmas import Lemma
 
 

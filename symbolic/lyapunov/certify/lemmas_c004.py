@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import sympy as sp
 
-from ...rotations import dot, skew
+from ...physics.rotations import dot, skew
 from .lemmas import Lemma
 
 _PRE = "c4"        # lemma symbols carry this prefix (no clash with a statement's names)

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import sympy as sp
 from mpmath import iv, mpf
 
-from ...special import Fmax, Step
+from ...physics.special import Fmax, Step
 
 PREC = 80
 

@@ -9,7 +9,7 @@
   ``z_<name>``, ``y_<name>`` and the manifest entry ``controllers.<name>``.
 
 A controller family depends on the plant family: its step is composed from the plant's CasADi
-functions, which :mod:`rpo.symbolic.codegen` deserialises from ``generated/`` when the plant is
+functions, which :mod:`rpo.symbolic.codegen.codegen` deserialises from ``generated/`` when the plant is
 unchanged, so editing a controller never re-derives the plant.
 """
 
@@ -25,8 +25,12 @@ from .specialisation import VARIANTS, specialised, zero_fields, zero_indices
 # Heavy imports (SymPy, CasADi, the model) happen inside the builders: listing the families and
 # hashing their sources must not import them, so that a build with nothing to do takes well under 1 s.
 
-SYMBOLIC_DIR = Path(__file__).resolve().parent
+CODEGEN_DIR = Path(__file__).resolve().parent
+SYMBOLIC_DIR = CODEGEN_DIR.parent
+PHYSICS_DIR = SYMBOLIC_DIR / "physics"
 CONTROLLERS_DIR = SYMBOLIC_DIR / "controllers"
+#: ``rpo.symbolic``, the package of ``symbolic/`` (this module is in its ``codegen`` subpackage)
+SYMBOLIC_PACKAGE = __package__.rpartition(".")[0]
 
 #: Manifest layout names of each plant function's inputs and outputs, and its description.
 _SIGNATURES = {
@@ -67,7 +71,7 @@ def controller_names(directory: Path = CONTROLLERS_DIR) -> list[str]:
 def load_controller(name: str):
     """An instance of the design ``DESIGN`` of ``symbolic/controllers/<name>.py``, named after the module
     (so a copy of a module under a new name is a new controller)."""
-    mod = importlib.import_module(f"{__package__}.controllers.{name}")
+    mod = importlib.import_module(f"{SYMBOLIC_PACKAGE}.controllers.{name}")
     design = getattr(mod, "DESIGN", None)
     if design is None:
         raise ModelDefinitionError(f"symbolic/controllers/{name}.py defines no DESIGN "
@@ -89,9 +93,9 @@ def plant_sources(P) -> dict:
     """The SymPy source of every plant-family function except the Jacobian (taken by CasADi AD)."""
     import sympy as sp
 
-    from . import closed_loop as cl
-    from .orbit import eccentric_anomaly
-    from .relative_attitude import attitude_error_rate, rate_error_dynamics
+    from ..physics import closed_loop as cl
+    from ..physics.orbit import eccentric_anomaly
+    from ..physics.relative_attitude import attitude_error_rate, rate_error_dynamics
 
     pieces = cl.plant_pieces(P)
     o = P.orbit()
@@ -122,8 +126,8 @@ def sources(P=None, ctrls=None) -> tuple[dict, dict]:
     Tests evaluate these same expressions with NumPy (``sympy.lambdify``) and compare them with
     the compiled functions; the families below translate them to CasADi.
     """
-    from . import closed_loop as cl
-    from .plant import make_plant
+    from ..physics import closed_loop as cl
+    from ..physics.plant import make_plant
 
     P = make_plant() if P is None else P
     ctrls = controllers() if ctrls is None else ctrls
@@ -139,8 +143,8 @@ def sources(P=None, ctrls=None) -> tuple[dict, dict]:
 def _build_plant(_resolve) -> FamilyOutput:
     import casadi as ca
 
-    from . import closed_loop as cl
-    from .plant import make_plant
+    from ..physics import closed_loop as cl
+    from ..physics.plant import make_plant
     from .to_casadi import sympy_function
 
     P = make_plant()
@@ -210,7 +214,7 @@ def casadi_plant_advance(cas: dict, P):
     line, PWPF, two RK4 sub-steps of the plant, renormalisation, environment outputs)."""
     import casadi as ca
 
-    from . import closed_loop as cl
+    from ..physics import closed_loop as cl
 
     zp = ca.MX.sym("zp", cl.state_layout(P).size)
     t, p = ca.MX.sym("t"), ca.MX.sym("p", P.p.size)
@@ -226,7 +230,7 @@ def casadi_control(cas: dict, P, ctrl):
     one RK4 step with the measurement held, and the diagnostics."""
     import casadi as ca
 
-    from . import closed_loop as cl
+    from ..physics import closed_loop as cl
 
     meas, xc = ca.MX.sym("meas", P.meas.size), ca.MX.sym("xc", ctrl.xc.size)
     t, p, k = ca.MX.sym("t"), ca.MX.sym("p", P.p.size), ca.MX.sym("k", ctrl.k.size)
@@ -243,7 +247,7 @@ def composed_step(cas: dict, P, ctrl) -> Generated:
     fallback backend."""
     import casadi as ca
 
-    from . import closed_loop as cl
+    from ..physics import closed_loop as cl
     from .c_composition import Call, Callee, composed_c
 
     name = ctrl.name
@@ -284,8 +288,8 @@ def composed_step(cas: dict, P, ctrl) -> Generated:
 
 def _controller_family(name: str) -> Family:
     def build(resolve) -> FamilyOutput:
-        from . import closed_loop as cl
-        from .plant import make_plant
+        from ..physics import closed_loop as cl
+        from ..physics.plant import make_plant
         from .to_casadi import sympy_function
 
         P = make_plant()
@@ -315,7 +319,7 @@ def _controller_family(name: str) -> Family:
 
 def families() -> list[Family]:
     """rpo's model: the plant family, then one family per controller module."""
-    plant = Family("plant", (Path(__file__), SYMBOLIC_DIR / "closed_loop.py", SYMBOLIC_DIR / "plant.py",
-                             SYMBOLIC_DIR / "to_casadi.py"),
+    plant = Family("plant", (Path(__file__), PHYSICS_DIR / "closed_loop.py", PHYSICS_DIR / "plant.py",
+                             CODEGEN_DIR / "to_casadi.py"),
                    _build_plant)
     return [plant, *(_controller_family(n) for n in controller_names())]

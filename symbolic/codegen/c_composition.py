@@ -67,7 +67,7 @@ class Call:
     vector is an input, an output or a buffer name.
 
     ``variants``: specialised copies of the callee (same signature), each with the entries of the
-    input ``on`` it requires to be 0 (:mod:`rpo.symbolic.specialisation`): the glue calls the
+    input ``on`` it requires to be 0 (:mod:`rpo.symbolic.codegen.specialisation`): the glue calls the
     first whose entries are all 0, else ``callee``.  The lane form (``rpo.runtime.lanes``) makes
     the same choice per lane."""
 

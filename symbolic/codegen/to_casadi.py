@@ -14,8 +14,8 @@ import casadi as ca
 import numpy as np
 import sympy as sp
 
-from .kepler import KeplerE, solve_kepler
-from .special import Fmax, Step
+from ..physics.kepler import KeplerE, solve_kepler
+from ..physics.special import Fmax, Step
 
 _UNARY = {
     sp.sin: ca.sin,
@@ -226,7 +226,7 @@ LAMBDIFY_MODULES = [{"KeplerE": numpy_kepler, "Step": lambda x: np.where(np.asar
 
 def numpy_function(inputs: Sequence[sp.Basic], outputs: Sequence[sp.Basic]):
     """``sympy.lambdify`` of the same expressions, for independent NumPy evaluation (with the
-    sharing already in the expression graph, :func:`~rpo.symbolic.structural_cse.structural_cse`)."""
+    sharing already in the expression graph, :func:`~rpo.symbolic.codegen.structural_cse.structural_cse`)."""
     from .structural_cse import structural_cse
 
     # use_imps=False: lambdify's search for implemented_function walks the expression as a tree,

@@ -1,6 +1,6 @@
 """Code generation engine: families of CasADi functions -> one C file per function + manifest.
 
-A model is a list of :class:`Family` objects (rpo's own are in :mod:`rpo.symbolic.functions`; the
+A model is a list of :class:`Family` objects (rpo's own are in :mod:`rpo.symbolic.codegen.functions`; the
 build-system tests use a tiny fixture model).  A family is a group of generated functions that
 are derived together (the plant; one controller) and is identified by a **family hash** over
 
@@ -70,7 +70,7 @@ class Generated:
     outputs: Sequence[str | None]
     doc: str
     #: (C source, header) written instead of CasADi's code for ``fn`` (a composition of other
-    #: generated functions, :mod:`rpo.symbolic.c_composition`); ``fn`` still gives the shapes and
+    #: generated functions, :mod:`rpo.symbolic.codegen.c_composition`); ``fn`` still gives the shapes and
     #: the serialised function of the CasADi fallback
     c_code: tuple[str, str] | None = None
     #: operation count to report (default: ``fn``'s own)

@@ -1,7 +1,7 @@
 """NumPy evaluation of the same SymPy model: the independent reference for tests and benchmarks.
 
-The pieces are the SymPy expressions of :func:`rpo.symbolic.functions.sources` evaluated through
-``sympy.lambdify`` (NumPy), and the step is the same :func:`rpo.symbolic.closed_loop.step`
+The pieces are the SymPy expressions of :func:`rpo.symbolic.codegen.functions.sources` evaluated through
+``sympy.lambdify`` (NumPy), and the step is the same :func:`rpo.symbolic.physics.closed_loop.step`
 composition the C code is generated from.  Nothing here is retyped.
 """
 
@@ -11,7 +11,7 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from . import closed_loop as cl
+from ..physics import closed_loop as cl
 from .to_casadi import numpy_function
 
 

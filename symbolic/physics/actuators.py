@@ -1,6 +1,6 @@
 """Actuators: reaction-wheel pyramid (000 eqs. 46-47, Fig. 6) and 16 PWPF thrusters (Fig. 7).
 
-Values (000 Table 3, via SPEC.md) are parameters with defaults in :mod:`rpo.symbolic.plant`.
+Values (000 Table 3, via SPEC.md) are parameters with defaults in :mod:`rpo.symbolic.physics.plant`.
 The thruster geometry is not published; rpo's choice is defined here and documented in
 ``docs/actuators.md``.  Misalignment (rpo's model, not the papers'): the plant may rotate each wheel
 axis and each thruster direction by a small rotation (:func:`rotation_offset`), while the
@@ -30,7 +30,7 @@ def rotation_offset(theta, v):
     vector g = theta / 2, i.e. R = I + 2 / (1 + g.g) ([g]x + [g]x^2): an exact rotation about
     theta / |theta| by the angle 2 atan(|theta| / 2) = |theta| - |theta|^3 / 12 + ... (the same
     rotation as the unit quaternion [theta / 2, 1] / |[theta / 2, 1]|, the convention of the
-    attitude bias of :meth:`rpo.symbolic.plant.Plant.measurement`).  Rational in theta (no trig, no
+    attitude bias of :meth:`rpo.symbolic.physics.plant.Plant.measurement`).  Rational in theta (no trig, no
     branch), smooth at 0, and exactly 0 at theta = 0 in floating point too (every term of the
     numerator has a factor theta_k; the denominator is then 4), so the true geometry is built as
     nominal + this offset and a zero misalignment adds exact zeros (x + 0 = x) to the nominal
@@ -227,7 +227,7 @@ def pwpf_filter_step(f, demand, on, k_m, t_m, dt):
 
 # --------------------------------------------------------------------------- fault-aware allocation
 # rpo's FDIR model (not the papers'): with ``fdir_allocation`` = 1 these allocations replace the
-# nominal ones, over the units the fault flags of :mod:`rpo.symbolic.faults` leave healthy.  Both
+# nominal ones, over the units the fault flags of :mod:`rpo.symbolic.physics.faults` leave healthy.  Both
 # take the nominal minimum-norm solution and move it along the null space of the actuator matrix
 # (which changes no body torque or wrench) until the failed units are at zero: exact, closed-form
 # and as well conditioned as the nominal allocation, where a pseudo-inverse over the healthy

@@ -2,7 +2,7 @@
 
 State: r_e = [x, y, z] (chaser minus target, LVLH components) [m] and its LVLH-frame derivative
 v_e [m/s].  Exact for a Keplerian target orbit when ``n`` and ``n_dot`` are the LVLH rate and
-its derivative (see :mod:`rpo.symbolic.orbit` for the correction of eqs. 9 and 35).
+its derivative (see :mod:`rpo.symbolic.physics.orbit` for the correction of eqs. 9 and 35).
 """
 
 from __future__ import annotations

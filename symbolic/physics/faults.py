@@ -13,7 +13,7 @@ Kinds (unit, value):
 * wheels 1-4: ``wheel_off`` (no motor torque; the wheel coasts, its momentum constant),
   ``wheel_weak`` (its torque limit becomes ``value`` times the nominal one, 0 <= value <= 1),
   ``wheel_stuck`` (locked at its speed relative to the body: it turns with the body and adds
-  ``I_w a a^T`` to the chaser's inertia, :func:`rpo.symbolic.rigid_body.locked_wheel_inertia`);
+  ``I_w a a^T`` to the chaser's inertia, :func:`rpo.symbolic.physics.rigid_body.locked_wheel_inertia`);
 * thrusters 00-15: ``thruster_off`` (never fires), ``thruster_stuck_on`` (fires at full
   thrust, using propellant at F / (Isp g0)), ``thruster_weak`` (delivers ``value`` times its
   thrust, and uses propellant in proportion: a partly blocked feed);
@@ -26,7 +26,7 @@ If several kinds overlap on one actuator the precedence is off > stuck > weak.
 The controller is not told.  The fault-aware allocation (``fdir_allocation`` = 1) is rpo's model
 of an ideal FDIR layer that isolates a faulty unit the moment it fails: the wheel
 pseudo-inverse and the thruster allocation are taken over the healthy units
-(:mod:`rpo.symbolic.actuators`).
+(:mod:`rpo.symbolic.physics.actuators`).
 """
 
 from __future__ import annotations

@@ -39,7 +39,7 @@ def chaser_angular_acceleration(I_c, omega, h_rw, T_c, M_ext, I_locked=None):
 
 def locked_wheel_inertia(I_w, A, locked):
     """I_w sum_i locked_i a_i a_i^T [kg m^2]: what locked wheels (``locked`` 0/1 each) add to the
-    chaser's inertia (rpo's ``wheel_stuck`` fault, :mod:`rpo.symbolic.faults`).
+    chaser's inertia (rpo's ``wheel_stuck`` fault, :mod:`rpo.symbolic.physics.faults`).
 
     A wheel held at a constant speed relative to the body has dh_i/dt = I_w a_i . omega_dot, i.e.
     it exerts T_i = -I_w a_i . omega_dot on the body; moved to the left of eq. 6 this is the added

@@ -28,9 +28,9 @@ from dataclasses import dataclass
 
 import sympy as sp
 
+from ..controllers import command_layout
 from . import actuators as act
 from . import faults as flt
-from .controllers import command_layout
 from .layout import Layout
 from .plant import THRUSTERS, WHEELS, Plant
 

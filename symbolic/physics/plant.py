@@ -281,7 +281,7 @@ SENSOR_NAMES = ("attitude", "rate", "position", "velocity")
 
 
 def _fault_params(p: Layout) -> None:
-    """The fault windows and values of :mod:`rpo.symbolic.faults`, set by the scenario's
+    """The fault windows and values of :mod:`rpo.symbolic.physics.faults`, set by the scenario's
     ``[[faults]]`` array (``runtime/scenario/faults.py``), and the FDIR switch."""
     never = flt.NEVER
     window = Bounds(0.0, never, why=f"a time from t = 0; the default {never:g} s means never")
