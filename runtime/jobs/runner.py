@@ -37,7 +37,7 @@ from rpo.runtime.outputs.writers import OutputSpec, check_out_dir, warm_figures,
 from rpo.runtime.run import interrupts
 from rpo.runtime.run.interrupts import Interrupted
 from rpo.runtime.run.preflight import preflight
-from rpo.runtime.run.simulate import RunResult
+from rpo.runtime.run.result import RunResult
 from rpo.runtime.scenario import RunInputs, Scenario, load_scenario
 
 

@@ -549,7 +549,7 @@ def _gap(tf: np.ndarray) -> float:
 
 
 def result_columns(result: Any) -> dict[str, np.ndarray]:
-    """The columns of a :class:`~rpo.runtime.run.simulate.RunResult` (or a loaded npz) by label."""
+    """The columns of a :class:`~rpo.runtime.run.result.RunResult` (or a loaded npz) by label."""
     cols = {lbl: result.z[:, i] for i, lbl in enumerate(result.z_labels)}
     cols.update({lbl: result.y[:, i] for i, lbl in enumerate(result.y_labels)})
     return cols

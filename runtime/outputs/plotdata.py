@@ -14,7 +14,7 @@ from rpo.runtime.scenario.channels import select
 from rpo.runtime.scenario.faults import active_faults
 
 if TYPE_CHECKING:
-    from rpo.runtime.run.simulate import RunResult
+    from rpo.runtime.run.result import RunResult
 
 FIGURE_FORMATS = ("png", "svg", "pdf")
 #: Standard diagnostic fields every paper controller logs first (in the ``controller`` figure).

@@ -39,7 +39,7 @@ from rpo.runtime.outputs.metrics import quat_angle
 from rpo.runtime.outputs.plotdata import FIGURE_FORMATS, STANDARD_DIAG, PlotData
 
 if TYPE_CHECKING:
-    from rpo.runtime.run.simulate import RunResult
+    from rpo.runtime.run.result import RunResult
 
 RAD2DEG = 180.0 / np.pi
 RADS2RPM = 60.0 / (2.0 * np.pi)

@@ -210,7 +210,7 @@ def verdict(metrics: Mapping[str, Any], t: ArrayLike, columns: Mapping[str, Any]
     ``not measured``, ``diverged``), per goal ``reached``/``time_s``/``final``/``reason``, the
     ``saturation`` of each actuator family, the ``constraints``, the ``divergence`` message and
     ``line``, the one-line summary ``rpo run`` prints.  ``divergence``: the run's
-    :class:`~rpo.runtime.run.simulate.Divergence` (its ``time``, ``label``, ``message()``) or None."""
+    :class:`~rpo.runtime.run.result.Divergence` (its ``time``, ``label``, ``message()``) or None."""
     t = np.asarray(t, float)
     w, span = _weights(t)  # shared by every time fraction of the run
     sat = _saturation(columns, params, w, span)

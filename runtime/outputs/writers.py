@@ -71,7 +71,7 @@ from rpo.runtime.scenario.channels import Selection, select
 
 if TYPE_CHECKING:
     from rpo.runtime.model.loader import Model
-    from rpo.runtime.run.simulate import RunResult
+    from rpo.runtime.run.result import RunResult
 
 CSV_FORMAT = "%.17g"  # round-trips every double: the CSV equals the in-memory data
 FORMATS = ("parquet", "mat", "csv", "npz")
@@ -364,7 +364,7 @@ def write_run(result: RunResult, out_dir: str | Path, model: Model, scenario_pat
               params: dict | None = None, gains: dict | None = None, title: str = "",
               metrics: dict | None = None, output: OutputSpec | None = None,
               timings: dict[str, float] | None = None) -> Path:
-    """Write ``result`` (a :class:`~rpo.runtime.run.simulate.RunResult`) into the new folder ``out_dir``.
+    """Write ``result`` (a :class:`~rpo.runtime.run.result.RunResult`) into the new folder ``out_dir``.
 
     ``scenario_text`` (else the file ``scenario_path``) is copied as ``scenario.toml``;
     ``extra_meta`` is merged into ``run.json``; ``params``/``gains`` give the plots their limits
