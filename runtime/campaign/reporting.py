@@ -42,6 +42,7 @@ import pyarrow.parquet as pq
 
 from rpo.runtime.campaign import stats as S
 from rpo.runtime.campaign.storage import history_path, read_histories, read_rows
+from rpo.runtime.formats import DEFAULT_FIGURE_FORMAT, FIGURE_FORMATS, unknown_figure_format
 
 STATUSES = ("ok", "diverged", "invalid", "error")
 FLOWN = ("ok", "diverged")
@@ -68,7 +69,6 @@ ENVELOPE_CHANNELS = (("err_att_rad", "attitude error [deg]", 180.0 / math.pi),
                      ("err_pos_m", "position error [m]", 1.0),
                      ("h_w_norm", "wheel momentum norm [N m s]", 1.0))
 PERCENTILES = (5.0, 50.0, 95.0)
-FIGURE_FORMATS = ("png", "svg", "pdf")
 
 
 # --------------------------------------------------------------------------- reading
@@ -373,7 +373,7 @@ def _write_figures(c: CampaignFolder, fig_dir: Path, ok: np.ndarray, flown: np.n
 
 def write_report(campaign_dir: str | Path, out: str | Path | None = None, coverage: float = 0.95,
                  confidence: float = 0.95, n_boot: int = 2000, seed: int = 0, figures: bool = True,
-                 top: int = 15, worst: int = 5, fmt: str = "png") -> Path:
+                 top: int = 15, worst: int = 5, fmt: str = DEFAULT_FIGURE_FORMAT) -> Path:
     """Write ``report.md`` (and ``figures/*.<fmt>``) of a finished or partly finished campaign into
     ``out`` (default: the campaign folder); returns the path of ``report.md``.
 
@@ -383,7 +383,7 @@ def write_report(campaign_dir: str | Path, out: str | Path | None = None, covera
     worst-case list.  The report's conventions are in the module docstring.
     """
     if fmt not in FIGURE_FORMATS:
-        raise ValueError(f"figure format {fmt!r}: allowed {', '.join(FIGURE_FORMATS)}")
+        raise ValueError(unknown_figure_format(fmt))
     c = read_folder(campaign_dir)
     out_dir = Path(out) if out is not None else c.path
     out_dir.mkdir(parents=True, exist_ok=True)
