@@ -1,6 +1,7 @@
 """Each vocabulary is declared once and derived everywhere else (issue 23).
 
-* the time-history formats and the figure formats: :mod:`rpo.runtime.formats`.
+* the time-history formats and the figure formats: :mod:`rpo.runtime.formats`;
+* the distributions of a campaign's dispersions: :mod:`rpo.runtime.campaign.dispersions`.
 
 For each: no other module of ``runtime/`` spells its names (a second list, a ``== "<name>"``
 switch), and the consumers (the scenario schema's allowed values, the command's choices and help,
@@ -18,6 +19,8 @@ import pytest
 from pydantic import ValidationError
 
 from rpo.runtime import formats
+from rpo.runtime.campaign import dispersions
+from rpo.runtime.campaign.dispersions import DISTRIBUTIONS, Dispersion, DispersionError, ScipyDistribution
 from rpo.runtime.cli.main import cli
 from rpo.runtime.docgen.choices import OUTPUT_DOC
 from rpo.runtime.errors import OutputError
@@ -28,6 +31,7 @@ from rpo.runtime.scenario.schema import OutputSection
 ROOT = Path(__file__).resolve().parents[1]
 RUNTIME = ROOT / "runtime"
 FORMATS_PY = "runtime/formats.py"
+DISPERSIONS_PY = "runtime/campaign/dispersions.py"
 
 
 def _sources() -> dict[str, ast.Module]:
@@ -160,3 +164,68 @@ def test_the_campaign_report_refuses_another_figure_format(tmp_path):
 
     with pytest.raises(ValueError, match=f"allowed {', '.join(FIGURE_FORMATS)}$"):
         write_report(tmp_path, fmt="no-such-format")
+
+
+# --------------------------------------------------------------------------- distributions
+
+
+def test_distribution_names_are_spelled_once_where_declared():
+    names = set(DISTRIBUTIONS)
+    own = [c.value for c in _strings(SOURCES[DISPERSIONS_PY]) if c.value in names]
+    assert sorted(own) == sorted(names), "a distribution's name is written twice in dispersions.py"
+    # elsewhere a name may be a word of another vocabulary (a parameter's kind "inertia"), but no
+    # module holds them all
+    for rel, tree in SOURCES.items():
+        if rel != DISPERSIONS_PY:
+            assert not names <= {c.value for c in _strings(tree)}, f"{rel} lists the distributions"
+
+
+def _switches_on_dist(tree: ast.AST) -> list[str]:
+    """Comparisons of a distribution's name (``x.dist``, ``dist``, ``x["dist"]``) with a string or a
+    literal collection."""
+    def is_dist(n: ast.AST) -> bool:
+        return isinstance(n, ast.Attribute) and n.attr == "dist" or isinstance(n, ast.Name) and n.id == "dist" \
+            or isinstance(n, ast.Subscript) and isinstance(n.slice, ast.Constant) and n.slice.value == "dist"
+
+    def is_literal(n: ast.AST) -> bool:
+        return isinstance(n, (ast.Tuple, ast.List, ast.Set)) or isinstance(n, ast.Constant) and isinstance(n.value, str)
+
+    return [ast.unparse(node) for node in ast.walk(tree) if isinstance(node, ast.Compare)
+            and any(is_dist(n) for n in (node.left, *node.comparators))
+            and any(is_literal(n) for n in (node.left, *node.comparators))]
+
+
+def test_the_switch_scan_can_fail():
+    code = ('if self.dist == "normal":\n    pass\nok = d.dist in ("a", "b")\nk = spec["dist"] != "x"\n'
+            'f = exc.field != "dist"\n')
+    assert _switches_on_dist(ast.parse(code)) == ["self.dist == 'normal'", "d.dist in ('a', 'b')",
+                                                  "spec['dist'] != 'x'"]
+
+
+def test_nothing_switches_on_a_distribution_name():
+    found = [f"{rel}: {c}" for rel, tree in SOURCES.items() for c in _switches_on_dist(tree)]
+    assert not found
+
+
+def test_each_distribution_declares_its_parameters_and_is_found_by_name():
+    for name, k in DISTRIBUTIONS.items():
+        assert k.name == name and k.params and k.value_doc
+        assert dispersions.distribution(name) is k
+        assert len({p.name for p in k.params}) == len(k.params) and all(p.meaning for p in k.params)
+    assert isinstance(dispersions.distribution("lognorm"), ScipyDistribution)
+    with pytest.raises(DispersionError, match=f"allowed: {', '.join(DISTRIBUTIONS)} or a scipy"):
+        dispersions.distribution("no-such-distribution")
+
+
+def test_a_parameter_outside_the_declaration_is_refused_naming_the_declared_ones():
+    for name, k in DISTRIBUTIONS.items():
+        with pytest.raises(DispersionError) as err:
+            Dispersion(key="a", dist=name, params={"dist": name, "no_such_parameter": 1.0}, nominal=1.0)
+        assert err.value.field == "no_such_parameter"
+        assert err.value.message.endswith(", ".join(sorted({"dist", *(p.name for p in k.params)})))
+
+
+def test_the_campaign_docs_hold_the_table_of_the_distributions():
+    text = (ROOT / "docs" / "campaigns.md").read_text()
+    table = dispersions.reference_table()
+    assert table in text, f"docs/campaigns.md: replace the table of distributions by\n{table}"
