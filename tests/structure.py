@@ -26,7 +26,7 @@ TOPS = ("symbolic", "runtime", "generated")
 #: The runtime's layers, lowest first, as docs/architecture.md draws them: a module may import modules of its
 #: own layer and of lower ones.  ``rpo.runtime`` itself (the package's public names) sits above them all.
 RUNTIME_LAYERS: tuple[tuple[str, ...], ...] = (
-    ("rpo.runtime.errors", "rpo.runtime.frames"),
+    ("rpo.runtime.errors", "rpo.runtime.frames", "rpo.runtime.formats"),
     ("rpo.runtime.model",),
     ("rpo.runtime.scenario",),
     ("rpo.runtime.run",),

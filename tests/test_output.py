@@ -13,8 +13,9 @@ import numpy as np
 import pytest
 
 from rpo.runtime.errors import ScenarioError
+from rpo.runtime.formats import matlab_names
 from rpo.runtime.jobs.runner import execute_run
-from rpo.runtime.outputs.writers import matlab_names, written_rows
+from rpo.runtime.outputs.writers import written_rows
 from rpo.runtime.scenario import loads_scenario
 from rpo.runtime.scenario.channels import DEFAULT_CHANNELS, ChannelError, select
 

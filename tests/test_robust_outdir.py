@@ -3,6 +3,7 @@ never lost at the end: refused folders are named in one line and left as they we
 
 from __future__ import annotations
 
+import dataclasses
 import json
 from pathlib import Path
 
@@ -10,8 +11,8 @@ import numpy as np
 import pytest
 
 from rpo.runtime.errors import OutputError
+from rpo.runtime.formats import OUTPUT_FORMATS
 from rpo.runtime.jobs.runner import execute_run
-from rpo.runtime.outputs import writers as output
 from rpo.runtime.outputs.writers import OutputSpec, check_out_dir, write_run
 from rpo.runtime.run.simulate import Simulation
 
@@ -20,6 +21,12 @@ from conftest import Q_C0_III, Q_T0_III, unit
 ROOT = Path(__file__).resolve().parents[1]
 III = ROOT / "scenarios" / "000_scenario_III.toml"
 NO_PLOTS = OutputSpec(figures=False)
+
+
+def _replace_writer(monkeypatch, write) -> None:
+    """The default format's writer replaced by ``write`` (the registry holds the writers)."""
+    name = NO_PLOTS.formats[0]
+    monkeypatch.setitem(OUTPUT_FORMATS, name, dataclasses.replace(OUTPUT_FORMATS[name], write=write))
 
 
 @pytest.fixture(scope="module")
@@ -127,14 +134,14 @@ def test_a_folder_that_appears_while_writing_is_never_replaced_and_the_results_a
     out = tmp_path / "out"
     if existing:
         out.mkdir()
-    real = output.write_parquet
+    real = OUTPUT_FORMATS[NO_PLOTS.formats[0]].write
 
-    def write_and_race(path, cols, meta):  # someone else creates the folder (or a file in it) meanwhile
-        real(path, cols, meta)
+    def write_and_race(path, table):  # someone else creates the folder (or a file in it) meanwhile
+        real(path, table)
         out.mkdir(exist_ok=True)
         (out / "theirs.txt").write_text("theirs") if existing else None
 
-    monkeypatch.setattr(output, "write_parquet", write_and_race)
+    _replace_writer(monkeypatch, write_and_race)
     with pytest.raises(OutputError) as err:
         write_run(short_run, out, model, output=NO_PLOTS)
     msg = str(err.value)
@@ -145,11 +152,11 @@ def test_a_folder_that_appears_while_writing_is_never_replaced_and_the_results_a
 
 
 def test_an_error_while_writing_leaves_no_temporary_folder(model, short_run, tmp_path, monkeypatch):
-    def broken(path, cols, meta):
+    def broken(path, table):
         Path(path).write_bytes(b"half")
         raise OSError(28, "No space left on device")
 
-    monkeypatch.setattr(output, "write_parquet", broken)
+    _replace_writer(monkeypatch, broken)
     with pytest.raises(OutputError, match="No space left on device"):
         write_run(short_run, tmp_path / "out", model, output=NO_PLOTS)
     assert list(tmp_path.iterdir()) == []

@@ -22,7 +22,7 @@ III = ROOT / "scenarios" / "000_scenario_III.toml"
 #: the `rpo` command, with a marker on stderr (and a pause) at one moment: MOMENT names the
 #: patched function, which prints "RPO-TEST <moment>" and sleeps before doing its work
 DRIVER = r"""
-import os, sys, time
+import dataclasses, os, sys, time
 moment = os.environ["RPO_TEST_MOMENT"]
 
 def mark(fn):
@@ -34,12 +34,13 @@ def mark(fn):
 
 from rpo.runtime.cli import main as cli
 from rpo.runtime.outputs import figure_workers
-from rpo.runtime.outputs import writers as output
+from rpo.runtime.formats import DEFAULT_FORMATS, OUTPUT_FORMATS
 from rpo.runtime.run import simulate
 if moment == "inputs":
     simulate.Simulation.initial_state = mark(simulate.Simulation.initial_state)
 elif moment == "writing":
-    output.write_parquet = mark(output.write_parquet)
+    f = OUTPUT_FORMATS[DEFAULT_FORMATS[0]]  # the writer of the default format (the registry holds it)
+    OUTPUT_FORMATS[f.name] = dataclasses.replace(f, write=mark(f.write))
 elif moment == "plotting":
     figure_workers.Drawing.wait = mark(figure_workers.Drawing.wait)
 sys.exit(cli.main(sys.argv[1:]))

@@ -24,6 +24,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from rpo.runtime.campaign.stats import Envelope, ecdf
+from rpo.runtime.formats import figure_format_of
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -51,14 +52,13 @@ def _new_figure(width: float, height: float) -> Figure:
 
 
 def save(fig: Figure, path: str | Path) -> Path:
-    """Write ``fig`` to ``path`` (format from the suffix: png, svg or pdf) without any date,
-    software version or random id in the file, so the bytes depend on the drawing only."""
+    """Write ``fig`` to ``path`` (format from the suffix: one of :data:`rpo.runtime.formats.FIGURE_FORMATS`)
+    without any date, software version or random id in the file, so the bytes depend on the drawing only."""
     import matplotlib
 
     p = Path(path)
-    fmt = p.suffix.lstrip(".").lower()
-    meta: dict[str, Any] = {"png": {"Software": None}, "svg": {"Date": None, "Creator": None},
-                            "pdf": {"CreationDate": None, "Creator": None, "Producer": None}}.get(fmt, {})
+    fmt = figure_format_of(p)
+    meta: dict[str, Any] = fmt.fixed_metadata() if fmt is not None else {}
     # the hash salt fixes the ids of SVG clip paths (otherwise random per process)
     with matplotlib.rc_context({"svg.hashsalt": "rpo-campaign", "pdf.compression": 6}):
         fig.savefig(p, dpi=DPI, metadata=meta)

@@ -41,7 +41,6 @@ ENVELOPE_CHANNELS = (("err_att_rad", "attitude error [deg]", 180.0 / math.pi),
                      ("err_pos_m", "position error [m]", 1.0),
                      ("h_w_norm", "wheel momentum norm [N m s]", 1.0))
 PERCENTILES = (5.0, 50.0, 95.0)
-FIGURE_FORMATS = ("png", "svg", "pdf")
 
 
 # --------------------------------------------------------------------------- reading

@@ -33,7 +33,6 @@ from __future__ import annotations
 from pathlib import Path
 
 from rpo.runtime.campaign.folder import (  # noqa: F401  (summary_table, case_history: the module's API)
-    FIGURE_FORMATS,
     case_history,
     read_folder,
     summary_table,
@@ -49,11 +48,12 @@ from rpo.runtime.campaign.sections import (
     wilks_lines,
     worst_case_lines,
 )
+from rpo.runtime.formats import DEFAULT_FIGURE_FORMAT, FIGURE_FORMATS, unknown_figure_format
 
 
 def write_report(campaign_dir: str | Path, out: str | Path | None = None, coverage: float = 0.95,
                  confidence: float = 0.95, n_boot: int = 2000, seed: int = 0, figures: bool = True,
-                 top: int = 15, worst: int = 5, fmt: str = "png") -> Path:
+                 top: int = 15, worst: int = 5, fmt: str = DEFAULT_FIGURE_FORMAT) -> Path:
     """Write ``report.md`` (and ``figures/*.<fmt>``) of a finished or partly finished campaign into
     ``out`` (default: the campaign folder); returns the path of ``report.md``.
 
@@ -63,7 +63,7 @@ def write_report(campaign_dir: str | Path, out: str | Path | None = None, covera
     worst-case list.  The report's conventions are in the module docstring.
     """
     if fmt not in FIGURE_FORMATS:
-        raise ValueError(f"figure format {fmt!r}: allowed {', '.join(FIGURE_FORMATS)}")
+        raise ValueError(unknown_figure_format(fmt))
     c = read_folder(campaign_dir)
     out_dir = Path(out) if out is not None else c.path
     out_dir.mkdir(parents=True, exist_ok=True)

@@ -21,6 +21,7 @@ import numpy as np
 
 from rpo.runtime import frames
 from rpo.runtime.errors import RpoError
+from rpo.runtime.formats import DEFAULT_FIGURE_FORMAT, FIGURE_FORMAT_NAMES, FORMAT_NAMES, OUTPUT_FORMATS
 from rpo.runtime.model.toolchain import find_compiler, native_target
 from rpo.runtime.run import interrupts
 
@@ -36,6 +37,9 @@ STEP_COST = {"compiled": 2e-5, "casadi": 2e-3}
 _NO_ARGS = getattr(click.exceptions, "NoArgsIsHelpError", ())
 
 BACKENDS = click.Choice(["auto", "compiled", "casadi"])
+#: ``parquet (default), mat (MATLAB), ...``: the formats of --format's help, from the registry.
+_FORMATS_HELP = ", ".join(f.name + (" (default)" if f.default else "") + (f" ({f.note})" if f.note else "")
+                          for f in OUTPUT_FORMATS.values())
 
 
 def _err(msg: str) -> None:
@@ -57,15 +61,14 @@ def _load_model(backend: str, quiet: bool, controllers: list[str] | None = None)
 
 
 def _formats(ctx, param, value: str | None) -> tuple[str, ...] | None:
-    """``--format parquet,mat``: each name checked against the writers of rpo.runtime.outputs.writers."""
+    """``--format parquet,mat``: each name checked against :data:`rpo.runtime.formats.OUTPUT_FORMATS`."""
     if value is None:
         return None
-    from rpo.runtime.outputs.writers import FORMATS
     names = [v.strip() for v in value.split(",") if v.strip()]
-    bad = [n for n in names if n not in FORMATS]
+    bad = [n for n in names if n not in OUTPUT_FORMATS]
     if bad or not names:
         raise click.BadParameter(f"{value!r}: unknown format {', '.join(bad) or '(none)'}; allowed: "
-                                 f"{', '.join(FORMATS)} (comma-separated)")
+                                 f"{', '.join(FORMAT_NAMES)} (comma-separated)")
     if len(set(names)) != len(names):
         raise click.BadParameter(f"{value!r} lists a format twice")
     return tuple(names)
@@ -107,10 +110,9 @@ def cli() -> None:
 @click.option("--backend", type=BACKENDS, default="auto", show_default=True,
               help="Model backend: compiled C (auto) or the slow CasADi fallback.")
 @click.option("--format", "formats", default=None, callback=_formats, metavar="LIST",
-              help="Time-history formats, comma-separated: parquet (default), mat (MATLAB), csv, npz. "
-                   "Replaces [output] formats.")
-@click.option("--figure-format", type=click.Choice(["png", "svg", "pdf"]), default=None,
-              help="Figure file format (default png, or [output] figure_format).")
+              help=f"Time-history formats, comma-separated: {_FORMATS_HELP}. Replaces [output] formats.")
+@click.option("--figure-format", type=click.Choice(FIGURE_FORMAT_NAMES), default=None,
+              help=f"Figure file format (default {DEFAULT_FIGURE_FORMAT}, or [output] figure_format).")
 @click.option("--no-plots", is_flag=True, help="Do not write the figures.")
 @click.option("--quiet", "-q", is_flag=True,
               help="Print only errors and the divergence message (the verdict is still in metrics.json, run.json).")

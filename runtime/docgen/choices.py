@@ -13,6 +13,8 @@ import re
 from dataclasses import dataclass
 from pathlib import Path
 
+from rpo.runtime.formats import DEFAULT_FIGURE_FORMAT, DEFAULT_FORMATS, FIGURE_FORMATS, OUTPUT_FORMATS
+
 _SECTION = re.compile(r"^\s*\[\[?([^\]]+)\]\]?\s*(#.*)?$")
 _ASSIGN = re.compile(r"^\s*([A-Za-z0-9_\-]+)\s*=\s*(.*)$")
 _MARKERS = ("chosen", "reconstructed")
@@ -66,8 +68,21 @@ def collect(path: Path) -> list[Choice]:
     return out
 
 
-#: The reference of the ``[output]`` table and of ``simulation.record_every`` (in docs/scenarios.md).
-OUTPUT_DOC = """\
+def _quoted(name: str) -> str:
+    return f'`"{name}"`'
+
+
+#: ``"parquet"`, `"mat"` (MATLAB), ...``: the formats in the [output] table (rpo.runtime.formats).
+_FORMATS = ", ".join(_quoted(f.name) + (f" ({f.note})" if f.note else "") for f in OUTPUT_FORMATS.values())
+_FIGURE_FORMATS = ", ".join(_quoted(n) for n in list(FIGURE_FORMATS)[:-1]) + " or " * (len(FIGURE_FORMATS) > 1) \
+    + _quoted(list(FIGURE_FORMATS)[-1])
+#: One row per time-history format: its file and what the file holds.
+_FORMAT_ROWS = "\n".join(f"| {_quoted(f.name)} | `{f.file}` | {f.holds} |" for f in OUTPUT_FORMATS.values())
+_DEFAULT_FORMATS = "[" + ", ".join(f'"{n}"' for n in DEFAULT_FORMATS) + "]"
+
+#: The reference of the ``[output]`` table and of ``simulation.record_every`` (in docs/scenarios.md);
+#: the formats come from :mod:`rpo.runtime.formats`.
+OUTPUT_DOC = f"""\
 ## What a run records and writes: `simulation.record_every` and `[output]`
 
 Two steps, so that the metrics never depend on what is written:
@@ -84,9 +99,9 @@ Two steps, so that the metrics never depend on what is written:
 | `channels` | the default set | array of field names (`"r"`: `r_x`, `r_y`, `r_z`), column labels (`"meas_q_e_w"`), glob patterns (`"ctrl_*"`, `"env_M_gg_?"`) over the layouts `z_<controller>` and `y_<controller>` (`rpo info` lists them), and `"default"` for the default set. An entry that matches nothing is an error naming the close matches. Columns are written in layout order; `t` always |
 | `every` | `simulation.record_every` | write the rows whose step is a multiple of `every` (steps of 1 / `simulation.rate`), and the final row; a multiple of `simulation.record_every` |
 | `rate_hz` | - | the same as a rate: `every = rate / rate_hz`, which must be a whole number; give `every` or `rate_hz`, not both |
-| `formats` | `["parquet"]` | any of `"parquet"`, `"mat"` (MATLAB), `"csv"`, `"npz"`; `rpo run --format parquet,mat` replaces it |
+| `formats` | `{_DEFAULT_FORMATS}` | any of {_FORMATS}; `rpo run --format` (comma-separated) replaces it |
 | `figures` | `true` | `false` writes no figure (as `rpo run --no-plots`) |
-| `figure_format` | `"png"` | `"png"`, `"svg"` or `"pdf"`; `rpo run --figure-format` replaces it |
+| `figure_format` | {_quoted(DEFAULT_FIGURE_FORMAT)} | {_FIGURE_FORMATS}; `rpo run --figure-format` replaces it |
 
 The default set (`rpo.runtime.scenario.channels.DEFAULT_CHANNELS`) is what the figures and the metrics
 read plus the physical state: `q_c`, `w_c`, `h_w`, `q_t`, `w_t`, `r`, `v`, `m_prop`, `meas_q_e`,
@@ -95,7 +110,15 @@ read plus the physical state: `q_c`, `w_c`, `h_w`, `q_t`, `w_t`, `r`, `v`, `m_pr
 for c000; about 20 MB of Parquet for scenario III's 30001 rows). Left out: the wheel delay line,
 the PWPF filter states, the controller's states `xc_*` (logged as `ctrl_*` where they matter),
 the other raw measurements and the environment's terms; add them by name or pattern, or write
-everything with `channels = ["*"]`. Example:
+everything with `channels = ["*"]`.
+
+The time histories' formats (each chosen one is a file of the results folder):
+
+| format | file | holds |
+| --- | --- | --- |
+{_FORMAT_ROWS}
+
+Example:
 
 ```toml
 [output]

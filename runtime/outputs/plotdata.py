@@ -16,7 +16,6 @@ from rpo.runtime.scenario.faults import active_faults
 if TYPE_CHECKING:
     from rpo.runtime.run.result import RunResult
 
-FIGURE_FORMATS = ("png", "svg", "pdf")
 #: Standard diagnostic fields every paper controller logs first (in the ``controller`` figure).
 STANDARD_DIAG = ("ctrl_att_err", "ctrl_q_err", "ctrl_pos_err", "ctrl_rate_err", "ctrl_vel_err")
 #: The fields (names or glob patterns) each figure reads, heaviest figure first (the order the

@@ -7,31 +7,21 @@ removed.
 
 Contents (:class:`OutputSpec` chooses the columns, the rows, the formats and the figures):
 
-* ``timeseries.parquet`` (default format) one table: ``t`` [s], the chosen z columns, then the
-  chosen y columns, float64, zstd-compressed (byte-stream-split encoding: lossless).  Each
-  field's metadata holds ``unit``, ``layout`` (``z_<ctrl>``/``y_<ctrl>``), ``field`` and ``doc``;
-  the file's metadata holds ``rpo.run`` (the JSON of ``run.json`` without the figure list) and
-  ``rpo.units`` (label -> unit);
-* ``timeseries.mat`` (``--format mat``, MATLAB v5 via ``scipy.io.savemat``) one column vector per
-  column, named by its label (labels are valid MATLAB names; an invalid one would be rewritten,
-  the ``columns`` cell array gives the labels in order), a struct ``units`` (name -> unit text)
-  and the char array ``metadata`` (the run record as JSON);
-* ``timeseries.csv`` (``--format csv``) the same table, header ``name [unit]``, every double
-  written with 17 significant digits (reads back bit for bit);
-* ``timeseries.npz`` (``--format npz``) ``t``, ``z``, ``y``, ``z_labels``, ``z_units``,
-  ``y_labels``, ``y_units``, ``metadata``.
-
-``y`` at row i is the output over the step starting at ``t[i]``: the final row has none (NaN).
-Written rows are the recorded rows whose step is a multiple of :attr:`OutputSpec.every`, and
-always the final row.
-
+* ``timeseries.<suffix>``, one file per chosen format (Parquet by default): ``t`` [s], the chosen z
+  columns, then the chosen y columns, float64, with their units and the run record.  The formats,
+  their files, what each holds and its writer are declared once, in
+  :data:`rpo.runtime.formats.OUTPUT_FORMATS` (``docs/scenarios.md`` lists them).  ``y`` at row i
+  is the output over the step starting at ``t[i]``: the final row has none (NaN).  Written rows
+  are the recorded rows whose step is a multiple of :attr:`OutputSpec.every`, and always the
+  final row;
 * ``scenario.toml``   the scenario as read (when given);
 * ``metrics.json``    the metrics of :mod:`rpo.runtime.outputs.metrics` (computed by the caller from the
   full in-memory record, not from the written rows);
 * ``run.json``        status (``ok``/``diverged`` with the divergence message, step, time and
   state label), steps, wall time, backend, seed, controller, model source hash, versions, what
   was written (``output``) and the figure files;
-* the figures of :mod:`rpo.runtime.outputs.plots` (``<name>.png|svg|pdf``; unless disabled).
+* the figures of :mod:`rpo.runtime.outputs.plots` (``<name>.<figure_format>``, of
+  :data:`rpo.runtime.formats.FIGURE_FORMATS`; unless disabled).
 
 Figures are rendered by worker processes (:mod:`rpo.runtime.outputs.figure_workers`; :func:`warm_figures`
 starts them early, so matplotlib is imported off the data path while the simulation runs), from
@@ -49,7 +39,6 @@ import errno
 import json
 import os
 import platform
-import re
 import secrets
 import shutil
 import time
@@ -64,8 +53,18 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from rpo.runtime.errors import OutputError
+from rpo.runtime.formats import (
+    DEFAULT_FIGURE_FORMAT,
+    DEFAULT_FORMATS,
+    FIGURE_FORMATS,
+    OUTPUT_FORMATS,
+    Column,
+    Table,
+    unknown_figure_format,
+    unknown_format,
+)
 from rpo.runtime.outputs import figure_workers
-from rpo.runtime.outputs.plotdata import FIGURE_FIELDS, FIGURE_FORMATS, FIGURE_ORDER, PlotData
+from rpo.runtime.outputs.plotdata import FIGURE_FIELDS, FIGURE_ORDER, PlotData
 from rpo.runtime.run import interrupts
 from rpo.runtime.scenario.channels import Selection, select
 
@@ -73,30 +72,26 @@ if TYPE_CHECKING:
     from rpo.runtime.model.loader import Model
     from rpo.runtime.run.result import RunResult
 
-CSV_FORMAT = "%.17g"  # round-trips every double: the CSV equals the in-memory data
-FORMATS = ("parquet", "mat", "csv", "npz")
-SUFFIX = {"parquet": "parquet", "mat": "mat", "csv": "csv", "npz": "npz"}
-MATLAB_NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]{0,62}$")
-
 
 @dataclass(frozen=True)
 class OutputSpec:
     """What :func:`write_run` writes: ``channels`` (entries of :func:`rpo.runtime.scenario.channels.select`;
     None: the default set), ``every`` (steps between written rows; None: every recorded row),
-    ``formats`` (of :data:`FORMATS`), ``figures`` and their ``figure_format``."""
+    ``formats`` (of :data:`rpo.runtime.formats.OUTPUT_FORMATS`), ``figures`` and their ``figure_format``
+    (of :data:`rpo.runtime.formats.FIGURE_FORMATS`)."""
 
     channels: tuple[str, ...] | None = None
     every: int | None = None
-    formats: tuple[str, ...] = ("parquet",)
+    formats: tuple[str, ...] = DEFAULT_FORMATS
     figures: bool = True
-    figure_format: str = "png"
+    figure_format: str = DEFAULT_FIGURE_FORMAT
 
     def __post_init__(self):
-        bad = [f for f in self.formats if f not in FORMATS]
+        bad = [f for f in self.formats if f not in OUTPUT_FORMATS]
         if bad or not self.formats:
-            raise OutputError(f"output format {', '.join(bad) or '(none)'}: allowed {', '.join(FORMATS)}")
+            raise OutputError(unknown_format(bad))
         if self.figure_format not in FIGURE_FORMATS:
-            raise OutputError(f"figure format {self.figure_format!r}: allowed {', '.join(FIGURE_FORMATS)}")
+            raise OutputError(unknown_figure_format(self.figure_format))
         if self.every is not None and (int(self.every) != self.every or self.every < 1):
             raise OutputError(f"output every = {self.every}: must be an integer >= 1 (steps)")
 
@@ -238,16 +233,6 @@ def run_record(result: RunResult, model: Model, scenario_path: str | Path | None
 # --------------------------------------------------------------------------- the table written
 
 
-@dataclass
-class Column:
-    label: str
-    unit: str
-    layout: str   # z_<ctrl> or y_<ctrl> ("" for t)
-    field: str
-    doc: str
-    data: np.ndarray
-
-
 def written_rows(t: np.ndarray, dt: float, every: int | None) -> np.ndarray:
     """Indices of the recorded rows written: step a multiple of ``every``, and the final row."""
     n = len(t)
@@ -279,72 +264,6 @@ def columns(result: RunResult, model: Model, spec: OutputSpec) -> tuple[list[Col
             name, doc = info.get(lbl, (lbl, ""))
             out.append(Column(lbl, units[i], lay, name, doc, np.ascontiguousarray(data[rows, i])))
     return out, sel
-
-
-# --------------------------------------------------------------------------- writers
-
-
-def write_parquet(path: Path, cols: Sequence[Column], meta_json: str) -> None:
-    import pyarrow as pa
-    import pyarrow.parquet as pq
-
-    fields = [pa.field(c.label, pa.float64(), nullable=False, metadata={
-        "unit": c.unit, "layout": c.layout, "field": c.field, "doc": c.doc}) for c in cols]
-    units = json.dumps({c.label: c.unit for c in cols})
-    schema = pa.schema(fields, metadata={"rpo.run": meta_json, "rpo.units": units})
-    table = pa.Table.from_arrays([pa.array(c.data, pa.float64()) for c in cols], schema=schema)
-    pq.write_table(table, path, compression="zstd", use_dictionary=False,
-                   column_encoding={c.label: "BYTE_STREAM_SPLIT" for c in cols})
-
-
-def matlab_names(labels: Sequence[str], reserved: Sequence[str] = ("units", "metadata", "columns")) -> list[str]:
-    """Valid, distinct MATLAB variable names for ``labels`` (unchanged where already valid)."""
-    out: list[str] = []
-    taken = set(reserved)
-    for lbl in labels:
-        name = lbl if MATLAB_NAME.match(lbl) else re.sub(r"\W", "_", lbl)
-        if not name[:1].isalpha():
-            name = f"v_{name}"
-        name = name[:63]
-        base, k = name, 1
-        while name in taken:
-            k += 1
-            name = f"{base[:60]}_{k}"
-        taken.add(name)
-        out.append(name)
-    return out
-
-
-def write_mat(path: Path, cols: Sequence[Column], meta_json: str) -> None:
-    from scipy.io import savemat
-
-    names = matlab_names([c.label for c in cols])
-    data: dict[str, Any] = {n: c.data.reshape(-1, 1) for n, c in zip(names, cols, strict=True)}
-    data["units"] = {n: c.unit for n, c in zip(names, cols, strict=True)}
-    data["columns"] = np.array([c.label for c in cols], dtype=object).reshape(-1, 1)
-    data["metadata"] = meta_json
-    savemat(path, data, do_compression=True, oned_as="column", long_field_names=True)
-
-
-def write_csv(path: Path, cols: Sequence[Column], meta_json: str) -> None:
-    table = np.column_stack([c.data for c in cols])
-    np.savetxt(path, table, fmt=CSV_FORMAT, delimiter=",", header=",".join(f"{c.label} [{c.unit}]" for c in cols),
-               comments="")
-
-
-def write_npz(path: Path, cols: Sequence[Column], meta_json: str, z_count: int) -> None:
-    z, y = cols[1:1 + z_count], cols[1 + z_count:]
-    n = len(cols[0].data)
-
-    def block(cs):
-        return np.column_stack([c.data for c in cs]) if cs else np.empty((n, 0))
-
-    def text(cs, what):
-        return np.array([getattr(c, what) for c in cs], dtype=str)
-
-    np.savez_compressed(path, t=cols[0].data, z=block(z), y=block(y), z_labels=text(z, "label"),
-                        z_units=text(z, "unit"), y_labels=text(y, "label"), y_units=text(y, "unit"),
-                        metadata=np.array(meta_json))
 
 
 # --------------------------------------------------------------------------- figures
@@ -406,14 +325,10 @@ def write_run(result: RunResult, out_dir: str | Path, model: Model, scenario_pat
         cols, sel = columns(result, model, spec)
         meta = run_record(result, model, scenario_path, extra_meta)
         meta["output"] = {**spec.to_json(), "rows_written": len(cols[0].data), "columns_written": len(cols),
-                          "files": [f"timeseries.{SUFFIX[f]}" for f in spec.formats]}
-        data_json = json.dumps(meta, sort_keys=False, allow_nan=False)
+                          "files": [OUTPUT_FORMATS[f].file for f in spec.formats]}
+        table = Table(cols, json.dumps(meta, sort_keys=False, allow_nan=False), len(sel.z))
         for fmt in spec.formats:
-            path = tmp / f"timeseries.{SUFFIX[fmt]}"
-            if fmt == "npz":
-                write_npz(path, cols, data_json, len(sel.z))
-            else:
-                {"parquet": write_parquet, "mat": write_mat, "csv": write_csv}[fmt](path, cols, data_json)
+            OUTPUT_FORMATS[fmt].write(tmp / OUTPUT_FORMATS[fmt].file, table)
 
         if timings is not None:
             timings["data_files"] = time.perf_counter() - clock

@@ -36,6 +36,7 @@ from pydantic import (
 from pydantic_core import PydanticCustomError
 
 from rpo.runtime.errors import ModelError, ScenarioError
+from rpo.runtime.formats import DEFAULT_FIGURE_FORMAT, DEFAULT_FORMATS, FIGURE_FORMAT_NAMES, FORMAT_NAMES
 from rpo.runtime.scenario.faults import Fault, FaultConflict, fault_params, fault_value_unit
 from rpo.runtime.scenario.messages import field_error, first_error, unknown_key
 from rpo.runtime.scenario.params import (
@@ -195,12 +196,6 @@ class SimulationSection(_Section):
     record_every: Annotated[int, _range(1, what="an integer")] = 1
 
 
-#: File formats of the time histories (``[output] formats``; ``rpo run --format``).
-FORMATS = ("parquet", "mat", "csv", "npz")
-#: Figure file formats (``[output] figure_format``; ``rpo run --figure-format``).
-FIGURE_FORMATS = ("png", "svg", "pdf")
-
-
 class OutputSection(_Section):
     """``[output]``: what a run writes (:mod:`rpo.runtime.scenario.channels`, :mod:`rpo.runtime.outputs.writers`).
 
@@ -209,14 +204,15 @@ class OutputSection(_Section):
     inside the list stands for that set).  ``every`` (steps of 1 / rate) or ``rate_hz``: the
     written rows, a multiple of ``simulation.record_every`` (omitted: every recorded row).  The
     metrics are always computed from the full in-memory record, never from the written rows.
+    ``formats`` and ``figure_format``: the names of :mod:`rpo.runtime.formats`.
     """
 
     channels: Annotated[list[str], Field(min_length=1)] | None = None
     every: Annotated[int, _range(1, what="an integer")] | None = None
     rate_hz: Annotated[float, _range(0, lo_open=True, unit="Hz")] | None = None
-    formats: Annotated[list[Literal[FORMATS]], Field(min_length=1)] = ["parquet"]  # type: ignore[valid-type]
+    formats: Annotated[list[Literal[FORMAT_NAMES]], Field(min_length=1)] = list(DEFAULT_FORMATS)  # type: ignore[valid-type]
     figures: bool = True
-    figure_format: Literal[FIGURE_FORMATS] = "png"  # type: ignore[valid-type]
+    figure_format: Literal[FIGURE_FORMAT_NAMES] = DEFAULT_FIGURE_FORMAT  # type: ignore[valid-type]
 
     @model_validator(mode="after")
     def _one_rate(self):

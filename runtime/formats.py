@@ -1,0 +1,236 @@
+"""The file formats rpo writes, each declared once: the time histories' formats with their writers,
+and the figures' formats with what matplotlib needs for each.
+
+:data:`OUTPUT_FORMATS` (``[output] formats``, ``rpo run --format``) maps each name to an
+:class:`OutputFormat`: its file suffix, what its file holds and the function that writes it.
+:data:`FIGURE_FORMATS` (``[output] figure_format``, ``rpo run --figure-format``, the campaign report)
+maps each name to a :class:`FigureFormat`: the ``savefig`` options of a run's figures and the
+metadata that keeps a campaign figure's bytes free of dates and versions.  Everything else derives
+from these two tables: the scenario schema's allowed values (:mod:`rpo.runtime.scenario.schema`),
+the writer of the results folder (:mod:`rpo.runtime.outputs.writers`), the figures
+(:mod:`rpo.runtime.outputs.plots`, :mod:`rpo.runtime.campaign.figures`), the command's choices and
+help (:mod:`rpo.runtime.cli.main`), the error messages (:func:`unknown_format`,
+:func:`unknown_figure_format`) and the reference in ``docs/scenarios.md``
+(:mod:`rpo.runtime.docgen.choices`).  ``tests/test_vocabularies.py`` shows that no other module
+spells the names.  **Adding a format is one entry here** (and, for a time-history format, its
+writer function beside it).
+
+Why this module sits in the lowest layer, beside :mod:`rpo.runtime.errors`, and holds the writers
+too: the scenario layer needs the names (to validate ``[output]``) and may not import the outputs
+layer that writes the files; the command line needs them when its options are declared, and
+``rpo --help`` should not import pydantic (the scenario package) for them.  A list of names down
+here with the writers registered from the outputs layer would be a second list (and a test to keep
+the two equal); the writers need nothing of rpo (a table of named float64 columns in, a file out;
+pyarrow and SciPy are imported when one is called), so they live with their names and a format is
+declared in one place.
+"""
+
+from __future__ import annotations
+
+import copy
+import json
+import re
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+#: Every double written as text with this format reads back bit for bit (17 significant digits).
+CSV_FORMAT = "%.17g"
+MATLAB_NAME = re.compile(r"^[A-Za-z][A-Za-z0-9_]{0,62}$")
+
+
+# --------------------------------------------------------------------------- the table written
+
+
+@dataclass
+class Column:
+    """One written column: its label, unit, layout (``z_<ctrl>`` or ``y_<ctrl>``; "" for ``t``),
+    the layout field it belongs to, that field's doc, and its values (float64)."""
+
+    label: str
+    unit: str
+    layout: str
+    field: str
+    doc: str
+    data: np.ndarray
+
+
+@dataclass
+class Table:
+    """What a writer writes: ``columns`` (``t`` first, then ``z_count`` state columns, then the
+    outputs) and the run record as JSON (``metadata``), stored in the file where the format can."""
+
+    columns: Sequence[Column]
+    metadata: str
+    z_count: int
+
+
+# --------------------------------------------------------------------------- writers
+
+
+def write_parquet(path: Path, table: Table) -> None:
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+
+    cols = table.columns
+    fields = [pa.field(c.label, pa.float64(), nullable=False, metadata={
+        "unit": c.unit, "layout": c.layout, "field": c.field, "doc": c.doc}) for c in cols]
+    units = json.dumps({c.label: c.unit for c in cols})
+    schema = pa.schema(fields, metadata={"rpo.run": table.metadata, "rpo.units": units})
+    arrow = pa.Table.from_arrays([pa.array(c.data, pa.float64()) for c in cols], schema=schema)
+    pq.write_table(arrow, path, compression="zstd", use_dictionary=False,
+                   column_encoding={c.label: "BYTE_STREAM_SPLIT" for c in cols})
+
+
+def matlab_names(labels: Sequence[str], reserved: Sequence[str] = ("units", "metadata", "columns")) -> list[str]:
+    """Valid, distinct MATLAB variable names for ``labels`` (unchanged where already valid)."""
+    out: list[str] = []
+    taken = set(reserved)
+    for lbl in labels:
+        name = lbl if MATLAB_NAME.match(lbl) else re.sub(r"\W", "_", lbl)
+        if not name[:1].isalpha():
+            name = f"v_{name}"
+        name = name[:63]
+        base, k = name, 1
+        while name in taken:
+            k += 1
+            name = f"{base[:60]}_{k}"
+        taken.add(name)
+        out.append(name)
+    return out
+
+
+def write_mat(path: Path, table: Table) -> None:
+    from scipy.io import savemat
+
+    cols = table.columns
+    names = matlab_names([c.label for c in cols])
+    data: dict[str, Any] = {n: c.data.reshape(-1, 1) for n, c in zip(names, cols, strict=True)}
+    data["units"] = {n: c.unit for n, c in zip(names, cols, strict=True)}
+    data["columns"] = np.array([c.label for c in cols], dtype=object).reshape(-1, 1)
+    data["metadata"] = table.metadata
+    savemat(path, data, do_compression=True, oned_as="column", long_field_names=True)
+
+
+def write_csv(path: Path, table: Table) -> None:
+    cols = table.columns
+    np.savetxt(path, np.column_stack([c.data for c in cols]), fmt=CSV_FORMAT, delimiter=",",
+               header=",".join(f"{c.label} [{c.unit}]" for c in cols), comments="")
+
+
+def write_npz(path: Path, table: Table) -> None:
+    cols = table.columns
+    z, y = cols[1:1 + table.z_count], cols[1 + table.z_count:]
+    n = len(cols[0].data)
+
+    def block(cs):
+        return np.column_stack([c.data for c in cs]) if cs else np.empty((n, 0))
+
+    def text(cs, what):
+        return np.array([getattr(c, what) for c in cs], dtype=str)
+
+    np.savez_compressed(path, t=cols[0].data, z=block(z), y=block(y), z_labels=text(z, "label"),
+                        z_units=text(z, "unit"), y_labels=text(y, "label"), y_units=text(y, "unit"),
+                        metadata=np.array(table.metadata))
+
+
+# --------------------------------------------------------------------------- the time histories' formats
+
+
+@dataclass(frozen=True)
+class OutputFormat:
+    """A time-history format: ``name`` (as ``[output] formats`` and ``--format`` spell it), the file
+    ``suffix`` (``timeseries.<suffix>``), ``note`` (a word for lists: "MATLAB"), ``holds`` (what
+    the file holds, for the reference), ``write(path, table)``, and whether it is written by
+    default."""
+
+    name: str
+    suffix: str
+    holds: str
+    write: Callable[[Path, Table], None]
+    note: str = ""
+    default: bool = False
+
+    @property
+    def file(self) -> str:
+        return f"timeseries.{self.suffix}"
+
+
+#: The time-history formats, in the order the messages, the help and the docs list them.
+OUTPUT_FORMATS: dict[str, OutputFormat] = {f.name: f for f in (
+    OutputFormat("parquet", "parquet", default=True, write=write_parquet, holds=(
+        "one table: `t` [s], the chosen z columns, then the chosen y columns, float64, zstd-compressed "
+        "(byte-stream-split encoding: lossless); each field's metadata holds `unit`, `layout` "
+        "(`z_<ctrl>`/`y_<ctrl>`), `field` and `doc`, the file's metadata `rpo.run` (the run record) and "
+        "`rpo.units` (label -> unit). pandas, polars, pyarrow, DuckDB, R's arrow and MATLAB's "
+        "`parquetread` open it")),
+    OutputFormat("mat", "mat", note="MATLAB", write=write_mat, holds=(
+        "MATLAB v5 (`scipy.io.savemat`): one column vector per column, named by its label (an invalid "
+        "MATLAB name is rewritten; the cell array `columns` gives the labels in order), a struct `units` "
+        "(name -> unit) and the char array `metadata` (the run record as JSON)")),
+    OutputFormat("csv", "csv", write=write_csv, holds=(
+        "the same table as text, header `name [unit]`, every double with 17 significant digits "
+        "(reads back bit for bit)")),
+    OutputFormat("npz", "npz", write=write_npz, holds=(
+        "NumPy: `t`, `z`, `y`, `z_labels`, `z_units`, `y_labels`, `y_units`, `metadata`")),
+)}
+#: The names, in order (what ``[output] formats`` accepts).
+FORMAT_NAMES: tuple[str, ...] = tuple(OUTPUT_FORMATS)
+#: What a run writes when nothing chooses.
+DEFAULT_FORMATS: tuple[str, ...] = tuple(f.name for f in OUTPUT_FORMATS.values() if f.default)
+
+
+def unknown_format(bad: Sequence[str]) -> str:
+    """The message for unknown time-history formats (or none)."""
+    return f"output format {', '.join(bad) or '(none)'}: allowed {', '.join(FORMAT_NAMES)}"
+
+
+# --------------------------------------------------------------------------- the figures' formats
+
+
+@dataclass(frozen=True)
+class FigureFormat:
+    """A figure format matplotlib's ``savefig`` writes (chosen by the suffix, which is the name):
+    ``quick`` its extra ``savefig`` options for a run's figures (drawn on every run: speed first),
+    ``fixed`` the ``savefig`` metadata that leaves no date, software version or random id in the
+    file (the campaign report: the same folder gives the same bytes)."""
+
+    name: str
+    quick: Mapping[str, Any] = field(default_factory=dict)
+    fixed: Mapping[str, Any] = field(default_factory=dict)
+    default: bool = False
+
+    @property
+    def suffix(self) -> str:
+        return self.name
+
+    def quick_options(self) -> dict[str, Any]:
+        return copy.deepcopy(dict(self.quick))
+
+    def fixed_metadata(self) -> dict[str, Any]:
+        return dict(self.fixed)
+
+
+#: The figure formats, in the order the messages and the docs list them.
+FIGURE_FORMATS: dict[str, FigureFormat] = {f.name: f for f in (
+    # zlib level 1: a third of the PNG encoding time for files about 20 % larger
+    FigureFormat("png", default=True, quick={"pil_kwargs": {"compress_level": 1}}, fixed={"Software": None}),
+    FigureFormat("svg", fixed={"Date": None, "Creator": None}),
+    FigureFormat("pdf", fixed={"CreationDate": None, "Creator": None, "Producer": None}),
+)}
+#: The names, in order (what ``[output] figure_format`` accepts).
+FIGURE_FORMAT_NAMES: tuple[str, ...] = tuple(FIGURE_FORMATS)
+DEFAULT_FIGURE_FORMAT: str = next(f.name for f in FIGURE_FORMATS.values() if f.default)
+
+
+def unknown_figure_format(fmt: object) -> str:
+    """The message for an unknown figure format."""
+    return f"figure format {fmt!r}: allowed {', '.join(FIGURE_FORMAT_NAMES)}"
+
+
+def figure_format_of(path: str | Path) -> FigureFormat | None:
+    """The figure format of a file name (by its suffix), None for another suffix."""
+    return FIGURE_FORMATS.get(Path(path).suffix.lstrip(".").lower())
