@@ -39,6 +39,7 @@ from rpo.runtime.outputs.metrics import quat_angle
 from rpo.runtime.outputs.plotdata import FIGURE_FORMATS, STANDARD_DIAG, PlotData
 
 if TYPE_CHECKING:
+    from rpo.runtime.model.manifest import LayoutField
     from rpo.runtime.run.simulate import RunResult
 
 RAD2DEG = 180.0 / np.pi
@@ -95,14 +96,14 @@ def _limits(ax, value: float | None) -> None:
             ax.axhline(s * value, color="red", ls=":", lw=1.0)
 
 
-def _components(f: dict) -> list[str]:
+def _components(f: LayoutField) -> list[str]:
     """Legend entries of a field: its component names (``x``, ``alpha_xx1``, ``wheel 1``...)."""
-    if f["size"] == 1:
+    if f.size == 1:
         return [""]
     out = []
-    for lbl in f["labels"]:
-        c = lbl[len(f["name"]) + 1:] if lbl.startswith(f["name"] + "_") else lbl
-        what = "wheel" if "wheel" in f["name"] else "thruster" if f["name"].startswith("thr_") else "#"
+    for lbl in f.labels:
+        c = lbl[len(f.name) + 1:] if lbl.startswith(f.name + "_") else lbl
+        what = "wheel" if "wheel" in f.name else "thruster" if f.name.startswith("thr_") else "#"
         out.append((f"{what} {int(c)}" if what != "#" else f"#{int(c)}") if c.isdigit() else c)
     return out
 
@@ -289,10 +290,9 @@ def plot_constraints(d: PlotData, path: Path) -> bool:
         ("env_beta_ca", "collision margin beta_CA [m^2]", 1.0)])
 
 
-def diag_fields(d: PlotData) -> list[dict]:
+def diag_fields(d: PlotData) -> list[LayoutField]:
     """The controller-specific diagnostics: ``ctrl_*`` y fields beyond :data:`STANDARD_DIAG`."""
-    return [f for f in d.y_layout if f["name"].startswith("ctrl_") and f["name"] not in STANDARD_DIAG
-            and d.has(f["name"])]
+    return [f for f in d.y_layout if f.name.startswith("ctrl_") and f.name not in STANDARD_DIAG and d.has(f.name)]
 
 
 def plot_diagnostics(d: PlotData, path: Path) -> bool:
@@ -302,10 +302,10 @@ def plot_diagnostics(d: PlotData, path: Path) -> bool:
     ncols = 1 if len(fields) <= 3 else 2
     fig, axes = _figure(len(fields), height=1.8, ncols=ncols, titled=True)
     for ax, f in zip(axes, fields, strict=True):
-        unit = f.get("unit") or "-"
-        _lines(ax, d.t, d.get(f["name"]), _components(f), f"{f['name'][len('ctrl_'):]} [{unit}]")
+        unit = f.unit or "-"
+        _lines(ax, d.t, d.get(f.name), _components(f), f"{f.name[len('ctrl_'):]} [{unit}]")
         # a text, not set_title: a title makes matplotlib measure every axis again (a third of the time)
-        ax.text(0.0, 1.03, f.get("doc") or f["name"], transform=ax.transAxes, fontsize=9, va="bottom")
+        ax.text(0.0, 1.03, f.doc or f.name, transform=ax.transAxes, fontsize=9, va="bottom")
     _finish(fig, axes, d, f"{d.controller} diagnostics", path)
     return True
 

@@ -53,6 +53,7 @@ import gzip
 import hashlib
 import math
 import time
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from functools import lru_cache
 from pathlib import Path
@@ -63,7 +64,7 @@ import numpy as np
 from rpo.runtime.errors import ModelError
 from rpo.runtime.frames import quat_conjugate, quat_multiply
 from rpo.runtime.model.loader import Model
-from rpo.runtime.model.manifest import generated_dir
+from rpo.runtime.model.manifest import ControllerSpec, LayoutField, generated_dir, read_manifest
 
 #: The attitude fields of z replaced by rotation vectors (the controllers' own layouts keep none).
 QUATERNIONS = ("q_c", "q_t")
@@ -141,7 +142,7 @@ class Coordinates:
     ``labels``/``units``: of the reduced coordinates; ``groups``: name -> slice (contiguous).
     """
 
-    z_fields: list[dict]
+    z_fields: Sequence[LayoutField]
     labels: list[str] = field(default_factory=list)
     units: list[str] = field(default_factory=list)
     groups: dict[str, slice] = field(default_factory=dict)
@@ -150,14 +151,14 @@ class Coordinates:
     def __post_init__(self):
         offs, i = {}, 0
         for f in self.z_fields:
-            offs[f["name"]] = slice(i, i + f["size"])
-            i += f["size"]
+            offs[f.name] = slice(i, i + f.size)
+            i += f.size
         self.nz = i
-        self.z_labels = [lbl for f in self.z_fields for lbl in f["labels"]]
-        by_group: dict[str, list[dict]] = {g: [] for g in GROUP_ORDER}
+        self.z_labels = [lbl for f in self.z_fields for lbl in f.labels]
+        by_group: dict[str, list[LayoutField]] = {g: [] for g in GROUP_ORDER}
         owner = {name: g for g, names in RIGID_GROUPS.items() for name in names}
         for f in self.z_fields:
-            g = owner.get(f["name"], "controller" if f["name"].startswith("xc_") else "actuators")
+            g = owner.get(f.name, "controller" if f.name.startswith("xc_") else "actuators")
             by_group[g].append(f)
         missing = [q for q in QUATERNIONS if q not in offs]
         if missing:
@@ -166,12 +167,12 @@ class Coordinates:
         for g in GROUP_ORDER:
             start = j
             for f in by_group[g]:
-                if f["name"] in QUATERNIONS:
-                    body = f["name"].split("_", 1)[1]
+                if f.name in QUATERNIONS:
+                    body = f.name.split("_", 1)[1]
                     lbl, unit, n = [f"dth_{body}_{a}" for a in "xyz"], ["rad"] * 3, 3
                 else:
-                    lbl, unit, n = list(f["labels"]), [f["unit"]] * f["size"], f["size"]
-                self.blocks.append((f["name"], offs[f["name"]], slice(j, j + n)))
+                    lbl, unit, n = list(f.labels), [f.unit] * f.size, f.size
+                self.blocks.append((f.name, offs[f.name], slice(j, j + n)))
                 self.labels += lbl
                 self.units += unit
                 j += n
@@ -220,18 +221,14 @@ class Coordinates:
 
 def coordinates(model: Model, controller: str) -> Coordinates:
     """The reduced coordinates of ``z_<controller>``."""
-    _entry(model, controller)
-    return Coordinates(model.layouts[f"z_{controller}"])
+    return Coordinates(model.layouts[_entry(model, controller).z_layout].fields)
 
 
 # --------------------------------------------------------------------------- AD of the step
 
 
-def _entry(model: Model, controller: str) -> dict:
-    ctrls = model.manifest["controllers"]
-    if controller not in ctrls:
-        raise ModelError(f"unknown controller {controller!r}; available: {', '.join(sorted(ctrls))}")
-    return ctrls[controller]
+def _entry(model: Model, controller: str) -> ControllerSpec:
+    return model.manifest.controller(controller)
 
 
 @lru_cache(maxsize=8)
@@ -253,9 +250,9 @@ def _step_derivative(path: str, digest: str):
 
 def step_derivative(model: Model, controller: str, gen_dir: Path | None = None):
     """The CasADi AD function of ``step_<controller>`` (built once per process, ~2 s)."""
-    step = _entry(model, controller)["step"]
+    step = _entry(model, controller).step
     name = f"{step}.casadi.gz"
-    digest = model.manifest["files"].get(name)
+    digest = model.manifest.files.get(name)
     if digest is None:
         raise ModelError(f"manifest.json lists no {name}: run `python build.py`")
     path = (generated_dir() if gen_dir is None else Path(gen_dir)) / name
@@ -535,7 +532,7 @@ def linearize_scenario(path: str | Path, model: Model | None = None, controller:
 
     if at not in ("goal", "initial"):
         raise ModelError(f"at must be 'goal' or 'initial', got {at!r}")
-    base = load_scenario(path, model.manifest if model is not None else None)
+    base = load_scenario(path, model.manifest if model is not None else read_manifest())
     sc = base.with_overrides(controller=controller, plant=plant)
     ctrl = sc.simulation.controller
     model = load_model(controllers=[ctrl], log=log) if model is None else model
@@ -571,11 +568,11 @@ def central_differences(model: Model, lin: Linearization, p: np.ndarray, k: np.n
     large vector, such as the z velocity of an orbit, would otherwise get a step whose effect on the
     next state drowns in that state's round-off): a check of the AD Jacobian, and of where the point
     sits on a discontinuity (a sign law on its switching surface) or a kink (|s| at s = 0)."""
-    step = model.function(model.manifest["controllers"][lin.controller]["step"])
+    step = model.function(model.manifest.controllers[lin.controller].step)
     c = lin.coords
     w = np.zeros(model.layout_size("w")) if w is None else w
     scale = np.ones(c.n)
-    plant_fields = {f["name"] for f in model.layouts["x"] if f["size"] > 1}
+    plant_fields = {f.name for f in model.layouts["x"] if f.size > 1}
     for name, zs, xs in c.blocks:
         if name not in QUATERNIONS:
             if name in plant_fields:
