@@ -446,7 +446,7 @@ def test_inertia_moments_are_those_of_the_tensor_as_given():
     """The bounds check the principal moments of the tensor as written (eigvalsh of it): reused
     from the physical check when the tensor is exactly symmetric, computed again when it is only
     symmetric within the tolerance."""
-    from rpo.runtime.scenario.schema import _physical_tensor
+    from rpo.runtime.scenario.sections import _physical_tensor
 
     rng = np.random.default_rng(5)
     for i in range(300):

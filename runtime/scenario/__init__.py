@@ -30,9 +30,10 @@ line naming the file, the dotted key, the offending value and the allowed range,
 :class:`~rpo.runtime.errors.ScenarioError` (:mod:`.messages`).
 
 Modules: :mod:`.loader` (TOML and ``extends``), :mod:`.params` (the manifest's parameter
-entries), :mod:`.schema` (the sections, the scenario and its schema per manifest, validation),
-:mod:`.initial_state` (to the inputs of a run), :mod:`.messages` (error text), :mod:`.reproduction`
-(the report's table), :mod:`.preflight`, :mod:`.ranges`.
+entries), :mod:`.sections` (the value types and static sections), :mod:`.schema` (the scenario and
+its schema per manifest, validation), :mod:`.checks` (the checks across keys), :mod:`.initial_state`
+(to the inputs of a run), :mod:`.messages` (error text), :mod:`.reproduction` (the report's table),
+:mod:`.preflight`, :mod:`.ranges`.
 
 Validation takes the typed manifest (:class:`~rpo.runtime.model.manifest.Manifest`, ``model.manifest``
 or :func:`~rpo.runtime.model.manifest.read_manifest`) explicitly; only the user-facing
@@ -45,14 +46,13 @@ from pathlib import Path
 from typing import Any
 
 from rpo.runtime.model.manifest import Manifest, read_manifest
+from rpo.runtime.scenario.checks import MAX_RECORD_BYTES
 from rpo.runtime.scenario.initial_state import RunInputs, run_inputs
 from rpo.runtime.scenario.loader import ScenarioSource, merge, parse_toml, read_scenario
 from rpo.runtime.scenario.messages import format_error
 from rpo.runtime.scenario.params import Interval, ScenarioParam, manifest_defaults
 from rpo.runtime.scenario.reproduction import Reproduction
 from rpo.runtime.scenario.schema import (
-    MAX_RECORD_BYTES,
-    QUAT_TOL,
     Scenario,
     ScenarioSchema,
     apply_preset,
@@ -60,6 +60,7 @@ from rpo.runtime.scenario.schema import (
     scenario_params,
     validate_scenario,
 )
+from rpo.runtime.scenario.sections import QUAT_TOL
 from rpo.runtime.scenario.units import DEG, RPM
 
 #: The scenarios of this checkout (``<repo>/scenarios``); absent in an installed copy.

@@ -18,7 +18,8 @@ from rpo.runtime.scenario.units import RPM
 
 if TYPE_CHECKING:
     from rpo.runtime.model.loader import Model
-    from rpo.runtime.scenario.schema import Scenario, _Body
+    from rpo.runtime.scenario.schema import Scenario
+    from rpo.runtime.scenario.sections import _Body
 
 
 @dataclass

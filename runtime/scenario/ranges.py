@@ -26,7 +26,7 @@ integration cannot carry: a denormal mass, a 1e300 gain, a negative gain (which 
 loop). *per step*: a rate the step must resolve, checked against the scenario's
 `simulation.rate` (`|value| x dt <= limit`). An inertia's range is on its principal moments.
 The relations between fields (perigee above the surface, `u_off < u_on`, the wheel delay within
-the delay line, ideal actuators with their limits) are checked too (`runtime/scenario/schema.py`),
+the delay line, ideal actuators with their limits) are checked too (`runtime/scenario/checks.py`),
 and `rpo validate` and `rpo run` then build the initial state and the controller's initial states
 and try step 0 (`runtime/run/preflight.py`): a combination that gives a nan there is
 refused as well.
