@@ -473,3 +473,16 @@ def test_wheel_momentum_check_agrees_with_allclose():
     for a, b in cases:
         a, b = np.array(a, float), np.array(b, float)
         assert _close(a, b) == np.allclose(a, b, rtol=1e-9, atol=1e-9)
+
+
+def test_a_scenario_s_values_are_handed_out_as_copies():
+    """The parameters a scenario sets are computed once; what params() and param_overrides() return
+    is the caller's to change."""
+    sc = load_scenario(ROOT / "scenarios" / "001_scenario.toml")
+    name = next(k for k, v in sc.param_overrides().items() if isinstance(v, np.ndarray))
+    want = sc.params()[name].copy()
+    sc.params()[name][:] = -1.0
+    sc.param_overrides()[name][:] = -1.0
+    np.testing.assert_array_equal(sc.params()[name], want)
+    np.testing.assert_array_equal(sc.param_overrides()[name], want)
+    np.testing.assert_array_equal(sc.params(copy=False)[name], want)

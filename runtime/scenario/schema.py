@@ -159,11 +159,15 @@ class Scenario(_Section):
         return copy.deepcopy(self._data)
 
     def param_overrides(self) -> dict[str, Any]:
-        """The parameters this scenario sets, by p-field name, in SI (omitted ones are absent; a new
-        dict, made once per scenario)."""
+        """The parameters this scenario sets, by p-field name, in SI (omitted ones are absent; new
+        values, the caller may change them)."""
+        return {k: v.copy() if isinstance(v, np.ndarray) else v for k, v in self._set_params().items()}
+
+    def _set_params(self) -> dict[str, Any]:
+        """:meth:`param_overrides` as computed once per scenario (for readers here)."""
         if self._overrides is None:
             self._overrides = self._param_overrides()
-        return dict(self._overrides)
+        return self._overrides
 
     def _param_overrides(self) -> dict[str, Any]:
         schema = self.scenario_schema
@@ -191,8 +195,8 @@ class Scenario(_Section):
         or only reads them: :func:`~.initial_state.run_inputs`)."""
         d = self.scenario_schema.p_defaults
         p = {k: v.copy() for k, v in d.items()} if copy else dict(d)
-        for k, v in self.param_overrides().items():
-            p[k] = np.atleast_1d(np.asarray(v, float))
+        for k, v in self._set_params().items():
+            p[k] = np.array(v, float, ndmin=1) if copy else np.atleast_1d(np.asarray(v, float))
         return p
 
     def gains(self) -> dict[str, np.ndarray]:
@@ -226,6 +230,7 @@ class Scenario(_Section):
         cross_checks(self, schema)
         return self
 
+    # -- to a run ----------------------------------------------------------------------------
 
     @property
     def source(self) -> str:
@@ -282,7 +287,6 @@ class Scenario(_Section):
         :func:`~rpo.runtime.scenario.initial_state.run_inputs`)."""
         from rpo.runtime.scenario.initial_state import run_inputs
         return run_inputs(self, model)
-
 
 
 def _gain_array(value: Any) -> np.ndarray:
