@@ -85,7 +85,7 @@ def references(model, sim, z0, controller: str, repeat: int, casadi_steps: int =
     from rpo.symbolic.codegen import functions
     from rpo.symbolic.codegen.numpy_reference import numpy_step
 
-    step_name = model.manifest["controllers"][controller]["step"]
+    step_name = model.manifest.controllers[controller].step
     step_ca = ca.Function.deserialize(gzip.decompress((generated_dir() / f"{step_name}.casadi.gz").read_bytes())
                                       .decode())
     p, k = sim.p, sim.k

@@ -201,27 +201,13 @@ def materialise(case: Case, folder: Path) -> tuple[Path, contextlib.AbstractCont
 
 @contextlib.contextmanager
 def manifest_read_once() -> Iterator[None]:
-    """Every CLI call reads the manifest and hashes every generated file against it (about 37 ms);
-    the corpus makes ~360 calls in one process, so the verified manifest is read once here."""
+    """Every CLI call reads the manifest; ``read_manifest`` verifies and parses a generated folder once
+    per process (again only if one of its files changes), so the ~360 calls of the corpus hash the
+    generated files once: read it here, before the first call is timed."""
+    from rpo.runtime.model.manifest import read_manifest
 
-    from rpo.runtime.model import library, loader
-    from rpo.runtime.model import manifest as manifest_module
-
-    # every module that calls read_manifest by its own global name (the local imports read the first)
-    modules = (manifest_module, loader, library)
-    real = manifest_module.read_manifest
-    manifest = real()
-
-    def once(gen_dir=None, verify=True):
-        return manifest if gen_dir is None else real(gen_dir, verify)
-
-    for m in modules:
-        m.read_manifest = once  # type: ignore[attr-defined]
-    try:
-        yield
-    finally:
-        for m in modules:
-            m.read_manifest = real  # type: ignore[attr-defined]
+    read_manifest()
+    yield
 
 
 @dataclass

@@ -26,9 +26,9 @@ import build
 from rpo.runtime.errors import ModelError
 from rpo.runtime.model import library
 from rpo.runtime.model.functions import CompiledFunction
-from rpo.runtime.model.library import build_library, library_key, prune_cache
+from rpo.runtime.model.library import build_library, library_key, link_library, prune_cache
 from rpo.runtime.model.loader import load_model
-from rpo.runtime.model.manifest import MANIFEST_FORMAT, manifest_hash, read_manifest, selected_sources
+from rpo.runtime.model.manifest import MANIFEST_FORMAT, manifest_hash, parse_manifest, read_manifest, selected_sources
 from rpo.runtime.model.toolchain import compile_object, compiler_identity, find_compiler
 from rpo.symbolic.codegen import codegen, functions
 
@@ -69,20 +69,20 @@ def _files(gen: Path) -> dict[str, bytes]:
 def test_one_file_set_per_function_with_banner(tiny):
     src, gen, _ = tiny
     m = read_manifest(gen)
-    assert set(m["functions"]) == {"tiny_rhs", "tiny_out", "law_a", "step_a", "law_b", "step_b"}
-    assert m["sources"] == sorted(f"{n}.c" for n in m["functions"])
-    for name, desc in m["functions"].items():
+    assert set(m.functions) == {"tiny_rhs", "tiny_out", "law_a", "step_a", "law_b", "step_b"}
+    assert list(m.sources) == sorted(f"{n}.c" for n in m.functions)
+    for name, desc in m.functions.items():
         for ext in (".c", ".h", ".casadi.gz"):
             assert (gen / f"{name}{ext}").is_file()
         head = (gen / f"{name}.c").read_text()[:1200]
-        fam = m["families"][desc["family"]]
+        fam = m.families[desc.family]
         assert head.startswith("/* GENERATED FILE - DO NOT EDIT.") and "python build.py" in head
-        assert fam["hash"] in head and f"Operations: {desc['ops']} " in head and desc["ops"] > 0
-        for mod in fam["modules"]:
+        assert fam.hash in head and f"Operations: {desc.ops} " in head and desc.ops > 0
+        for mod in fam.modules:
             assert f"symbolic/{mod}" in head
     # the closure of a controller family: its own module, not the other controller's
-    assert m["families"]["ctrl_a"]["modules"] == ["__init__.py", "ctrl_a.py"]
-    assert m["families"]["plant"]["modules"] == ["__init__.py", "plant.py", "shared.py"]
+    assert m.families["ctrl_a"].modules == ("__init__.py", "ctrl_a.py")
+    assert m.families["plant"].modules == ("__init__.py", "plant.py", "shared.py")
 
 
 def test_generation_is_deterministic_and_incremental_equals_scratch(tiny, tmp_path):
@@ -140,7 +140,7 @@ def test_removed_family_removes_its_files(tiny):
     result = codegen.generate(tiny_model.families(src, controllers=("a",)), src, reuse=gen)
     codegen.update_folder(result, gen)
     assert not list(gen.glob("*_b.*"))
-    assert set(read_manifest(gen)["controllers"]) == {"a"}
+    assert set(read_manifest(gen).controllers) == {"a"}
 
 
 def test_model_definition_errors_are_reported():
@@ -191,8 +191,8 @@ def test_rpo_families_cover_every_controller_module():
     assert [f.name for f in fams] == ["plant", *(f"controller_{n}" for n in functions.controller_names())]
     assert set(functions.controller_names()) >= {"baseline", "c000", "c001", "c002", "c004"}
     m = read_manifest(ROOT / "generated")
-    assert set(m["families"]) == {f.name for f in fams}
-    assert set(m["controllers"]) == set(functions.controller_names())
+    assert set(m.families) == {f.name for f in fams}
+    assert set(m.controllers) == set(functions.controller_names())
 
 
 def test_family_closures_follow_the_imports(tmp_path):
@@ -208,7 +208,7 @@ def test_family_closures_follow_the_imports(tmp_path):
 
     h0 = hashes()
     m = read_manifest(ROOT / "generated")
-    assert h0 == {k: v["hash"] for k, v in m["families"].items()}  # generated/ is of these sources
+    assert h0 == {k: v.hash for k, v in m.families.items()}  # generated/ is of these sources
     for claims in (dst / "lyapunov").rglob("*.py"):
         claims.write_text(claims.read_text() + "\n# edit\n")
     assert hashes() == h0
@@ -222,15 +222,17 @@ def test_family_closures_follow_the_imports(tmp_path):
 
 def test_manifest_records_hashes_versions_and_io(model):
     m = model.manifest
-    assert len(m["source_hash"]) == 64 and set(m["tools"]) == {"casadi", "sympy"}
-    assert m["tools"] == codegen.tool_versions() == {"casadi": ca.__version__, "sympy": __import__("sympy").__version__}
-    for name, desc in m["functions"].items():
-        assert desc["inputs"] and desc["outputs"], name
-        assert desc["source"] == f"{name}.c" and desc["family"] in m["families"]
-        for io in desc["inputs"] + desc["outputs"]:
-            assert len(io["shape"]) == 2
+    assert len(m.source_hash) == 64 and set(m.tools) == {"casadi", "sympy"}
+    assert m.tools == codegen.tool_versions() == {"casadi": ca.__version__, "sympy": __import__("sympy").__version__}
+    for name, desc in m.functions.items():
+        assert desc.inputs and desc.outputs, name
+        assert desc.source == f"{name}.c" and desc.family in m.families
+        for io in desc.inputs + desc.outputs:
+            assert len(io.shape) == 2
     # units and names of every state entry are recorded for the runtime
-    assert all("unit" in f for f in m["layouts"]["x"])
+    raw = json.loads((ROOT / "generated" / "manifest.json").read_text())
+    assert all("unit" in f for f in raw["layouts"]["x"])
+    assert [f.unit for f in m.layouts["x"]] == [f["unit"] for f in raw["layouts"]["x"]]
 
 
 def test_manifest_hash_and_format_definitions_agree():
@@ -504,10 +506,11 @@ def test_sources_are_compiled_from_the_bytes_their_key_was_computed_from(tiny, m
     monkeypatch.setattr(library, "compile_object", racing)
     monkeypatch.setenv("RPO_CACHE_DIR", str(cache))
     old = codegen.generate(tiny_model.families(tiny_model.FIXTURE), tiny_model.FIXTURE, reuse=None).manifest
-    lib, _ = build_library(gen, cache, manifest=old)  # built for the manifest read before the edit
+    typed = parse_manifest(old)
+    lib, _ = link_library(gen, typed, cache)  # built for the manifest read before the edit
     assert seen
     lib_c = __import__("ctypes").CDLL(str(lib))
-    f = CompiledFunction(lib_c, "law_a", old["functions"]["law_a"])
+    f = CompiledFunction(lib_c, "law_a", typed.functions["law_a"])
     assert np.allclose(f(np.array([1.0, 2.0, 3.0]))[0], [-0.5, -1.0, -1.5])
 
 

@@ -411,7 +411,7 @@ def test_paper_model_matches_the_plant(model):
     inputs = load_scenario(SCEN / "002_scenario_kappa3.toml").to_run(model)
     f = model.functions
     p = model.vector("p", inputs.params)
-    k = model.vector(model.manifest["controllers"]["c002"]["gains"], inputs.gains)
+    k = model.vector(model.manifest.controllers["c002"].gains, inputs.gains)
     xc = np.zeros(model.layout_size("xc_c002"))
     x = model.vector("x", {**inputs.plant, "q_c": rand_unit_quat(), "w_c": 0.05 * RNG.normal(size=3),
                            "w_t": 0.03 * RNG.normal(size=3), "r": 10 * RNG.normal(size=3),

@@ -201,7 +201,7 @@ scale = 2.0
         assert applied["p"]["chaser_mass"] == [draws["chaser.mass"]]
         I = np.array(draws["chaser.inertia"])
         want = [I[0, 0], I[1, 1], I[2, 2], I[0, 1], I[0, 2], I[1, 2]]
-        labels = next(f["labels"] for f in model.manifest["layouts"]["p"] if f["name"] == "chaser_inertia")
+        labels = model.manifest.layouts["p"].field("chaser_inertia").labels
         ax = {"x": 0, "y": 1, "z": 2}
         got = dict(zip([(ax[lbl[-2]], ax[lbl[-1]]) for lbl in labels], applied["p"]["chaser_inertia"], strict=True))
         assert sorted(got.values()) == sorted(want)

@@ -150,7 +150,7 @@ def test_locked_wheel_keeps_its_relative_speed_and_momentum_is_conserved(model):
 def test_a_fault_after_the_end_of_the_run_changes_nothing_bit_for_bit(model):
     sim, z0, params = _iii(model)
     late = dict(params)
-    for name in [f["name"] for f in model.layouts["p"]]:
+    for name in model.layouts["p"].names:
         if name.startswith("fault_") and name.endswith("_start"):
             late[name] = np.full(np.size(params[name]), 50.0)       # every fault, after a 1 s run
         elif name.endswith("_weak_value"):
@@ -368,5 +368,5 @@ def test_the_runtime_s_never_is_the_manifest_s(model):
     from rpo.runtime.scenario import faults as rf
 
     for f in model.layouts["p"]:
-        if f["name"].startswith("fault_") and f["name"].endswith(("_start", "_end")):
-            assert set(f["default"]) == {rf.NEVER}, f["name"]
+        if f.name.startswith("fault_") and f.name.endswith(("_start", "_end")):
+            assert set(f.default or ()) == {rf.NEVER}, f.name

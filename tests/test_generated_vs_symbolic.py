@@ -83,30 +83,30 @@ class Inputs:
         p = m.vector("p").copy()
         o = m.offsets("p")
         for f in m.layouts["p"]:
-            s = o[f["name"]]
-            if f["name"].endswith("_on") or f["name"] in ("actuators_ideal", "fdir_allocation", "orbit_propagated"):
-                p[s] = g.integers(0, 2, f["size"])
-            elif f["name"].startswith("fault_") and f["name"].endswith("_start"):
+            s = o[f.name]
+            if f.name.endswith("_on") or f.name in ("actuators_ideal", "fdir_allocation", "orbit_propagated"):
+                p[s] = g.integers(0, 2, f.size)
+            elif f.name.startswith("fault_") and f.name.endswith("_start"):
                 # fault windows open about half of the time t in [0, 400) s the tests draw
-                start = g.uniform(0, 400, f["size"])
+                start = g.uniform(0, 400, f.size)
                 p[s] = start
-                p[o[f["name"].removesuffix("_start") + "_end"]] = start + g.uniform(0, 400, f["size"])
-            elif f["name"].startswith("fault_") and f["name"].endswith("_end"):
+                p[o[f.name.removesuffix("_start") + "_end"]] = start + g.uniform(0, 400, f.size)
+            elif f.name.startswith("fault_") and f.name.endswith("_end"):
                 continue
-            elif f["name"].endswith("_weak_value"):
-                p[s] = g.uniform(0.2, 1.0, f["size"])
-            elif f["name"].startswith("fault_"):
-                p[s] = g.uniform(0, 0.01, f["size"])
-            elif f["name"].startswith(("meas_", "dist_")):
-                p[s] = g.uniform(0, 0.01, f["size"])
-            elif f["name"].endswith("_misalign"):
-                p[s] = g.uniform(-0.1, 0.1, f["size"])  # rad, within the +-10 deg bounds
-            elif f["name"] in ("dt", "wheel_delay", "pwpf_uon", "pwpf_uoff"):
+            elif f.name.endswith("_weak_value"):
+                p[s] = g.uniform(0.2, 1.0, f.size)
+            elif f.name.startswith("fault_"):
+                p[s] = g.uniform(0, 0.01, f.size)
+            elif f.name.startswith(("meas_", "dist_")):
+                p[s] = g.uniform(0, 0.01, f.size)
+            elif f.name.endswith("_misalign"):
+                p[s] = g.uniform(-0.1, 0.1, f.size)  # rad, within the +-10 deg bounds
+            elif f.name in ("dt", "wheel_delay", "pwpf_uon", "pwpf_uoff"):
                 continue
-            elif f["name"] == "orbit_e":
+            elif f.name == "orbit_e":
                 p[s] = g.uniform(0, 0.1)  # with a within 5 % of 7863 km: perigee above 340 km
             else:
-                p[s] *= 1 + g.uniform(-0.05, 0.05, f["size"])
+                p[s] *= 1 + g.uniform(-0.05, 0.05, f.size)
         return p
 
     def value(self, fname, name, shape, layout=None):
@@ -176,10 +176,10 @@ def assert_close(model, fname, out_desc, got, ref):
     assert got.shape == ref.shape
     if ref.size == 0:
         return
-    for fld, s in field_slices(model, out_desc["layout"], ref.size):
-        scale = max(np.abs(ref[s]).max(), CANCELLATION_SCALE.get((out_desc["layout"], fld), 0.0), 1e-300)
+    for fld, s in field_slices(model, out_desc.layout, ref.size):
+        scale = max(np.abs(ref[s]).max(), CANCELLATION_SCALE.get((out_desc.layout, fld), 0.0), 1e-300)
         err = np.abs(got[s] - ref[s]).max()
-        assert err <= RTOL * scale, f"{fname}.{out_desc['name']}[{fld}]: |C - SymPy| = {err:.3e}, scale {scale:.3e}"
+        assert err <= RTOL * scale, f"{fname}.{out_desc.name}[{fld}]: |C - SymPy| = {err:.3e}, scale {scale:.3e}"
 
 
 SOURCE_FUNCS = ["plant_rhs", "measure", "env_outputs", "ideal_actuators", "wheel_alloc", "thruster_alloc", "pwpf",
@@ -194,8 +194,8 @@ def test_every_generated_function_is_covered(model):
     covered = set(SOURCE_FUNCS) | {"plant_jac", "plant_advance"} | {f"{f}_{c}" for c in CONTROLLERS
                                                                      for f in ("step", "control")}
     # the specialised copies equal their general function (tests/test_specialisation.py)
-    covered |= {v["function"] for vs in model.manifest["specialised"].values() for v in vs}
-    assert set(model.manifest["functions"]) == covered
+    covered |= {v.function for vs in model.manifest.specialised.values() for v in vs}
+    assert set(model.manifest.functions) == covered
 
 
 def compare_at_finite_points(model, fname, draw, reference, wanted: int, tries: int) -> None:
@@ -203,7 +203,7 @@ def compare_at_finite_points(model, fname, draw, reference, wanted: int, tries: 
     is finite.  Random states far outside a design's region (e.g. 002's tanh auxiliary system
     escaping within one step) give NaN or inf in both paths: such a point is redrawn, after
     checking that the C code is non-finite in the same entries."""
-    desc = model.manifest["functions"][fname]
+    desc = model.manifest.functions[fname]
     compared = 0
     for _ in range(tries):
         args = draw()
@@ -213,7 +213,7 @@ def compare_at_finite_points(model, fname, draw, reference, wanted: int, tries: 
         if not all(np.all(np.isfinite(r_)) for r_ in ref):
             assert all(np.array_equal(np.isfinite(g_), np.isfinite(r_)) for g_, r_ in zip(got, ref, strict=True))
             continue
-        for o, g_, r_ in zip(desc["outputs"], got, ref, strict=True):
+        for o, g_, r_ in zip(desc.outputs, got, ref, strict=True):
             assert_close(model, fname, o, g_, r_)
         compared += 1
         if compared == wanted:
@@ -226,15 +226,15 @@ def test_generated_plant_advance_equals_numpy_composition(model, sources, numpy_
 
     pieces, ctx = sources
     advance = numpy_plant_advance(pieces, ctx["plant"], make=numpy_piece)
-    desc = model.manifest["functions"]["plant_advance"]
+    desc = model.manifest.functions["plant_advance"]
     gen = Inputs(model, np.random.default_rng(7))
-    nzp = desc["inputs"][0]["shape"][0]
+    nzp = desc.inputs[0].shape[0]
     for _ in range(N_POINTS // 5):
         zp = gen.value("step", "z", (nzp, 1))
         t, p, w = gen.value("step", "t", 1), gen.p(), gen.value("step", "w", (18, 1))
         cmd = gen.rng.normal(0, 0.2, 9)
         got, ref = model.plant_advance(zp, t, p, w, cmd), advance(zp, t, p, w, cmd)
-        for o, g_, r_ in zip(desc["outputs"], got, ref, strict=True):
+        for o, g_, r_ in zip(desc.outputs, got, ref, strict=True):
             assert_close(model, "plant_advance", o, g_, r_)
 
 
@@ -246,18 +246,18 @@ def test_generated_control_equals_numpy_composition(model, sources, numpy_piece,
     design = next(c for c in ctx["controllers"] if c.name == ctrl)
     control = numpy_control(pieces, ctx["plant"], design, make=numpy_piece)
     fname = f"control_{ctrl}"
-    desc = model.manifest["functions"][fname]
+    desc = model.manifest.functions[fname]
     gen = Inputs(model, np.random.default_rng(13))
     nx = model.layout_size("x")
 
     def draw():
-        args = [gen.value(fname, i["name"], i["shape"], i["layout"]) for i in desc["inputs"]]
+        args = [gen.value(fname, i.name, i.shape, i.layout) for i in desc.inputs]
         # a proximity state (as for the step): far-out states saturate some designs so hard that
         # their auxiliary states overflow within one step
         x = gen.value("step", "z", (nx + 48, 1))[:nx]
         args[0] = model.measure(x, gen.hold(), args[2], args[3], gen.rng.normal(size=model.layout_size("w")))[0]
-        if desc["inputs"][1]["layout"] in model.layouts:  # controller state near its defaults
-            args[1] = model.vector(desc["inputs"][1]["layout"]) * (1 + gen.rng.uniform(-0.2, 0.2, args[1].size))
+        if desc.inputs[1].layout in model.layouts:  # controller state near its defaults
+            args[1] = model.vector(desc.inputs[1].layout) * (1 + gen.rng.uniform(-0.2, 0.2, args[1].size))
         return args
 
     compare_at_finite_points(model, fname, draw, control, wanted=5, tries=20)
@@ -265,14 +265,14 @@ def test_generated_control_equals_numpy_composition(model, sources, numpy_piece,
 
 @pytest.mark.parametrize("fname", SOURCE_FUNCS)
 def test_generated_function_equals_sympy_source(model, numpy_piece, fname):
-    desc = model.manifest["functions"][fname]
+    desc = model.manifest.functions[fname]
     ref_fn = numpy_piece(fname)
     gen = Inputs(model, np.random.default_rng(zlib.crc32(fname.encode())))  # replayable
     for _ in range(N_POINTS):
-        args = [gen.value(fname, i["name"], i["shape"], i["layout"]) for i in desc["inputs"]]
+        args = [gen.value(fname, i.name, i.shape, i.layout) for i in desc.inputs]
         got = model.functions[fname](*args)
         ref = ref_fn(*args)
-        for o, g_, r_ in zip(desc["outputs"], got, ref, strict=True):
+        for o, g_, r_ in zip(desc.outputs, got, ref, strict=True):
             assert_close(model, fname, o, g_, r_)
 
 
@@ -284,15 +284,15 @@ def test_generated_step_equals_numpy_composition(model, sources, numpy_piece, ct
     design = next(c for c in ctx["controllers"] if c.name == ctrl)
     step = numpy_step(pieces, ctx["plant"], design, make=numpy_piece)
     fname = f"step_{ctrl}"
-    desc = model.manifest["functions"][fname]
+    desc = model.manifest.functions[fname]
     gen = Inputs(model, np.random.default_rng(11))
     wanted = N_POINTS // 5 if ctrl != "baseline" else N_POINTS
 
     def draw():
-        z = gen.value("step", "z", desc["inputs"][0]["shape"])
+        z = gen.value("step", "z", desc.inputs[0].shape)
         t, p = gen.value("step", "t", 1), gen.p()
-        k = gen.value("step", "k", desc["inputs"][3]["shape"], desc["inputs"][3]["layout"])
-        w = gen.value("step", "w", desc["inputs"][4]["shape"])
+        k = gen.value("step", "k", desc.inputs[3].shape, desc.inputs[3].layout)
+        w = gen.value("step", "w", desc.inputs[4].shape)
         return z, t, p, k, w
 
     compare_at_finite_points(model, fname, draw, step, wanted=wanted, tries=4 * wanted)

@@ -52,9 +52,9 @@ def _points(model, fn, n: int, rng) -> list[np.ndarray]:
     base = {"p": model.vector("p"), "x": z0[: model.layout_size("x")], "z_c000": z0,
             "zp": z0[: model.layout_size("zp")]}
     out = []
-    for d in fn.desc["inputs"]:
-        size = int(np.prod(d["shape"]))
-        lay = d.get("layout")
+    for d in fn.desc.inputs:
+        size = d.size
+        lay = d.layout
         nominal = base.get(lay, np.zeros(size))
         if nominal.size != size:
             nominal = np.zeros(size)
@@ -68,7 +68,7 @@ def _points(model, fn, n: int, rng) -> list[np.ndarray]:
 def test_every_generated_file_has_a_lane_form(model):
     sources, skipped = lane_sources(generated_dir(), model.manifest)
     assert skipped == {}, skipped
-    assert len(sources) == len(model.manifest["sources"]) + 1  # + the lane loop driver
+    assert len(sources) == len(model.manifest.sources) + 1  # + the lane loop driver
 
 
 def test_unknown_line_is_an_error_naming_it():

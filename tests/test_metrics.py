@@ -220,7 +220,7 @@ def test_per_thruster_propellant_adds_up_to_the_plants_on_a_run(model):
     sim = Simulation(model, "baseline")
     res = sim.run(sim.initial_state({"q_c": unit(Q_C0_III), "q_t": unit(Q_T0_III), "w_t": [0.1, 0.0, 0.05],
                                      "r": [60, 0, 25], "v": [3, -0.5, 5]}), 3.0)
-    params = {f["name"]: sim.p[model.offsets("p")[f["name"]]] for f in model.layouts["p"]}
+    params = {name: sim.p[sl] for name, sl in model.offsets("p").items()}
     m = M.compute_metrics(res.t, M.result_columns(res), params=params)
     thr = m["per_thruster"]
     assert len(thr) == 16 and len(m["per_wheel"]) == 4

@@ -60,7 +60,7 @@ def test_select_fields_labels_patterns_and_default(model):
     default = select(None, z, y)
     assert select(["default"], z, y) == default
     assert "thr_on_00" in default.y and "pwpf_f_00" not in default.z and "ctrl_s_att_x" in default.y
-    assert set(select(["*"], z, y).labels) == {lbl for f in (*z, *y) for lbl in f["labels"]}
+    assert set(select(["*"], z, y).labels) == {lbl for f in (*z, *y) for lbl in f.labels}
     # the default set skips what a controller does not log (baseline has no ctrl_q_err)
     assert "ctrl_q_err" in DEFAULT_CHANNELS or "ctrl_*" in DEFAULT_CHANNELS
     assert "ctrl_att_err" in select(None, model.layouts["z_baseline"], model.layouts["y_baseline"]).y

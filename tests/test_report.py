@@ -7,6 +7,7 @@ import math
 import subprocess
 import sys
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -177,18 +178,20 @@ def test_diag_figures_one_panel_per_extra_field(model, tmp_path):
     res.y_labels = [*res.y_labels, "ctrl_s_att_x", "ctrl_s_att_y", "ctrl_theta_hat"]
     res.y_units = [*res.y_units, "-", "-", "kg"]
 
+    from rpo.runtime.model.manifest import LayoutField
+
     class Fake:
         layouts = {**model.layouts, "y_baseline": [
             *model.layouts["y_baseline"],
-            {"name": "ctrl_s_att", "size": 2, "unit": "-", "labels": ["ctrl_s_att_x", "ctrl_s_att_y"]},
-            {"name": "ctrl_theta_hat", "size": 1, "unit": "kg", "labels": ["ctrl_theta_hat"]}]}
+            LayoutField(name="ctrl_s_att", size=2, unit="-", labels=("ctrl_s_att_x", "ctrl_s_att_y")),
+            LayoutField(name="ctrl_theta_hat", size=1, unit="kg", labels=("ctrl_theta_hat",))]}
 
     from rpo.runtime.outputs.plotdata import PlotData
     from rpo.runtime.outputs.plots import diag_fields
 
     written = make_plots(res, Fake(), tmp_path)
     assert {"diagnostics.png", "controller.png", "constraints.png"} <= set(written)
-    assert [f["name"] for f in diag_fields(PlotData.from_result(res, Fake()))] == ["ctrl_s_att", "ctrl_theta_hat"]
+    assert [f.name for f in diag_fields(PlotData.from_result(res, Fake()))] == ["ctrl_s_att", "ctrl_theta_hat"]
     for name in written:
         assert (tmp_path / name).read_bytes()[:4] == b"\x89PNG"
 
@@ -207,7 +210,7 @@ def test_report_reads_scenarios_through_the_one_loader():
     assert scenario_controller(read_scenario(path)) == load_scenario(path).simulation.controller == "c000"
 
     class NoControllers:  # a model that has none: the report must say which one it looked for
-        manifest = {"controllers": {}}
+        manifest = SimpleNamespace(controllers={})
 
     r = PlannedRun(label="x", scenario=path, controller=None, plant="paper", paper=None, case=None, duration=None,
                    seed=None, gains=None, thresholds=None, error_times=[])
@@ -219,8 +222,8 @@ def test_discovered_runs_are_the_committed_report_s_runs(model):
     """The [reproduction] tables of scenarios/ declare exactly the runs of docs/reproduction.json."""
     from rpo.runtime.jobs.reproduction import discover, fault_runs, plan
 
-    run_list = discover(SCEN, model.manifest["controllers"])
-    runs = plan(run_list, SCEN) + fault_runs(SCEN, model.manifest["controllers"])
+    run_list = discover(SCEN, model.manifest.controllers)
+    runs = plan(run_list, SCEN) + fault_runs(SCEN, model.manifest.controllers)
     twin = json.loads((ROOT / "docs" / "reproduction.json").read_text())
     assert sorted(r.label for r in runs) == sorted(r["label"] for r in twin["runs"])
     by_label = {r["label"]: r for r in twin["runs"]}

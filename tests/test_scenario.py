@@ -10,6 +10,7 @@ import pytest
 
 from rpo.runtime import frames as fr
 from rpo.runtime.errors import ScenarioError
+from rpo.runtime.model.manifest import read_manifest
 from rpo.runtime.run.simulate import Simulation
 from rpo.runtime.scenario import load_scenario, loads_scenario, paper_data, validate_scenario
 
@@ -317,11 +318,18 @@ def test_extends_merges_tables_and_refuses_cycles(tmp_path):
 
 @pytest.fixture
 def manifest():
-    """A copy of the generated manifest, to patch what symbolic/ declared."""
-    import copy
+    """The generated manifest's JSON data (a copy), to patch what symbolic/ declared; :func:`typed`
+    makes the typed manifest a scenario is validated against."""
+    import json
 
-    from rpo.runtime.model.manifest import read_manifest
-    return copy.deepcopy(read_manifest())
+    from rpo.runtime.model.manifest import generated_dir
+    return json.loads((generated_dir() / "manifest.json").read_text())
+
+
+def typed(data):
+    """The typed manifest of (patched) manifest data."""
+    from rpo.runtime.model.manifest import parse_manifest
+    return parse_manifest(data)
 
 
 def p_field(manifest, name):
@@ -354,16 +362,16 @@ def test_every_parameter_has_a_scenario_key_and_the_old_keys_are_kept(manifest):
 
 def test_a_bound_declared_in_symbolic_is_what_validation_enforces(manifest):
     text = replaced("eccentricity = 0.138", "eccentricity = 0.6")
-    loads_scenario(text, "s.toml", manifest)  # e < 1: valid with the generated bounds
+    loads_scenario(text, "s.toml", typed(manifest))  # e < 1: valid with the generated bounds
     p_field(manifest, "orbit_e")["bounds"]["hi"] = 0.5
     with pytest.raises(ScenarioError) as info:
-        loads_scenario(text, "s.toml", manifest)
+        loads_scenario(text, "s.toml", typed(manifest))
     assert str(info.value) == "s.toml: orbit.eccentricity = 0.6: must be in [0, 0.5)"
     # in the scenario's unit (deg), from the SI bound (rad)
     p_field(manifest, "orbit_inc")["bounds"] = {"lo": 0.0, "hi": math.radians(50), "lo_open": False,
                                                  "hi_open": False}
     with pytest.raises(ScenarioError, match=r"^s\.toml: orbit\.inclination_deg = 55\.0: must be in \[0, 50\] deg$"):
-        loads_scenario(BASE, "s.toml", manifest)
+        loads_scenario(BASE, "s.toml", typed(manifest))
 
 
 def test_keys_units_and_scales_come_from_the_manifest(manifest, model):
@@ -371,22 +379,22 @@ def test_keys_units_and_scales_come_from_the_manifest(manifest, model):
     f["scenario"].update(key="wheels.tilt_rad", unit="rad", scale=1.0)
     f["bounds"] = {"lo": 0.0, "hi": 1.0, "lo_open": True, "hi_open": False}
     text = BASE + "\n[wheels]\ntilt_rad = 0.6\n"
-    sc = loads_scenario(text, "s.toml", manifest)
+    sc = loads_scenario(text, "s.toml", typed(manifest))
     assert scalar(sc.params(), "wheel_beta") == 0.6
     with pytest.raises(ScenarioError, match=r"wheels\.tilt_rad = 1\.5: must be in \(0, 1\] rad$"):
-        loads_scenario(text.replace("tilt_rad = 0.6", "tilt_rad = 1.5"), "s.toml", manifest)
+        loads_scenario(text.replace("tilt_rad = 0.6", "tilt_rad = 1.5"), "s.toml", typed(manifest))
     with pytest.raises(ScenarioError, match=r"wheels\.tilt_deg = 30\.0: unknown key \(.*allowed: .*tilt_rad"):
-        loads_scenario(BASE + "\n[wheels]\ntilt_deg = 30.0\n", "s.toml", manifest)
+        loads_scenario(BASE + "\n[wheels]\ntilt_deg = 30.0\n", "s.toml", typed(manifest))
     # a new parameter gets its table and key without an edit of runtime/
     manifest["layouts"]["p"].append({"name": "new_p", "size": 1, "unit": "s", "doc": "new", "labels": ["new_p"],
                                      "default": [1.0], "scenario": {"key": "extra.new_key", "kind": "number",
                                                                      "unit": "ms", "scale": 1e-3}})
-    sc = loads_scenario(BASE + "\n[extra]\nnew_key = 250.0\n", "s.toml", manifest)
-    assert sc.param_overrides(manifest)["new_p"] == pytest.approx(0.25)
+    sc = loads_scenario(BASE + "\n[extra]\nnew_key = 250.0\n", "s.toml", typed(manifest))
+    assert sc.param_overrides()["new_p"] == pytest.approx(0.25)
 
 
 def test_the_full_plant_preset_comes_from_the_manifest(manifest):
-    sc = load_scenario(ROOT / "scenarios" / "001_scenario.toml", manifest)
+    sc = load_scenario(ROOT / "scenarios" / "001_scenario.toml", typed(manifest))
     full = sc.with_overrides(plant="full").params()
     defaults = {f["name"]: f["default"] for f in manifest["layouts"]["p"]}
     for f in manifest["layouts"]["p"]:
@@ -400,7 +408,7 @@ def test_the_full_plant_preset_comes_from_the_manifest(manifest):
     # a preset value patched in the manifest is what --plant full applies
     p_field(manifest, "mag_on")["presets"]["full"] = [0.0]
     p_field(manifest, "wheel_inertia")["presets"]["full"] = [0.002]
-    sc = load_scenario(ROOT / "scenarios" / "001_scenario.toml", manifest)
+    sc = load_scenario(ROOT / "scenarios" / "001_scenario.toml", typed(manifest))
     full = sc.with_overrides(plant="full").params()
     assert scalar(full, "mag_on") == 0.0 and scalar(full, "wheel_inertia") == 0.002
     assert sc.with_overrides(plant="full").get("wheels.inertia") == 0.002
@@ -410,10 +418,10 @@ def test_gain_bounds_from_the_manifest(manifest):
     text = replaced("r_goal = [5.0, 0.0, 0.0]\n", "r_goal = [5.0, 0.0, 0.0]\nkp_att = -0.1\n")
     kp = next(f for f in manifest["layouts"]["k_baseline"] if f["name"] == "kp_att")
     kp.pop("bounds")  # symbolic/controllers/baseline.py declares kp_att >= 0: take it away here
-    loads_scenario(text, "s.toml", manifest)  # no bound declared on kp_att
+    loads_scenario(text, "s.toml", typed(manifest))  # no bound declared on kp_att
     kp["bounds"] = {"lo": 0.0, "hi": None, "lo_open": False, "hi_open": False}
     with pytest.raises(ScenarioError, match=r"^s\.toml: controller\.baseline\.kp_att = -0\.1: must be >= 0 N m$"):
-        loads_scenario(text, "s.toml", manifest)
+        loads_scenario(text, "s.toml", typed(manifest))
 
 
 def test_gain_overrides_are_validated_like_the_gains_table():
@@ -431,14 +439,14 @@ def test_validate_scenario_reports_the_reproduction_table():
     data = paper_data("000_scenario_I")
     data["reproduction"]["run"][0]["plants"] = ["moon"]
     with pytest.raises(ScenarioError, match=r'^x\.toml: reproduction\.run\[0\]\.plants\[0\] = "moon": must be one of'):
-        validate_scenario(data, "x.toml")
+        validate_scenario(data, "x.toml", read_manifest())
 
 
 def test_inertia_moments_are_those_of_the_tensor_as_given():
     """The bounds check the principal moments of the tensor as written (eigvalsh of it): reused
     from the physical check when the tensor is exactly symmetric, computed again when it is only
     symmetric within the tolerance."""
-    from rpo.runtime.scenario.schema import _physical_tensor
+    from rpo.runtime.scenario.sections import _physical_tensor
 
     rng = np.random.default_rng(5)
     for i in range(300):
@@ -465,3 +473,16 @@ def test_wheel_momentum_check_agrees_with_allclose():
     for a, b in cases:
         a, b = np.array(a, float), np.array(b, float)
         assert _close(a, b) == np.allclose(a, b, rtol=1e-9, atol=1e-9)
+
+
+def test_a_scenario_s_values_are_handed_out_as_copies():
+    """The parameters a scenario sets are computed once; what params() and param_overrides() return
+    is the caller's to change."""
+    sc = load_scenario(ROOT / "scenarios" / "001_scenario.toml")
+    name = next(k for k, v in sc.param_overrides().items() if isinstance(v, np.ndarray))
+    want = sc.params()[name].copy()
+    sc.params()[name][:] = -1.0
+    sc.param_overrides()[name][:] = -1.0
+    np.testing.assert_array_equal(sc.params()[name], want)
+    np.testing.assert_array_equal(sc.param_overrides()[name], want)
+    np.testing.assert_array_equal(sc.params(copy=False)[name], want)

@@ -3,7 +3,7 @@
 
 from __future__ import annotations
 
-import copy
+import json
 import math
 from pathlib import Path
 
@@ -12,10 +12,9 @@ import pytest
 
 from rpo.runtime.errors import ScenarioError
 from rpo.runtime.jobs import runner
-from rpo.runtime.model.manifest import read_manifest
+from rpo.runtime.model.manifest import Manifest, generated_dir, parse_manifest, read_manifest
 from rpo.runtime.run.preflight import preflight
 from rpo.runtime.scenario import SCENARIO_DIR, load_scenario, scenario_params
-from rpo.runtime.scenario.params import Interval, gain_bounds
 from rpo.runtime.scenario.ranges import ranges_markdown
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -23,7 +22,7 @@ III = SCENARIO_DIR / "000_scenario_III.toml"
 MANIFEST = read_manifest()
 
 
-def variant(folder: Path, text: str, manifest: dict = MANIFEST, simulation: str = ""):
+def variant(folder: Path, text: str, manifest: Manifest = MANIFEST, simulation: str = ""):
     """Scenario III, two steps long, with ``text`` (and ``simulation`` keys) merged in (a variant file
     in ``folder``), validated."""
     path = folder / "s.toml"
@@ -37,18 +36,19 @@ def test_the_ranges_page_is_current():
 
 
 def test_every_parameter_and_gain_has_a_finite_range_and_a_reason():
-    numeric = [f for f in MANIFEST["layouts"]["p"] if f.get("scenario", {}).get("kind") not in ("switch", "choice")]
-    gains = [f for e in MANIFEST["controllers"].values() for f in MANIFEST["layouts"][e["gains"]]]
-    assert numeric and all(MANIFEST["layouts"][e["gains"]] for e in MANIFEST["controllers"].values())
+    numeric = [f for f in MANIFEST.layouts["p"]
+               if f.scenario is None or f.scenario.kind not in ("switch", "choice")]
+    gains = [f for e in MANIFEST.controllers.values() for f in MANIFEST.layouts[e.gains]]
+    assert numeric and all(MANIFEST.layouts[e.gains].fields for e in MANIFEST.controllers.values())
     for f in numeric + gains:
-        b = Interval.from_manifest(f.get("bounds"))
-        assert b is not None and b.lo is not None and b.hi is not None, f["name"]
-        assert math.isfinite(b.lo) and math.isfinite(b.hi) and b.lo < b.hi, f["name"]
-        assert f.get("bounds_why"), f["name"]
-        values = f["default"] if f.get("scenario", {}).get("kind") != "inertia" else []
-        assert all(b.contains(v) for v in values), (f["name"], values)
+        b = f.bounds
+        assert b is not None and b.lo is not None and b.hi is not None, f.name
+        assert math.isfinite(b.lo) and math.isfinite(b.hi) and b.lo < b.hi, f.name
+        assert f.bounds_why, f.name
+        values = f.default if f.scenario is None or f.scenario.kind != "inertia" else []
+        assert values is not None and all(b.contains(v) for v in values), (f.name, values)
     # sign included: a feedback gain's range starts at 0
-    kp = gain_bounds(next(f for f in gains if f["name"] == "kp_att"))
+    kp = next(f for f in gains if f.name == "kp_att").bounds
     assert kp is not None and kp.lo == 0.0 and not kp.contains(-1e-12)
 
 
@@ -72,10 +72,10 @@ def test_a_rate_limit_depends_on_the_step(tmp_path):
 
 def test_a_combination_that_cannot_be_integrated_is_refused_by_the_preflight(model, tmp_path):
     # each value within its range cannot give a nan in step 0; take a range away to reach the backstop
-    manifest = copy.deepcopy(MANIFEST)
-    mass = next(f for f in manifest["layouts"]["p"] if f["name"] == "chaser_mass")
+    data = json.loads((generated_dir() / "manifest.json").read_text())
+    mass = next(f for f in data["layouts"]["p"] if f["name"] == "chaser_mass")
     mass["bounds"] = {"lo": 0.0, "hi": None, "lo_open": True, "hi_open": False}
-    sc = variant(tmp_path, "[chaser]\nmass = 1e-320\nmass_profile = \"constant\"\n", manifest)
+    sc = variant(tmp_path, "[chaser]\nmass = 1e-320\nmass_profile = \"constant\"\n", parse_manifest(data))
     with pytest.raises(ScenarioError, match=r"/s\.toml: the first step gives (state|output) \S+ = (nan|inf|-inf) "
                                             r"\(\d+ non-finite\).*at simulation\.rate = 100 Hz$"):
         preflight(sc, model)

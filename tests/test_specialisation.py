@@ -17,7 +17,7 @@ N_POINTS = 12
 
 
 def _variants(model):
-    return [(base, v["function"], v["zero"]) for base, vs in model.manifest["specialised"].items() for v in vs]
+    return [(base, v.function, v.zero) for base, vs in model.manifest.specialised.items() for v in vs]
 
 
 def _zeroed(model, p, fields):
@@ -46,9 +46,9 @@ def test_every_variant_is_generated_and_listed(model):
     names = [f for _b, f, _z in _variants(model)]
     assert sorted(names) == ["measure_kepler", "plant_advance_kepler", "plant_advance_kepler_nodist"]
     for base, fname, _zero in _variants(model):
-        d, g = model.manifest["functions"][fname], model.manifest["functions"][base]
-        assert (d["inputs"], d["outputs"]) == (g["inputs"], g["outputs"])
-        assert d["ops"] < g["ops"], (fname, d["ops"], g["ops"])  # something was folded away
+        d, g = model.manifest.functions[fname], model.manifest.functions[base]
+        assert (d.inputs, d.outputs) == (g.inputs, g.outputs)
+        assert d.ops < g.ops, (fname, d.ops, g.ops)  # something was folded away
 
 
 @pytest.mark.parametrize("which", ["measure_kepler", "plant_advance_kepler", "plant_advance_kepler_nodist"])
@@ -79,7 +79,7 @@ def test_variant_differs_where_its_condition_fails(model):
 def test_step_tables_are_the_manifest_fields(model):
     """The C glue of every step tests exactly the p entries of each variant's fields."""
     offs = model.offsets("p")
-    for ctrl in model.manifest["controllers"]:
+    for ctrl in model.manifest.controllers:
         text = (generated_dir() / f"step_{ctrl}.c").read_text()
         tables = {m.group(1): ([int(v) for v in m.group(2).split(", ")], m.group(3))
                   for m in re.finditer(r"static const casadi_int step_\w+_(z\d+_\d+)\[\d+\] = \{([\d, ]+)\};"

@@ -37,6 +37,7 @@ import numpy as np
 from rpo.runtime.campaign import storage
 from rpo.runtime.campaign.spec import DERIVED, Campaign, campaign_from_resolved
 from rpo.runtime.errors import CampaignError, RpoError
+from rpo.runtime.model.manifest import Manifest
 from rpo.runtime.outputs.metrics import UNITS, compute_metrics, error_signals, norm_rows
 from rpo.runtime.outputs.verdict import verdict
 from rpo.runtime.run import interrupts
@@ -75,7 +76,7 @@ def worker_model(controller: str) -> Any:
     return _MODELS[key]
 
 
-def _campaign(resolved: dict, manifest: dict, key: str) -> Campaign:
+def _campaign(resolved: dict, manifest: Manifest, key: str) -> Campaign:
     if key not in _CAMPAIGNS:
         _CAMPAIGNS[key] = campaign_from_resolved(resolved, manifest)
     return _CAMPAIGNS[key]
@@ -89,9 +90,7 @@ def fly_batch(resolved: dict, key: str, cases: Sequence[int], folder: str,
     try:
         model = model if model is not None else worker_model(resolved["controller"])
         camp = _campaign(resolved, model.manifest, key)
-        from rpo.runtime.scenario.params import unchanging
-        with unchanging(model.manifest):  # the loaded model's manifest: parsed once for the whole batch
-            return _fly(camp, model, list(cases), Path(folder))
+        return _fly(camp, model, list(cases), Path(folder))
     except Exception as exc:  # the whole task failed: its runs are recorded as errors, resume re-flies them
         return error_rows(resolved, cases, f"{type(exc).__name__}: {exc}", traceback.format_exc(limit=5))
 
@@ -189,11 +188,11 @@ def _nominal_vectors(camp: Campaign, model: Any) -> tuple[np.ndarray, np.ndarray
     """The parameter and gain vectors of the campaign's undispersed scenario (None if refused)."""
     from rpo.runtime.scenario import validate_scenario
 
-    key = (camp.hash, model.manifest["manifest_hash"])
+    key = (camp.hash, model.manifest.manifest_hash)
     if key not in _NOMINAL:
         sc = validate_scenario(camp.scenario_data, camp.source, model.manifest)
         inputs = sc.to_run(model)
-        ctrl = model.manifest["controllers"][inputs.controller]["gains"]
+        ctrl = model.manifest.controllers[inputs.controller].gains
         _NOMINAL[key] = (model.vector("p", inputs.params), model.vector(ctrl, inputs.gains))
     return _NOMINAL[key]
 
@@ -207,7 +206,7 @@ def applied(model: Any, pre: Any, nominal: tuple[np.ndarray, np.ndarray] | None)
             raise ValueError(f"the {name} handed to the simulation has a non-finite entry after the pre-flight")
     z_offs = model.offsets(pre.sim.z_layout)
     out: dict[str, Any] = {"z0": {f: pre.z0[z_offs[f]].tolist() for f in PLANT_STATE}}
-    ctrl = model.manifest["controllers"][pre.sim.controller]["gains"]
+    ctrl = model.manifest.controllers[pre.sim.controller].gains
     for what, vec, layout, base in (("p", pre.sim.p, "p", None if nominal is None else nominal[0]),
                                     ("k", pre.sim.k, ctrl, None if nominal is None else nominal[1])):
         offs = model.offsets(layout)
@@ -242,7 +241,7 @@ def run_row(camp: Campaign, model: Any, inputs: Any, res: Any) -> tuple[dict[str
                "failed": bool(diverged or violated or att is False or pos is False)}
     metrics = {k: _finite_or_none(met.get(k)) for k in UNITS}
     sel = _selection(camp, model, inputs.controller)
-    ukey = (inputs.controller, model.manifest["manifest_hash"])
+    ukey = (inputs.controller, model.manifest.manifest_hash)
     units = _UNITS.get(ukey)
     if units is None:  # the record's column units: the same for every run of a controller and model
         units = _UNITS[ukey] = (dict(zip(res.z_labels, res.z_units, strict=True))
@@ -269,7 +268,7 @@ _H_W = tuple(f"h_w_{i}" for i in range(1, 5))
 def _selection(camp: Campaign, model: Any, controller: str) -> Any:
     """The history's columns (once per campaign, controller and model)."""
     from rpo.runtime.scenario.channels import select
-    key = (camp.channels, controller, model.manifest["manifest_hash"])
+    key = (camp.channels, controller, model.manifest.manifest_hash)
     if key not in _SELECTIONS:
         _SELECTIONS[key] = select(list(camp.channels), model.layouts[f"z_{controller}"],
                                   model.layouts[f"y_{controller}"], strict=False)
@@ -472,7 +471,7 @@ def start_folder(camp: Campaign, model: Any, out: str | Path, command: str = "")
     storage._atomic_write(folder / storage.CAMPAIGN_COPY, camp.text.encode())
     resolved = camp.resolved()
     storage.write_json(folder / storage.RESOLVED, {**resolved, "hash": camp.hash,
-                                                   "model_hash": model.manifest["manifest_hash"],
+                                                   "model_hash": model.manifest.manifest_hash,
                                                    "command": command})
     return folder
 
@@ -536,9 +535,9 @@ def check_resume(folder: Path, model: Any, camp: Campaign | None) -> Campaign:
     campaign as read again from its file): refused naming what changed."""
     resolved = storage.read_resolved(folder)
     recorded = resolved.get("model_hash")
-    if recorded != model.manifest["manifest_hash"]:
+    if recorded != model.manifest.manifest_hash:
         raise CampaignError(f"{folder}: the model changed since the campaign started (generated/manifest.json "
-                            f"hash {str(recorded)[:12]} then, {model.manifest['manifest_hash'][:12]} now): its "
+                            f"hash {str(recorded)[:12]} then, {model.manifest.manifest_hash[:12]} now): its "
                             "runs would not be comparable; start a new campaign folder")
     stored = campaign_from_resolved(resolved, model.manifest)
     if stored.hash != resolved.get("hash"):

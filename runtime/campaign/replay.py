@@ -72,9 +72,9 @@ def case_scenario(folder: Path, case: int, model: Any, full_logging: bool = True
     from rpo.runtime.scenario import validate_scenario
 
     resolved = storage.read_resolved(folder)
-    if resolved.get("model_hash") != model.manifest["manifest_hash"]:
+    if resolved.get("model_hash") != model.manifest.manifest_hash:
         raise CampaignError(f"{folder}: the model changed since the campaign ran (generated/manifest.json hash "
-                            f"{str(resolved.get('model_hash'))[:12]} then, {model.manifest['manifest_hash'][:12]} "
+                            f"{str(resolved.get('model_hash'))[:12]} then, {model.manifest.manifest_hash[:12]} "
                             f"now): case {case} would not be the campaign's run")
     camp = campaign_from_resolved(resolved, model.manifest)
     if not 0 <= case < camp.runs:

@@ -56,10 +56,10 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 from rpo.runtime.campaign.dispersions import Dispersion, DispersionError
 from rpo.runtime.campaign.sampling import SAMPLINGS, Design, run_seed, run_seeds
 from rpo.runtime.errors import CampaignError, ScenarioError
-from rpo.runtime.scenario import read_scenario, scenario_params, validate_scenario
+from rpo.runtime.model.manifest import Manifest
+from rpo.runtime.scenario import ScenarioSchema, read_scenario, validate_scenario
 from rpo.runtime.scenario.loader import ScenarioSource, parse_toml
 from rpo.runtime.scenario.messages import first_error, show
-from rpo.runtime.scenario.params import manifest_defaults
 
 FORMAT = 1
 #: The histories' channels by default (fields of the state and outputs; rpo.runtime.scenario.channels).
@@ -110,7 +110,7 @@ class Campaign:
     settings: CampaignSection
     scenario_data: dict[str, Any]
     dispersions: list[Dispersion]
-    manifest: dict = field(repr=False, default_factory=dict)
+    manifest: Manifest = field(repr=False)
     overrides: dict[str, Any] = field(default_factory=dict)
     #: the scenario file the campaign extends (itself when it extends none)
     base: str = ""
@@ -281,7 +281,7 @@ def _flatten(table: dict, prefix: str = "") -> list[tuple[str, dict]]:
     return out
 
 
-def _nominal(key: str, data: dict, manifest: dict) -> tuple[Any, str, int | None]:
+def _nominal(key: str, data: dict, manifest: Manifest) -> tuple[Any, str, int | None]:
     """(nominal value in the key's unit or None, unit, size or None) of a dispersible key; raises
     CampaignError for a key that is not one."""
     parts = key.split(".")
@@ -289,7 +289,7 @@ def _nominal(key: str, data: dict, manifest: dict) -> tuple[Any, str, int | None
         raise CampaignError(f"dispersions.{key}: [{parts[0]}] is not dispersed (it says how runs are run or "
                             "written); disperse the model's values, the gains, the initial state or the faults")
     value = get_path(data, key)
-    params = {p.key: p for p in scenario_params(manifest)}
+    params = {p.key: p for p in ScenarioSchema.of(manifest).params}
     if key in params:
         prm = params[key]
         if value is None and prm.default is not None:
@@ -298,18 +298,19 @@ def _nominal(key: str, data: dict, manifest: dict) -> tuple[Any, str, int | None
     if key in STATE_KEYS:
         return value, STATE_KEYS[key], None if value is None else (len(value) if isinstance(value, list) else 1)
     if parts[0] == "controller" and len(parts) == 3:
-        ctrls = manifest["controllers"]
+        ctrls = manifest.controllers
         if parts[1] not in ctrls:
             raise CampaignError(f"dispersions.{key}: unknown controller {parts[1]!r}; available: "
                                 f"{', '.join(sorted(ctrls))}")
-        layout = {f["name"]: f for f in manifest["layouts"][ctrls[parts[1]]["gains"]]}
-        if parts[2] not in layout:
-            raise CampaignError(f"dispersions.{key}: unknown gain of {parts[1]}; its gains: {', '.join(layout)}")
-        f = layout[parts[2]]
+        layout = manifest.layouts[ctrls[parts[1]].gains]
+        if parts[2] not in layout.by_name:
+            raise CampaignError(f"dispersions.{key}: unknown gain of {parts[1]}; its gains: "
+                                f"{', '.join(layout.names)}")
+        f = layout.field(parts[2])
         if value is None:
-            d = manifest_defaults(manifest, ctrls[parts[1]]["gains"], copy=False)[parts[2]]
-            value = float(d[0]) if f["size"] == 1 else [float(x) for x in d]
-        return value, f["unit"], int(f["size"])
+            d = layout.defaults[parts[2]]
+            value = float(d[0]) if f.size == 1 else [float(x) for x in d]
+        return value, f.unit, f.size
     if parts[0] == "faults" and len(parts) == 3 and parts[1].isdigit():
         n = int(parts[1])
         faults = data.get("faults", [])
@@ -329,13 +330,11 @@ def _nominal(key: str, data: dict, manifest: dict) -> tuple[Any, str, int | None
     raise CampaignError(f"dispersions.{key}: unknown key ({hint}allowed: {allowed})")
 
 
-def load_campaign(path: str | Path | ScenarioSource, manifest: dict | None = None, *, runs: int | None = None,
+def load_campaign(path: str | Path | ScenarioSource, manifest: Manifest, *, runs: int | None = None,
                   duration: float | None = None) -> Campaign:
-    """Read and validate a campaign file; ``runs`` and ``duration`` [s] override the file's (a quick
-    look).  Raises :class:`CampaignError` / :class:`ScenarioError` with one line."""
-    if manifest is None:
-        from rpo.runtime.model.manifest import read_manifest
-        manifest = read_manifest()
+    """Read and validate a campaign file against ``manifest`` (``model.manifest``, or
+    :func:`~rpo.runtime.model.manifest.read_manifest`); ``runs`` and ``duration`` [s] override the file's
+    (a quick look).  Raises :class:`CampaignError` / :class:`ScenarioError` with one line."""
     src = path if isinstance(path, ScenarioSource) else read_scenario(path)
     data = copy.deepcopy(src.data)
     camp = campaign_from_table(data, src.source, src.text, manifest, runs=runs, duration=duration)
@@ -343,15 +342,12 @@ def load_campaign(path: str | Path | ScenarioSource, manifest: dict | None = Non
     return camp
 
 
-def loads_campaign(text: str, source: str = "campaign", manifest: dict | None = None, **kw: Any) -> Campaign:
-    """A campaign from TOML text (no ``extends``: the text holds the whole scenario)."""
-    if manifest is None:
-        from rpo.runtime.model.manifest import read_manifest
-        manifest = read_manifest()
+def loads_campaign(text: str, source: str, manifest: Manifest, **kw: Any) -> Campaign:
+    """A campaign from TOML text (no ``extends``: the text holds the whole scenario), against ``manifest``."""
     return campaign_from_table(parse_toml(text, source), source, text, manifest, **kw)
 
 
-def campaign_from_table(data: dict, source: str, text: str, manifest: dict, *, runs: int | None = None,
+def campaign_from_table(data: dict, source: str, text: str, manifest: Manifest, *, runs: int | None = None,
                         duration: float | None = None) -> Campaign:
     table = data.pop("campaign", None)
     disp_table = data.pop("dispersions", {})
@@ -384,7 +380,7 @@ def campaign_from_table(data: dict, source: str, text: str, manifest: dict, *, r
         overrides["duration"] = float(duration)
     # the base scenario, validated as `rpo run` would (its errors name the file and key)
     base = validate_scenario(data, source, manifest)
-    dt = float(base.params(manifest)["dt"][0])
+    dt = float(base.params(copy=False)["dt"][0])
     if settings.record_every is not None:
         every = settings.record_every
     else:
@@ -425,17 +421,17 @@ def campaign_from_table(data: dict, source: str, text: str, manifest: dict, *, r
     return camp
 
 
-def _check_channels(camp: Campaign, manifest: dict, source: str) -> None:
+def _check_channels(camp: Campaign, manifest: Manifest, source: str) -> None:
     from rpo.runtime.scenario.channels import ChannelError, select
     ctrl = camp.scenario_data.get("simulation", {}).get("controller", "baseline")
-    lay = manifest["layouts"]
+    lay = manifest.layouts
     try:
         select(list(camp.channels), lay[f"z_{ctrl}"], lay[f"y_{ctrl}"], where=f"z_{ctrl}/y_{ctrl}")
     except ChannelError as exc:
         raise CampaignError(f"{source}: campaign.channels: {exc}") from None
 
 
-def _check_median(camp: Campaign, manifest: dict, source: str) -> None:
+def _check_median(camp: Campaign, manifest: Manifest, source: str) -> None:
     """Every dispersion at its median: refused means nearly every run would be."""
     if not camp.dispersions:
         return
@@ -456,7 +452,7 @@ def _absolute(source: str) -> str:
         return source
 
 
-def campaign_from_resolved(resolved: dict, manifest: dict) -> Campaign:
+def campaign_from_resolved(resolved: dict, manifest: Manifest) -> Campaign:
     """The campaign recorded in a folder's ``resolved.json`` (no file needed)."""
     settings = CampaignSection.model_validate({
         "name": resolved["name"], "runs": resolved["runs"], "sampling": resolved["sampling"],

@@ -157,7 +157,7 @@ def run_cmd(campaign_file: str, out: str, workers: int | None, dask: str | None,
     check_out_dir(out)  # before the model loads (which may compile): a bad folder is told at once
     ctrl = camp.scenario_data.get("simulation", {}).get("controller", "baseline")
     model = _model(ctrl, quiet)
-    if model.manifest["manifest_hash"] != camp.manifest.get("manifest_hash"):
+    if model.manifest.manifest_hash != camp.manifest.manifest_hash:
         camp = load_campaign(campaign_file, model.manifest, runs=runs, duration=duration)
     command = " ".join(shlex.quote(a) for a in ["rpo", "mc", "run", *sys.argv[3:]]) if len(sys.argv) > 3 else ""
     folder = execute.start_folder(camp, model, out, command=command)

@@ -27,6 +27,7 @@ from rpo.runtime.run import interrupts
 
 if TYPE_CHECKING:
     from rpo.runtime.model.loader import Model
+    from rpo.runtime.model.manifest import LayoutField
 
 EXIT_USAGE = 2
 EXIT_DIVERGED = 3
@@ -293,10 +294,11 @@ def validate(scenario: str, backend: str) -> int:
     (attitudes relative to ECI and to LVLH) and every parameter the scenario changes from the
     manifest defaults.
     """
+    from rpo.runtime.model.manifest import read_manifest
     from rpo.runtime.run.preflight import preflight
     from rpo.runtime.scenario import load_scenario
 
-    sc = load_scenario(scenario)
+    sc = load_scenario(scenario, read_manifest())
     model = _load_model(backend, quiet=True)
     pre = preflight(sc, model)  # every check `rpo run` makes before its first step, by the same function
     inputs = pre.inputs
@@ -336,19 +338,19 @@ def validate(scenario: str, backend: str) -> int:
             + ("" if f.value is None else f" (value {f.value})") for f in sc.faults) + f"; {fdir}")
     defaults = model.defaults("p")
     changed = [k for k, v in inputs.params.items() if k in defaults and not np.array_equal(v, defaults[k])]
-    units = {f["name"]: f["unit"] for f in model.layouts["p"]}
+    units = {f.name: f.unit for f in model.layouts["p"]}
     echo(f"  parameters  {len(changed)} differ from the manifest defaults:")
     for k in changed:
         echo(f"    {k:<18s} {_fmt(inputs.params[k]):>28s} {units[k]:<8s} (default {_fmt(defaults[k])})")
     return 0
 
 
-def _preset_word(f: dict) -> str:
+def _preset_word(f: LayoutField) -> str:
     """The full preset's value of a switch or choice parameter, as a scenario writes it."""
-    v = float(f["presets"]["full"][0])
-    sk = f["scenario"]
-    if sk.get("kind") == "choice":
-        return next((f'"{name}"' for name, val in sk.get("choices", {}).items() if float(val) == v), f"{v:g}")
+    v = float(f.presets["full"][0])
+    sk = f.scenario
+    if sk is not None and sk.kind == "choice":
+        return next((f'"{name}"' for name, val in sk.choices.items() if float(val) == v), f"{v:g}")
     return "true" if v == 1.0 else "false"
 
 
@@ -379,10 +381,11 @@ def linearize(scenario: str, controller: str | None, plant: str | None, at: str,
     """
     import json
 
+    from rpo.runtime.model.manifest import read_manifest
     from rpo.runtime.run.linearize import format_report, linearize_scenario
     from rpo.runtime.scenario import load_scenario
 
-    load_scenario(scenario)  # a bad file fails before anything is compiled
+    load_scenario(scenario, read_manifest())  # a bad file fails before anything is compiled
     res = linearize_scenario(scenario, model=None, controller=controller, plant=plant, at=at, log=_loader(False))
     if as_json:
         out = {"scenario": res.scenario, "at": res.at, "plant": res.plant, **res.lin.to_json(),
@@ -411,9 +414,9 @@ def info(backend: str) -> int:
             return "not installed"
 
     echo(f"rpo {version('rpo')}  (python {sys.version.split()[0]})")
-    echo(f"model            {len(m['functions'])} functions in {len(m['families'])} families, "
-         f"source hash {m['source_hash']}")
-    echo("generated with   " + ", ".join(f"{k} {v}" for k, v in sorted(m["tools"].items())))
+    echo(f"model            {len(m.functions)} functions in {len(m.families)} families, "
+         f"source hash {m.source_hash}")
+    echo("generated with   " + ", ".join(f"{k} {v}" for k, v in sorted(m.tools.items())))
     echo("runtime          " + ", ".join(f"{k} {version(k)}" for k in ("numpy", "scipy", "matplotlib", "pydantic",
                                                                           "click")))
     echo(f"backend          {model.backend}" + (f", library {model.library}" if model.library else ""))
@@ -425,42 +428,41 @@ def info(backend: str) -> int:
              "(runtime/model/lanes.py; Simulation.run_batch, f.batch)")
         echo("single calls     " + ("in place (fast-call extension)" if not fastcall.why_not
                                     else f"ctypes ({fastcall.why_not[0]})"))
-    echo(f"quaternions      {m.get('quaternion_convention', '?')}")
+    echo(f"quaternions      {m.quaternion_convention or '?'}")
     # the two plants: a scenario's own values, or the full preset over them (--plant full)
-    switches = [f for f in m["layouts"]["p"] if f.get("presets", {}).get("full") and f["size"] == 1
-                and f.get("scenario", {}).get("kind") in ("switch", "choice")]
+    p = m.layouts["p"]
+    switches = [(f.scenario.key, f) for f in p if f.presets.get("full") and f.size == 1 and f.scenario is not None
+                and f.scenario.kind in ("switch", "choice")]
     echo("plants           paper (default): the scenario's own values; full (--plant full): " + ", ".join(
-        f"{f['scenario']['key']} = {_preset_word(f)}" for f in switches) + "; target orbit of the defaults: "
-        + ("propagated" if float(next(f for f in m["layouts"]["p"] if f["name"] == "orbit_propagated")["default"][0])
-           else "kepler"))
-    echo("controllers      " + ", ".join(f"{k} (gains {v['gains']})" for k, v in sorted(m["controllers"].items())))
+        f"{key} = {_preset_word(f)}" for key, f in switches) + "; target orbit of the defaults: "
+        + ("propagated" if float(p.defaults["orbit_propagated"][0]) else "kepler"))
+    echo("controllers      " + ", ".join(f"{k} (gains {v.gains})" for k, v in sorted(m.controllers.items())))
     echo("\nfunctions:")
-    for name, f in sorted(m["functions"].items()):
-        ins = ", ".join(f"{i['name']}[{i['shape'][0]}]" for i in f["inputs"])
-        outs = ", ".join(f"{o['name']}[{'x'.join(map(str, o['shape'])) if o['shape'][1] > 1 else o['shape'][0]}]"
-                         for o in f["outputs"])
+    for name, f in sorted(m.functions.items()):
+        ins = ", ".join(f"{i.name}[{i.shape[0]}]" for i in f.inputs)
+        outs = ", ".join(f"{o.name}[{'x'.join(map(str, o.shape)) if o.shape[1] > 1 else o.shape[0]}]"
+                         for o in f.outputs)
         echo(f"  {name:<24s} ({ins}) -> ({outs})")
-        echo(f"  {'':<24s} {f.get('doc', '')}")
+        echo(f"  {'':<24s} {f.doc}")
     echo("\nlayouts:")
-    for name, lay in m["layouts"].items():
-        size = sum(f["size"] for f in lay)
-        echo(f"  {name:<16s} {size:>4d} values: " + ", ".join(f["name"] for f in lay))
+    for name, lay in m.layouts.items():
+        echo(f"  {name:<16s} {lay.size:>4d} values: " + ", ".join(lay.names))
     def table(layout):
         for f in layout:
-            default = _fmt(f["default"]) if "default" in f else "-"
-            echo(f"  {f['name']:<18s} {f['unit']:<9s} {default:>40s}  {f.get('doc', '')}")
-            if "scenario" in f:  # where a scenario file sets it, in which unit, and its bounds
-                prm = ScenarioParam.from_manifest(f)
+            default = _fmt(f.default) if f.default is not None else "-"
+            echo(f"  {f.name:<18s} {f.unit:<9s} {default:>40s}  {f.doc}")
+            if f.scenario is not None:  # where a scenario file sets it, in which unit, and its bounds
+                prm = ScenarioParam.from_field(f)
                 unit = f" [{prm.unit}]" if prm.unit not in ("", "-") else ""
                 echo(f"  {'':<18s} {'':<9s} {'':>40s}  scenario: {prm.key}{unit}"
                      + (f", {prm.allowed()}" if prm.bounds else ""))
 
     echo("\nparameters (layout p, SI):")
     echo(f"  {'name':<18s} {'unit':<9s} {'default':>40s}  description")
-    table(m["layouts"]["p"])
-    for ctrl, entry in sorted(m["controllers"].items()):
-        echo(f"\ngains of {ctrl} (layout {entry['gains']}; [controller.{ctrl}] in a scenario):")
-        table(m["layouts"][entry["gains"]])
+    table(p)
+    for ctrl, entry in sorted(m.controllers.items()):
+        echo(f"\ngains of {ctrl} (layout {entry.gains}; [controller.{ctrl}] in a scenario):")
+        table(m.layouts[entry.gains])
     return 0
 
 

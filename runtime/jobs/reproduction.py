@@ -105,7 +105,7 @@ def execute(runs: list[PlannedRun], model: Any, out: Path, *, plots: bool = True
     """Run each planned run through :func:`rpo.runtime.jobs.runner.execute_run` into ``out/<label>``."""
     from rpo.runtime.jobs.runner import execute_run
 
-    available = set(model.manifest["controllers"])
+    available = set(model.manifest.controllers)
     for r in runs:
         r.controller_used = r.controller
         try:
@@ -178,13 +178,13 @@ def make_report(run_list_path: Path, model: Any, *, out_base: Path, md_path: Pat
     from rpo.runtime.outputs.writers import _jsonable
 
     run_list_path = Path(run_list_path)
-    run_list, base, origin = load_runs(run_list_path, model.manifest["controllers"])
+    run_list, base, origin = load_runs(run_list_path, model.manifest.controllers)
     notes = Notes()
     if notes_path is not None and Path(notes_path).exists():
         notes = _load_toml(Path(notes_path), Notes, "notes file")
     runs = plan(run_list, base)
     if run_list_path.is_dir():
-        runs += fault_runs(base, model.manifest["controllers"])
+        runs += fault_runs(base, model.manifest.controllers)
     if only:
         unknown = set(only) - {r.label for r in runs}
         if unknown:
@@ -196,7 +196,7 @@ def make_report(run_list_path: Path, model: Any, *, out_base: Path, md_path: Pat
     execute(runs, model, out, plots=plots, on_run=on_run)
     tables = build_tables(runs, run_list)
     info = {"created_utc": datetime.now(UTC).strftime("%Y-%m-%dT%H:%M:%SZ"),
-            "model_source_hash": model.manifest.get("source_hash"), "runs_dir": str(out),
+            "model_source_hash": model.manifest.source_hash, "runs_dir": str(out),
             "run_list": str(run_list_path), "origin": origin, "notes": str(notes_path) if notes_path else "-"}
     md = render_markdown(tables, runs, notes, info)
     twin = {**info, "tables": tables,

@@ -31,6 +31,7 @@ from typing import Any
 import numpy as np
 
 from rpo.runtime.model.loader import Model
+from rpo.runtime.model.manifest import read_manifest
 from rpo.runtime.outputs.metrics import compute_metrics, result_columns
 from rpo.runtime.outputs.verdict import verdict
 from rpo.runtime.outputs.writers import OutputSpec, check_out_dir, warm_figures, write_run
@@ -112,7 +113,8 @@ def _execute_run(scenario: str | Path | Scenario, out_dir: str | Path | None, mo
         clock = now
 
     # 1. scenario (validated once, then once more with the overrides)
-    manifest = model.manifest if isinstance(model, Model) else None
+    # the model's manifest, or (the model loaded later, for the controller flown) the generated one
+    manifest = model.manifest if isinstance(model, Model) else read_manifest()
     base = scenario if isinstance(scenario, Scenario) else load_scenario(scenario, manifest)
     sc = base.with_overrides(duration=duration, seed=seed, controller=controller, plant=plant,
                              gains=dict(gains) if gains else None)

@@ -10,6 +10,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from rpo.runtime.errors import ModelError
+from rpo.runtime.model.manifest import FunctionSpec
 
 
 class _LaneOwner(Protocol):
@@ -23,9 +24,9 @@ _DOUBLE_P = ctypes.POINTER(ctypes.c_double)
 _INT_P = ctypes.POINTER(ctypes.c_longlong)
 
 
-#: (id of the library, function name) -> (the library, the manifest entry it was checked against,
-#: its work sizes): a clone (one per simulation: a campaign makes one per run) is not checked again
-_CHECKED: dict[tuple[int, str], tuple[ctypes.CDLL, dict, tuple[int, ...]]] = {}
+#: (the library, function name) -> (the manifest entry it was checked against, its work sizes): a clone
+#: (one per simulation: a campaign makes one per run) is not checked again
+_CHECKED: dict[tuple[ctypes.CDLL, str], tuple[FunctionSpec, tuple[int, ...]]] = {}
 
 
 class CompiledFunction:
@@ -41,27 +42,27 @@ class CompiledFunction:
 
     _model: _LaneOwner | None = None     # the Model that owns this function (its lane library)
 
-    def __init__(self, lib: ctypes.CDLL, name: str, desc: dict):
+    def __init__(self, lib: ctypes.CDLL, name: str, desc: FunctionSpec):
         self.name = name
         self.desc = desc
         self._lib = lib
         self.c_function = getattr(lib, name)
-        checked = _CHECKED.get((id(lib), name))
-        if checked is None or checked[0] is not lib or checked[1] is not desc:
+        checked = _CHECKED.get((lib, name))
+        if checked is None or (checked[0] is not desc and checked[0] != desc):
             self.c_function.restype = ctypes.c_int
             self.c_function.argtypes = [ctypes.POINTER(_DOUBLE_P), ctypes.POINTER(_DOUBLE_P), _INT_P, _DOUBLE_P,
                                         ctypes.c_int]
             self._check_signature()
             sz = [ctypes.c_longlong() for _ in range(4)]
             getattr(lib, f"{name}_work")(*[ctypes.byref(s) for s in sz])
-            checked = _CHECKED[(id(lib), name)] = (lib, desc, tuple(s.value for s in sz))
+            checked = _CHECKED[(lib, name)] = (desc, tuple(s.value for s in sz))
         # a clone (another instance of a function already checked against this manifest entry):
         # the same library, the same signature and work sizes
-        self.sz_arg, self.sz_res, self.sz_iw, self.sz_w = checked[2]
-        self.in_names = [i["name"] for i in desc["inputs"]]
-        self.out_names = [o["name"] for o in desc["outputs"]]
-        self.in_shapes = [tuple(i["shape"]) for i in desc["inputs"]]
-        self.out_shapes = [tuple(o["shape"]) for o in desc["outputs"]]
+        self.sz_arg, self.sz_res, self.sz_iw, self.sz_w = checked[1]
+        self.in_names = [i.name for i in desc.inputs]
+        self.out_names = [o.name for o in desc.outputs]
+        self.in_shapes = [i.shape for i in desc.inputs]
+        self.out_shapes = [o.shape for o in desc.outputs]
         self.in_sizes = [math.prod(s) for s in self.in_shapes]
         self.out_sizes = [math.prod(s) for s in self.out_shapes]
         self.inputs = [np.zeros(n) for n in self.in_sizes]
@@ -81,15 +82,15 @@ class CompiledFunction:
         for fn in ("sparsity_in", "sparsity_out"):
             getattr(lib, f"{name}_{fn}").restype = _INT_P
             getattr(lib, f"{name}_{fn}").argtypes = [ctypes.c_longlong]
-        if lib[f"{name}_n_in"]() != len(desc["inputs"]) or lib[f"{name}_n_out"]() != len(desc["outputs"]):
+        if lib[f"{name}_n_in"]() != len(desc.inputs) or lib[f"{name}_n_out"]() != len(desc.outputs):
             raise ModelError(f"{name}: the compiled library does not match manifest.json (input/output count)")
-        for kind, items in (("in", desc["inputs"]), ("out", desc["outputs"])):
+        for kind, items in (("in", desc.inputs), ("out", desc.outputs)):
             for i, item in enumerate(items):
                 sp = getattr(lib, f"{name}_sparsity_{kind}")(i)
                 nrow, ncol, dense = sp[0], sp[1], sp[2]
-                if [nrow, ncol] != list(item["shape"]) or dense != 1:
-                    raise ModelError(f"{name}: {kind}put {item['name']} is {nrow}x{ncol} (dense={dense}) in the "
-                                     f"library but {item['shape']} in manifest.json: run `python build.py`")
+                if (nrow, ncol) != item.shape or dense != 1:
+                    raise ModelError(f"{name}: {kind}put {item.name} is {nrow}x{ncol} (dense={dense}) in the "
+                                     f"library but {list(item.shape)} in manifest.json: run `python build.py`")
 
     # -- one call ----------------------------------------------------------------------------
 
@@ -253,18 +254,19 @@ class CompiledFunction:
         return other
 
 
-_FAST_CLASS: dict[int, type] = {}
+#: the fast-call extension module -> its CompiledFunction class
+_FAST_CLASS: dict[Any, type] = {}
 
 
 def function_class(ext) -> type:
     """CompiledFunction with its single call done by the fast-call extension's ``Caller``."""
     if ext is None:
         return CompiledFunction
-    if id(ext) not in _FAST_CLASS:
+    if ext not in _FAST_CLASS:
         class FastCompiledFunction(ext.Caller, CompiledFunction):  # type: ignore[misc, name-defined]
             __doc__ = CompiledFunction.__doc__
 
-            def __init__(self, lib: ctypes.CDLL, name: str, desc: dict):
+            def __init__(self, lib: ctypes.CDLL, name: str, desc: FunctionSpec):
                 CompiledFunction.__init__(self, lib, name, desc)
                 ext.Caller.__init__(
                     self, ctypes.cast(self.c_function, ctypes.c_void_p).value, self.in_sizes, self.out_sizes,
@@ -272,18 +274,18 @@ def function_class(ext) -> type:
                     tuple(self.outputs), self._py_call, self._finish)
 
         ext.enable_vectorcall(FastCompiledFunction)
-        _FAST_CLASS[id(ext)] = FastCompiledFunction
-    return _FAST_CLASS[id(ext)]
+        _FAST_CLASS[ext] = FastCompiledFunction
+    return _FAST_CLASS[ext]
 
 
 class CasadiFunction:
     """Fallback with the same call interface, evaluated by CasADi's virtual machine."""
 
-    def __init__(self, fn, desc: dict):
+    def __init__(self, fn, desc: FunctionSpec):
         self.name = fn.name()
         self.desc = desc
         self.fn = fn
-        self.out_shapes = [tuple(o["shape"]) for o in desc["outputs"]]
+        self.out_shapes = [o.shape for o in desc.outputs]
 
     def __call__(self, *args):
         res = self.fn(*[np.asarray(a, float).reshape(-1, 1, order="F") for a in args])

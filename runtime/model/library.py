@@ -20,7 +20,7 @@ from rpo.runtime.model.cache import (
     object_key,
     object_path,
 )
-from rpo.runtime.model.manifest import generated_dir, read_manifest, selected_sources
+from rpo.runtime.model.manifest import Manifest, generated_dir, read_manifest, selected_sources
 from rpo.runtime.model.toolchain import (
     LANE_CFLAGS,
     LANE_LOOP_SOURCE,
@@ -37,7 +37,7 @@ from rpo.runtime.model.toolchain import (
 )
 
 
-def generated_sources(gen_dir: Path, manifest: dict,
+def generated_sources(gen_dir: Path, manifest: Manifest,
                       controllers: Iterable[str] | None = None) -> list[tuple[str, bytes]]:
     """(name, bytes) of every C file the library is linked from: the generated ones, each read once
     and checked against the manifest's sha256, and the loop driver.
@@ -51,7 +51,7 @@ def generated_sources(gen_dir: Path, manifest: dict,
             data = (gen_dir / name).read_bytes()
         except OSError as exc:
             raise ModelError(f"{gen_dir / name} cannot be read ({exc.strerror}): run `python build.py`") from exc
-        if hashlib.sha256(data).hexdigest() != manifest["files"].get(name):
+        if hashlib.sha256(data).hexdigest() != manifest.files.get(name):
             raise ModelError(f"{gen_dir / name} does not match manifest.json (edited by hand or being "
                              "rewritten): run `python build.py`")
         out.append((name, data))
@@ -59,37 +59,43 @@ def generated_sources(gen_dir: Path, manifest: dict,
     return out
 
 
-def _library_key(sources: list[tuple[str, bytes]], manifest: dict, cc_id: str) -> str:
+def _library_key(sources: list[tuple[str, bytes]], manifest: Manifest, cc_id: str) -> str:
     h = hashlib.sha256()
     for name, data in sources:
         h.update(name.encode() + b"\0" + object_key(data, cc_id).encode() + b"\0")
-    h.update(json.dumps({"ldflags": LDFLAGS, "abi": RUNTIME_ABI, "tools": manifest["tools"],
-                         "manifest": manifest["manifest_hash"]}, sort_keys=True).encode())
+    h.update(json.dumps({"ldflags": LDFLAGS, "abi": RUNTIME_ABI, "tools": dict(manifest.tools),
+                         "manifest": manifest.manifest_hash}, sort_keys=True).encode())
     return h.hexdigest()
 
 
-def _library_path(cache: Path, sources: list[tuple[str, bytes]], manifest: dict, cc_id: str) -> Path:
+def _library_path(cache: Path, sources: list[tuple[str, bytes]], manifest: Manifest, cc_id: str) -> Path:
     return cache / f"rpo_model_{_library_key(sources, manifest, cc_id)[:24]}.so"
 
 
-def library_key(gen_dir: Path, manifest: dict, cc_id: str, controllers: Iterable[str] | None = None) -> str:
+def library_key(gen_dir: Path, manifest: Manifest, cc_id: str, controllers: Iterable[str] | None = None) -> str:
     """Cache key of the library: every object key, the link flags, the manifest and the tool versions."""
     return _library_key(generated_sources(gen_dir, manifest, controllers), manifest, cc_id)
 
 
 def build_library(gen_dir: Path | None = None, cache: Path | None = None, log: Callable[[str], None] | None = None,
-                  jobs: int | None = None, controllers: Iterable[str] | None = None,
-                  manifest: dict | None = None) -> tuple[Path, bool]:
+                  jobs: int | None = None, controllers: Iterable[str] | None = None) -> tuple[Path, bool]:
+    """Compile the generated model of ``gen_dir`` (default: ``rpo.generated``) into the cache if needed;
+    return (library path, compiled?): :func:`link_library` with the folder's manifest."""
+    gen_dir = generated_dir() if gen_dir is None else Path(gen_dir)
+    return link_library(gen_dir, read_manifest(gen_dir), cache, log=log, jobs=jobs, controllers=controllers)
+
+
+def link_library(gen_dir: Path, manifest: Manifest, cache: Path | None = None,
+                 log: Callable[[str], None] | None = None, jobs: int | None = None,
+                 controllers: Iterable[str] | None = None) -> tuple[Path, bool]:
     """Compile the generated model into the cache if needed; return (library path, compiled?).
 
+    ``manifest``: the verified manifest of ``gen_dir`` the caller will use with the library.
     Objects missing from ``<cache>/obj`` are compiled in parallel (``jobs``, default every core),
     with a progress line per file through ``log``; then the library is linked from them.
     ``controllers``: only the plant and these controllers' functions (default: everything).
-    ``manifest``: the already verified manifest the caller will use with the library (default: read it).
     """
     controllers = None if controllers is None else sorted(set(controllers))
-    gen_dir = generated_dir() if gen_dir is None else Path(gen_dir)
-    manifest = read_manifest(gen_dir) if manifest is None else manifest
     cc, cc_id = compiler_command()
     cache = cache_dir() if cache is None else Path(cache)
     try:
@@ -136,7 +142,7 @@ def _compile_and_link(cc: list[str], objects: list[tuple[str, bytes, Path]], lib
     return lib, ensure_built(lib, build, what, log)
 
 
-def lane_sources(gen_dir: Path, manifest: dict, controllers: Iterable[str] | None = None
+def lane_sources(gen_dir: Path, manifest: Manifest, controllers: Iterable[str] | None = None
                  ) -> tuple[list[tuple[str, bytes]], dict[str, str]]:
     """The lane forms (runtime/model/lanes.py) of the selected generated files whose every operation has
     one, and of the composed steps whose callees all have one; plus {file: why not} for the rest."""
@@ -162,15 +168,13 @@ def lane_sources(gen_dir: Path, manifest: dict, controllers: Iterable[str] | Non
     return out, skipped
 
 
-def build_lane_library(gen_dir: Path | None = None, cache: Path | None = None,
+def build_lane_library(gen_dir: Path, manifest: Manifest, cache: Path | None = None,
                        log: Callable[[str], None] | None = None, jobs: int | None = None,
-                       controllers: Iterable[str] | None = None, manifest: dict | None = None
-                       ) -> tuple[Path, bool, dict[str, str]]:
-    """Compile the lane forms of the generated model for this machine's vector width into the cache
-    if needed; return (library path, compiled?, {file: why it has no lane form})."""
+                       controllers: Iterable[str] | None = None) -> tuple[Path, bool, dict[str, str]]:
+    """Compile the lane forms of the generated model (``manifest``: the verified manifest of ``gen_dir``)
+    for this machine's vector width into the cache if needed; return (library path, compiled?,
+    {file: why it has no lane form})."""
     controllers = None if controllers is None else sorted(set(controllers))
-    gen_dir = generated_dir() if gen_dir is None else Path(gen_dir)
-    manifest = read_manifest(gen_dir) if manifest is None else manifest
     cc, cc_id = compiler_command()
     cache = cache_dir() if cache is None else Path(cache)
     (cache / "obj").mkdir(parents=True, exist_ok=True)
@@ -179,7 +183,7 @@ def build_lane_library(gen_dir: Path | None = None, cache: Path | None = None,
     return path, compiled, skipped
 
 
-def lane_plan(gen_dir: Path, manifest: dict, controllers: list[str] | None, cache: Path, cc: list[str], cc_id: str):
+def lane_plan(gen_dir: Path, manifest: Manifest, controllers: list[str] | None, cache: Path, cc: list[str], cc_id: str):
     """(objects, library path, compile flags, skipped) of the lane library of a selection."""
     from rpo.runtime.model.lanes import LANES_VERSION
 
@@ -192,7 +196,7 @@ def lane_plan(gen_dir: Path, manifest: dict, controllers: list[str] | None, cach
     h = hashlib.sha256()
     for n, _d, obj in objects:
         h.update(n.encode() + b"\0" + obj.name.encode() + b"\0")
-    h.update(json.dumps({"ldflags": LDFLAGS, "abi": RUNTIME_ABI, "manifest": manifest["manifest_hash"]},
+    h.update(json.dumps({"ldflags": LDFLAGS, "abi": RUNTIME_ABI, "manifest": manifest.manifest_hash},
                         sort_keys=True).encode())
     return objects, cache / f"rpo_lanes_{h.hexdigest()[:24]}.so", flags, skipped
 
@@ -205,7 +209,7 @@ def current_cache_files(gen_dir: Path | None = None, cache: Path | None = None) 
     manifest = read_manifest(gen_dir)
     cc, cc_id = compiler_command()
     keep = set()
-    for ctrls in [None, *([c] for c in sorted(manifest.get("controllers", {})))]:
+    for ctrls in [None, *([c] for c in sorted(manifest.controllers))]:
         sources = generated_sources(gen_dir, manifest, ctrls)
         keep |= {object_path(cache, n, d, cc_id) for n, d in sources}
         keep.add(_library_path(cache, sources, manifest, cc_id))

@@ -36,14 +36,15 @@ import numpy as np
 
 from rpo.runtime.errors import ModelError
 from rpo.runtime.model.functions import CasadiFunction, CompiledFunction, function_class
-from rpo.runtime.model.library import build_lane_library, build_library
-from rpo.runtime.model.manifest import generated_dir, read_manifest, selected_sources
+from rpo.runtime.model.library import build_lane_library, link_library
+from rpo.runtime.model.manifest import Layout, Manifest, generated_dir, read_manifest, selected_sources
 
 
 class Model:
-    """The generated model: manifest, layouts and callable functions (compiled or CasADi)."""
+    """The generated model: its typed manifest (:class:`~rpo.runtime.model.manifest.Manifest`), layouts and
+    callable functions (compiled or CasADi)."""
 
-    def __init__(self, manifest: dict, functions: dict, backend: str, library: Path | None = None,
+    def __init__(self, manifest: Manifest, functions: dict, backend: str, library: Path | None = None,
                  lib: ctypes.CDLL | None = None, gen_dir: Path | None = None,
                  controllers: Iterable[str] | None = None, log: Callable[[str], None] | None = None):
         self.manifest = manifest
@@ -69,8 +70,9 @@ class Model:
         """The lane library (K runs per call, K = this machine's vector width), built on first use
         (compiled backend only; None for the CasADi backend)."""
         if self._lanes is None and self.backend == "compiled":
-            path, _compiled, skipped = build_lane_library(self._gen_dir, log=self._log,
-                                                          controllers=self._controllers, manifest=self.manifest)
+            assert self._gen_dir is not None
+            path, _compiled, skipped = build_lane_library(self._gen_dir, self.manifest, log=self._log,
+                                                          controllers=self._controllers)
             self._lanes = LaneLibrary(path, skipped, self.manifest)
         return self._lanes
 
@@ -84,17 +86,17 @@ class Model:
         """The loaded function ``name``; a clear error if the manifest has it but it was not loaded."""
         if name in self.functions:
             return self.functions[name]
-        if name in self.manifest["functions"]:
+        if name in self.manifest.functions:
             raise ModelError(f"{name} is not loaded: this model was loaded for some controllers only "
                              "(load_model(controllers=[...]))")
         raise ModelError(f"no generated function {name!r}")
 
     @property
-    def layouts(self) -> dict:
-        return self.manifest["layouts"]
+    def layouts(self) -> Mapping[str, Layout]:
+        return self.manifest.layouts
 
     def layout_size(self, name: str) -> int:
-        return sum(f["size"] for f in self.layouts[name])
+        return self.layouts[name].size
 
     def _pack(self, name: str) -> tuple[dict[str, tuple[int, int]], np.ndarray, list[str], int]:
         """The packing of a layout, made once (a campaign packs thousands of vectors)."""
@@ -102,17 +104,17 @@ class Model:
         if info is None:
             offs, i, missing = {}, 0, []
             for f in self.layouts[name]:
-                offs[f["name"]] = (i, int(f["size"]))
-                i += int(f["size"])
+                offs[f.name] = (i, f.size)
+                i += f.size
             base = np.zeros(i)
             for f in self.layouts[name]:
-                a, n = offs[f["name"]]
-                if "default" in f and len(f["default"]) == n:
-                    base[a:a + n] = np.array(f["default"], float)
-                elif "default" in f:
-                    self._bad_defaults.setdefault(name, []).append(f["name"])
+                a, n = offs[f.name]
+                if f.default is not None and len(f.default) == n:
+                    base[a:a + n] = np.array(f.default, float)
+                elif f.default is not None:
+                    self._bad_defaults.setdefault(name, []).append(f.name)
                 else:
-                    missing.append(f["name"])
+                    missing.append(f.name)
             info = self._packing[name] = (offs, base, missing, i)
         return info
 
@@ -145,30 +147,24 @@ class Model:
         return dict(sl)
 
     def labels(self, name: str) -> list[str]:
-        """Column labels of a layout (a new list; made once per layout)."""
-        key = ("labels", name)
-        if key not in self._columns:
-            self._columns[key] = [lbl for f in self.layouts[name] for lbl in f["labels"]]
-        return list(self._columns[key])
+        """Column labels of a layout (a new list)."""
+        return list(self.layouts[name].labels)
 
     def units(self, name: str) -> list[str]:
-        """Column units of a layout (a new list; made once per layout)."""
-        key = ("units", name)
-        if key not in self._columns:
-            self._columns[key] = [f["unit"] for f in self.layouts[name] for _ in range(f["size"])]
-        return list(self._columns[key])
+        """Column units of a layout (a new list)."""
+        return list(self.layouts[name].units)
 
     def field_labels(self, *names: str) -> Mapping[str, tuple[str, ...]]:
         """Field -> its column labels over the layouts ``names`` (read-only, made once per selection:
         every run's result shares it)."""
         key = ("fields", *names)
         if key not in self._columns:
-            self._columns[key] = MappingProxyType({f["name"]: tuple(f["labels"]) for n in names
-                                                   for f in self.layouts[n]})
+            self._columns[key] = MappingProxyType({f.name: f.labels for n in names for f in self.layouts[n]})
         return self._columns[key]
 
     def defaults(self, name: str) -> dict[str, np.ndarray]:
-        return {f["name"]: np.array(f["default"], float) for f in self.layouts[name] if "default" in f}
+        """Default values of a layout by field name (new arrays, the caller may change them)."""
+        return {f.name: np.array(f.default, float) for f in self.layouts[name] if f.default is not None}
 
     def vector(self, name: str, values: dict | None = None) -> np.ndarray:
         """Pack a layout from defaults overridden by ``values`` (by field name)."""
@@ -202,7 +198,7 @@ class Model:
             raise ModelError(f"unknown {name} fields: {', '.join(sorted(unknown))}")
         for f in bad:  # a default of the wrong size (a hand-edited manifest), used: refused as before
             if f not in values:
-                got = len(next(e for e in self.layouts[name] if e["name"] == f)["default"])
+                got = len(self.layouts[name].field(f).default or ())
                 raise ModelError(f"{name}.{f} needs {offs[f][1]} values, got {got}")
         return out
 
@@ -219,7 +215,7 @@ class Model:
 class LaneLibrary:
     """The lane forms of the generated functions, loaded: ``width`` runs per call."""
 
-    def __init__(self, path: Path, skipped: dict[str, str], manifest: dict):
+    def __init__(self, path: Path, skipped: dict[str, str], manifest: Manifest):
         try:
             self.lib = ctypes.CDLL(str(path))
         except OSError as exc:
@@ -229,8 +225,8 @@ class LaneLibrary:
         self.width = int(self.lib.rpo_lanes_width())
         self.pointers: dict[str, int] = {}
         self.work: dict[str, int] = {}
-        for name, desc in manifest["functions"].items():
-            if desc["source"] in skipped or not hasattr(self.lib, f"{name}_lanes"):
+        for name, desc in manifest.functions.items():
+            if desc.source in skipped or not hasattr(self.lib, f"{name}_lanes"):
                 continue
             self.pointers[name] = ctypes.cast(getattr(self.lib, f"{name}_lanes"), ctypes.c_void_p).value or 0
             work = getattr(self.lib, f"{name}_lanes_work")
@@ -245,8 +241,8 @@ class LaneLibrary:
         return name in self.pointers
 
 
-def _load_compiled(gen_dir: Path, manifest: dict, log=None, controllers: Iterable[str] | None = None) -> Model:
-    lib_path, _ = build_library(gen_dir, log=log, controllers=controllers, manifest=manifest)
+def _load_compiled(gen_dir: Path, manifest: Manifest, log=None, controllers: Iterable[str] | None = None) -> Model:
+    lib_path, _ = link_library(gen_dir, manifest, log=log, controllers=controllers)
     sources = set(selected_sources(manifest, controllers))
     try:
         lib = ctypes.CDLL(str(lib_path))
@@ -266,18 +262,17 @@ def _load_compiled(gen_dir: Path, manifest: dict, log=None, controllers: Iterabl
     from rpo.runtime.model import fastcall
 
     cls = function_class(fastcall.load())
-    funcs = {name: cls(lib, name, desc) for name, desc in manifest["functions"].items()
-             if desc["source"] in sources}
+    funcs = {name: cls(lib, name, desc) for name, desc in manifest.functions.items() if desc.source in sources}
     return Model(manifest, funcs, "compiled", lib_path, lib, gen_dir=gen_dir, controllers=controllers, log=log)
 
 
-def _load_casadi(gen_dir: Path, manifest: dict) -> Model:
+def _load_casadi(gen_dir: Path, manifest: Manifest) -> Model:
     try:
         import casadi as ca
     except ImportError as exc:  # pragma: no cover
         raise ModelError("backend 'casadi' needs the casadi package (pip install casadi)") from exc
     funcs = {}
-    for name, desc in manifest["functions"].items():
+    for name, desc in manifest.functions.items():
         with gzip.open(gen_dir / f"{name}.casadi.gz", "rt") as fh:
             funcs[name] = CasadiFunction(ca.Function.deserialize(fh.read()), desc)
     return Model(manifest, funcs, "casadi")

@@ -14,8 +14,10 @@ from rpo.runtime.scenario.channels import select
 from rpo.runtime.scenario.faults import active_faults
 
 if TYPE_CHECKING:
+    from rpo.runtime.model.manifest import LayoutField
     from rpo.runtime.run.result import RunResult
 
+FIGURE_FORMATS = ("png", "svg", "pdf")
 #: Standard diagnostic fields every paper controller logs first (in the ``controller`` figure).
 STANDARD_DIAG = ("ctrl_att_err", "ctrl_q_err", "ctrl_pos_err", "ctrl_rate_err", "ctrl_vel_err")
 #: The fields (names or glob patterns) each figure reads, heaviest figure first (the order the
@@ -37,13 +39,13 @@ FIGURE_CHANNELS = tuple(dict.fromkeys(p for ps in FIGURE_FIELDS.values() for p i
 @dataclass
 class PlotData:
     """What the figures need, picklable: ``columns`` by label (rows at ``t``), the layouts of the
-    controller's z and y (field dicts of the manifest), and the run facts shown."""
+    controller's z and y (the manifest's fields), and the run facts shown."""
 
     t: np.ndarray
     dt: float
     columns: dict[str, np.ndarray]
-    z_layout: list[dict]
-    y_layout: list[dict]
+    z_layout: list[LayoutField]
+    y_layout: list[LayoutField]
     controller: str = "run"
     record_every: int = 1
     divergence: tuple[float, str] | None = None  # (time, label)
@@ -80,13 +82,13 @@ class PlotData:
     def subset(self, figure: str) -> PlotData:
         """A copy with only the columns of ``figure`` (what a worker process is sent)."""
         pats = FIGURE_FIELDS[figure]
-        keep = {lbl for f in (*self.z_layout, *self.y_layout) if any(fnmatchcase(f["name"], p) for p in pats)
-                for lbl in f["labels"]}
+        keep = {lbl for f in (*self.z_layout, *self.y_layout) if any(fnmatchcase(f.name, p) for p in pats)
+                for lbl in f.labels}
         return replace(self, columns={k: v for k, v in self.columns.items() if k in keep})
 
-    def field(self, name: str) -> dict | None:
-        f = next((f for f in (*self.z_layout, *self.y_layout) if f["name"] == name), None)
-        return f if f is not None and all(lbl in self.columns for lbl in f["labels"]) else None
+    def field(self, name: str) -> LayoutField | None:
+        f = next((f for f in (*self.z_layout, *self.y_layout) if f.name == name), None)
+        return f if f is not None and all(lbl in self.columns for lbl in f.labels) else None
 
     def has(self, name: str) -> bool:
         return self.field(name) is not None
@@ -95,4 +97,4 @@ class PlotData:
         f = self.field(name)
         if f is None:
             raise KeyError(name)
-        return np.column_stack([self.columns[lbl] for lbl in f["labels"]])
+        return np.column_stack([self.columns[lbl] for lbl in f.labels])

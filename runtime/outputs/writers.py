@@ -218,8 +218,8 @@ def run_record(result: RunResult, model: Model, scenario_path: str | Path | None
         "seed": result.meta.get("seed"),
         "controller": result.meta.get("controller"),
         "record_every": result.meta.get("record_every"),
-        "model_source_hash": model.manifest.get("source_hash"),
-        "codegen_tools": model.manifest.get("tools"),
+        "model_source_hash": model.manifest.source_hash,
+        "codegen_tools": dict(model.manifest.tools),
         "rpo_version": rpo_version(),
         "python": platform.python_version(),
         "numpy": np.__version__,
@@ -254,7 +254,7 @@ def columns(result: RunResult, model: Model, spec: OutputSpec) -> tuple[list[Col
     else:  # no layouts (a bare result): every column
         sel = Selection(tuple(result.z_labels), tuple(result.y_labels))
     rows = written_rows(result.t, result.dt, spec.every)
-    info = {lbl: (f["name"], f.get("doc", "")) for f in (*z_lay, *y_lay) for lbl in f["labels"]}
+    info = {lbl: (f.name, f.doc) for f in (*z_lay, *y_lay) for lbl in f.labels}
     out = [Column("t", "s", "", "t", "time", np.ascontiguousarray(result.t[rows]))]
     for labels, units, data, lay, chosen in ((result.z_labels, result.z_units, result.z, z_name, sel.z),
                                             (result.y_labels, result.y_units, result.y, y_name, sel.y)):

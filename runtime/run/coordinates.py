@@ -28,12 +28,14 @@ delay line, the PWPF prefilters and the thruster on-levels), ``controller`` (the
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
 import numpy as np
 
 from rpo.runtime.errors import ModelError
 from rpo.runtime.frames import quat_conjugate, quat_multiply
+from rpo.runtime.model.manifest import LayoutField
 
 #: The attitude fields of z replaced by rotation vectors (the controllers' own layouts keep none).
 QUATERNIONS = ("q_c", "q_t")
@@ -104,7 +106,7 @@ class Coordinates:
     ``labels``/``units``: of the reduced coordinates; ``groups``: name -> slice (contiguous).
     """
 
-    z_fields: list[dict]
+    z_fields: Sequence[LayoutField]
     labels: list[str] = field(default_factory=list)
     units: list[str] = field(default_factory=list)
     groups: dict[str, slice] = field(default_factory=dict)
@@ -113,14 +115,14 @@ class Coordinates:
     def __post_init__(self):
         offs, i = {}, 0
         for f in self.z_fields:
-            offs[f["name"]] = slice(i, i + f["size"])
-            i += f["size"]
+            offs[f.name] = slice(i, i + f.size)
+            i += f.size
         self.nz = i
-        self.z_labels = [lbl for f in self.z_fields for lbl in f["labels"]]
-        by_group: dict[str, list[dict]] = {g: [] for g in GROUP_ORDER}
+        self.z_labels = [lbl for f in self.z_fields for lbl in f.labels]
+        by_group: dict[str, list[LayoutField]] = {g: [] for g in GROUP_ORDER}
         owner = {name: g for g, names in RIGID_GROUPS.items() for name in names}
         for f in self.z_fields:
-            g = owner.get(f["name"], "controller" if f["name"].startswith("xc_") else "actuators")
+            g = owner.get(f.name, "controller" if f.name.startswith("xc_") else "actuators")
             by_group[g].append(f)
         missing = [q for q in QUATERNIONS if q not in offs]
         if missing:
@@ -129,12 +131,12 @@ class Coordinates:
         for g in GROUP_ORDER:
             start = j
             for f in by_group[g]:
-                if f["name"] in QUATERNIONS:
-                    body = f["name"].split("_", 1)[1]
+                if f.name in QUATERNIONS:
+                    body = f.name.split("_", 1)[1]
                     lbl, unit, n = [f"dth_{body}_{a}" for a in "xyz"], ["rad"] * 3, 3
                 else:
-                    lbl, unit, n = list(f["labels"]), [f["unit"]] * f["size"], f["size"]
-                self.blocks.append((f["name"], offs[f["name"]], slice(j, j + n)))
+                    lbl, unit, n = list(f.labels), [f.unit] * f.size, f.size
+                self.blocks.append((f.name, offs[f.name], slice(j, j + n)))
                 self.labels += lbl
                 self.units += unit
                 j += n

@@ -40,7 +40,7 @@ import numpy as np
 
 from rpo.runtime.errors import ModelError
 from rpo.runtime.model.loader import Model
-from rpo.runtime.model.manifest import generated_dir
+from rpo.runtime.model.manifest import ControllerSpec, generated_dir, read_manifest
 from rpo.runtime.run.coordinates import (  # noqa: F401  (re-exported: the maps users call from here)
     GROUP_ORDER,
     QUATERNIONS,
@@ -65,18 +65,14 @@ DEADBEAT = 1e-10
 
 def coordinates(model: Model, controller: str) -> Coordinates:
     """The reduced coordinates of ``z_<controller>``."""
-    _entry(model, controller)
-    return Coordinates(model.layouts[f"z_{controller}"])
+    return Coordinates(model.layouts[_entry(model, controller).z_layout].fields)
 
 
 # --------------------------------------------------------------------------- AD of the step
 
 
-def _entry(model: Model, controller: str) -> dict:
-    ctrls = model.manifest["controllers"]
-    if controller not in ctrls:
-        raise ModelError(f"unknown controller {controller!r}; available: {', '.join(sorted(ctrls))}")
-    return ctrls[controller]
+def _entry(model: Model, controller: str) -> ControllerSpec:
+    return model.manifest.controller(controller)
 
 
 @lru_cache(maxsize=8)
@@ -98,9 +94,9 @@ def _step_derivative(path: str, digest: str):
 
 def step_derivative(model: Model, controller: str, gen_dir: Path | None = None):
     """The CasADi AD function of ``step_<controller>`` (built once per process, ~2 s)."""
-    step = _entry(model, controller)["step"]
+    step = _entry(model, controller).step
     name = f"{step}.casadi.gz"
-    digest = model.manifest["files"].get(name)
+    digest = model.manifest.files.get(name)
     if digest is None:
         raise ModelError(f"manifest.json lists no {name}: run `python build.py`")
     path = (generated_dir() if gen_dir is None else Path(gen_dir)) / name
@@ -380,7 +376,7 @@ def linearize_scenario(path: str | Path, model: Model | None = None, controller:
 
     if at not in ("goal", "initial"):
         raise ModelError(f"at must be 'goal' or 'initial', got {at!r}")
-    base = load_scenario(path, model.manifest if model is not None else None)
+    base = load_scenario(path, model.manifest if model is not None else read_manifest())
     sc = base.with_overrides(controller=controller, plant=plant)
     ctrl = sc.simulation.controller
     model = load_model(controllers=[ctrl], log=log) if model is None else model
@@ -416,11 +412,11 @@ def central_differences(model: Model, lin: Linearization, p: np.ndarray, k: np.n
     large vector, such as the z velocity of an orbit, would otherwise get a step whose effect on the
     next state drowns in that state's round-off): a check of the AD Jacobian, and of where the point
     sits on a discontinuity (a sign law on its switching surface) or a kink (|s| at s = 0)."""
-    step = model.function(model.manifest["controllers"][lin.controller]["step"])
+    step = model.function(model.manifest.controllers[lin.controller].step)
     c = lin.coords
     w = np.zeros(model.layout_size("w")) if w is None else w
     scale = np.ones(c.n)
-    plant_fields = {f["name"] for f in model.layouts["x"] if f["size"] > 1}
+    plant_fields = {f.name for f in model.layouts["x"] if f.size > 1}
     for name, zs, xs in c.blocks:
         if name not in QUATERNIONS:
             if name in plant_fields:

@@ -3,13 +3,14 @@ diverged (:class:`Divergence`)."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from rpo.runtime.errors import ModelError
+from rpo.runtime.model.manifest import LayoutField
 
 
 @dataclass
@@ -82,9 +83,9 @@ class RunResult:
             return self.y[:, self.y_labels.index(label)]
         raise KeyError(label)
 
-    def block(self, name: str, layout: list[dict]) -> np.ndarray:
+    def block(self, name: str, layout: Iterable[LayoutField]) -> np.ndarray:
         """All columns of a layout field, e.g. ``block('r', model.layouts['z_baseline'])``."""
-        labels = next((f["labels"] for f in layout if f["name"] == name), None)
+        labels = next((f.labels for f in layout if f.name == name), None)
         if labels is None:
             raise KeyError(name)
         return np.column_stack([self.column(lbl) for lbl in labels])

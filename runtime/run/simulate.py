@@ -55,18 +55,15 @@ class Simulation:
         """``packed_p``: ``model.vector("p", params)`` when the caller has packed it already (the
         pre-flight, from :func:`~rpo.runtime.scenario.initial_state.packed_run_inputs`); the
         Simulation keeps it as its own (not a copy)."""
-        ctrls = model.manifest["controllers"]
-        if controller not in ctrls:
-            raise ModelError(f"unknown controller {controller!r}; available: {', '.join(sorted(ctrls))}")
+        entry = model.manifest.controller(controller)
         self.model = model
         self.controller = controller
-        entry = ctrls[controller]
         self._params_given, self._gains_given = dict(params or {}), dict(gains or {})
         self.p = model.vector("p", params) if packed_p is None else packed_p
-        self.k = model.vector(entry["gains"], gains)
-        self.z_layout = f"z_{controller}"
-        self.y_layout = f"y_{controller}"
-        self.step_fn = model.function(entry["step"]).clone()
+        self.k = model.vector(entry.gains, gains)
+        self.z_layout = entry.z_layout
+        self.y_layout = entry.y_layout
+        self.step_fn = model.function(entry.step).clone()
         self.nz = model.layout_size(self.z_layout)
         self.ny = model.layout_size(self.y_layout)
         self.nw = model.layout_size("w")
@@ -83,7 +80,7 @@ class Simulation:
 
     def _check_delay(self, p: np.ndarray) -> None:
         delay = float(p[self.model.offsets("p")["wheel_delay"]][0])
-        slots = int(self.model.manifest["delay_slots"])
+        slots = self.model.manifest.delay_slots
         if not 0 <= delay < slots * self.dt:
             # the delay line holds `slots` past commands; a longer delay cannot be represented
             raise ModelError(f"wheel_delay = {delay} s must be in [0, {slots} dt) = [0, {slots * self.dt:g}) s")
@@ -139,12 +136,12 @@ class Simulation:
         m0 = np.ravel(self.model.functions["measure"](z[:nx], truth, 0.0, p_open, np.zeros(self.nw))[1])
         for name, sl in hold_offs.items():
             z[offs[name]] = m0[sl]
-        entry = self.model.manifest["controllers"][self.controller]
-        if "xc0" in entry and not controller:
+        entry = self.model.manifest.controllers[self.controller]
+        if entry.xc0 is not None and not controller:
             # the design starts its states from the first (noise-free) measurement
             hold = np.concatenate([z[offs[name]] for name in hold_offs])
             meas = self.model.functions["measure"](z[:nx], hold, 0.0, self.p, np.zeros(self.nw))[0]
-            xc0 = np.ravel(self.model.functions[entry["xc0"]](meas, self.p, self.k)[0])
+            xc0 = np.ravel(self.model.functions[entry.xc0](meas, self.p, self.k)[0])
             first = self.nz - xc0.size  # controller states close the packed state (closed_loop.state_layout)
             z[first:] = xc0
         return z
@@ -248,7 +245,7 @@ class Simulation:
         if len(seeds) != n_runs:
             raise ModelError(f"run_batch: {n_runs} initial states but {len(seeds)} seeds")
         P = self._per_case("params", params, n_runs, "p", self._params_given)
-        G = self._per_case("gains", gains, n_runs, self.model.manifest["controllers"][self.controller]["gains"],
+        G = self._per_case("gains", gains, n_runs, self.model.manifest.controllers[self.controller].gains,
                            self._gains_given)
         dt_col = self.model.offsets("p")["dt"].start
         for i in range(n_runs):

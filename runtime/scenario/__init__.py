@@ -30,9 +30,14 @@ line naming the file, the dotted key, the offending value and the allowed range,
 :class:`~rpo.runtime.errors.ScenarioError` (:mod:`.messages`).
 
 Modules: :mod:`.loader` (TOML and ``extends``), :mod:`.params` (the manifest's parameter
-entries), :mod:`.schema` (sections and validation), :mod:`.initial_state` (to the inputs of a
-run), :mod:`.messages` (error text), :mod:`.reproduction` (the report's table), :mod:`.preflight`,
-:mod:`.ranges`.
+entries), :mod:`.sections` (the value types and static sections), :mod:`.schema` (the scenario and
+its schema per manifest, validation), :mod:`.checks` (the checks across keys), :mod:`.initial_state`
+(to the inputs of a run), :mod:`.messages` (error text), :mod:`.reproduction` (the report's table),
+:mod:`.preflight`, :mod:`.ranges`.
+
+Validation takes the typed manifest (:class:`~rpo.runtime.model.manifest.Manifest`, ``model.manifest``
+or :func:`~rpo.runtime.model.manifest.read_manifest`) explicitly; only the user-facing
+:func:`load_scenario` and :func:`loads_scenario` read the generated model's when given none.
 """
 
 from __future__ import annotations
@@ -40,19 +45,22 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+from rpo.runtime.model.manifest import Manifest, read_manifest
+from rpo.runtime.scenario.checks import MAX_RECORD_BYTES
 from rpo.runtime.scenario.initial_state import RunInputs, run_inputs
 from rpo.runtime.scenario.loader import ScenarioSource, merge, parse_toml, read_scenario
 from rpo.runtime.scenario.messages import format_error
-from rpo.runtime.scenario.params import Interval, ScenarioParam, manifest_defaults, scenario_params
+from rpo.runtime.scenario.params import Interval, ScenarioParam, manifest_defaults
 from rpo.runtime.scenario.reproduction import Reproduction
 from rpo.runtime.scenario.schema import (
-    MAX_RECORD_BYTES,
-    QUAT_TOL,
     Scenario,
+    ScenarioSchema,
     apply_preset,
     scenario_model,
+    scenario_params,
     validate_scenario,
 )
+from rpo.runtime.scenario.sections import QUAT_TOL
 from rpo.runtime.scenario.units import DEG, RPM
 
 #: The scenarios of this checkout (``<repo>/scenarios``); absent in an installed copy.
@@ -60,24 +68,28 @@ SCENARIO_DIR = Path(__file__).resolve().parents[2] / "scenarios"
 
 __all__ = [
     "DEG", "MAX_RECORD_BYTES", "QUAT_TOL", "RPM", "SCENARIO_DIR", "Interval", "Reproduction", "RunInputs",
-    "Scenario", "ScenarioParam", "ScenarioSource", "apply_preset", "format_error", "load_scenario",
+    "Scenario", "ScenarioParam", "ScenarioSchema", "ScenarioSource", "apply_preset", "format_error", "load_scenario",
     "loads_scenario", "manifest_defaults", "merge", "paper_data", "parse_toml", "read_scenario", "run_inputs",
     "scenario_model", "scenario_params", "validate_scenario",
 ]
 
 
-def load_scenario(path: str | Path | ScenarioSource, manifest: dict | None = None) -> Scenario:
+def load_scenario(path: str | Path | ScenarioSource, manifest: Manifest | None = None) -> Scenario:
     """Read and validate a scenario file (TOML, optionally ``extends`` a base file), or validate one
-    already read by :func:`read_scenario`.  ``manifest`` defaults to the generated one."""
+    already read by :func:`read_scenario`, against ``manifest``.  A user's entry point: without a
+    manifest it reads the generated model's here (:func:`read_manifest`, once per process); code
+    holding a model passes ``model.manifest``."""
     src = path if isinstance(path, ScenarioSource) else read_scenario(path)
-    sc = validate_scenario(src.data, src.source, manifest)
+    sc = validate_scenario(src.data, src.source, read_manifest() if manifest is None else manifest)
     sc._text = src.text
     return sc
 
 
-def loads_scenario(text: str, source: str = "scenario", manifest: dict | None = None) -> Scenario:
-    """Validate a scenario given as TOML text (``source`` names it in error messages)."""
-    sc = validate_scenario(parse_toml(text, source), source, manifest)
+def loads_scenario(text: str, source: str = "scenario", manifest: Manifest | None = None) -> Scenario:
+    """Validate a scenario given as TOML text (``source`` names it in error messages); ``manifest`` as
+    for :func:`load_scenario`."""
+    data = parse_toml(text, source)
+    sc = validate_scenario(data, source, read_manifest() if manifest is None else manifest)
     sc._text = text
     return sc
 

@@ -22,6 +22,10 @@ import difflib
 import fnmatch
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from rpo.runtime.model.manifest import LayoutField
 
 #: What the figures and the metrics use, plus the physical state (attitudes, rates, wheel
 #: momenta, relative position and velocity, propellant).  Fields a controller does not log are
@@ -72,7 +76,7 @@ def close_matches(entry: str, candidates: Sequence[str], n: int = 4) -> list[str
     return found
 
 
-def select(entries: Iterable[str] | None, z_layout: Sequence[dict], y_layout: Sequence[dict], *,
+def select(entries: Iterable[str] | None, z_layout: Iterable[LayoutField], y_layout: Iterable[LayoutField], *,
            where: str = "z/y", strict: bool | None = None) -> Selection:
     """The columns of ``entries`` (None: :data:`DEFAULT_CHANNELS`).  With ``strict`` (default: when
     ``entries`` are given) an entry that matches nothing raises :class:`ChannelError` (``where``
@@ -81,16 +85,17 @@ def select(entries: Iterable[str] | None, z_layout: Sequence[dict], y_layout: Se
     strict = entries is not None if strict is None else strict
     explicit = list(DEFAULT_CHANNELS if entries is None else entries)
     chosen: set[str] = set()
-    names = [f["name"] for f in (*z_layout, *y_layout)]
-    labels = [lbl for f in (*z_layout, *y_layout) for lbl in f["labels"]]
+    z_fields, y_fields = tuple(z_layout), tuple(y_layout)
+    names = [f.name for f in (*z_fields, *y_fields)]
+    labels = [lbl for f in (*z_fields, *y_fields) for lbl in f.labels]
 
     def match(entry: str) -> set[str]:
         out: set[str] = set()
-        for f in (*z_layout, *y_layout):
-            if fnmatch.fnmatchcase(f["name"], entry):
-                out.update(f["labels"])
+        for f in (*z_fields, *y_fields):
+            if fnmatch.fnmatchcase(f.name, entry):
+                out.update(f.labels)
             else:
-                out.update(lbl for lbl in f["labels"] if fnmatch.fnmatchcase(lbl, entry))
+                out.update(lbl for lbl in f.labels if fnmatch.fnmatchcase(lbl, entry))
         return out
 
     for entry in explicit:
@@ -107,6 +112,6 @@ def select(entries: Iterable[str] | None, z_layout: Sequence[dict], y_layout: Se
                                       f"`rpo info` lists the layouts; allowed: field names, column labels, glob "
                                       f"patterns, or \"{DEFAULT_TOKEN}\")")
         chosen |= got
-    z = tuple(lbl for f in z_layout for lbl in f["labels"] if lbl in chosen)
-    y = tuple(lbl for f in y_layout for lbl in f["labels"] if lbl in chosen)
+    z = tuple(lbl for f in z_fields for lbl in f.labels if lbl in chosen)
+    y = tuple(lbl for f in y_fields for lbl in f.labels if lbl in chosen)
     return Selection(z, y)

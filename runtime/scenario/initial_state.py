@@ -14,12 +14,12 @@ import numpy as np
 
 from rpo.runtime import frames
 from rpo.runtime.errors import ModelError, ScenarioError
-from rpo.runtime.scenario.params import param
 from rpo.runtime.scenario.units import RPM
 
 if TYPE_CHECKING:
     from rpo.runtime.model.loader import Model
-    from rpo.runtime.scenario.schema import Scenario, _Body
+    from rpo.runtime.scenario.schema import Scenario
+    from rpo.runtime.scenario.sections import _Body
 
 
 @dataclass
@@ -62,9 +62,8 @@ def packed_run_inputs(sc: Scenario, model: Model) -> tuple[RunInputs, np.ndarray
     """:func:`run_inputs` and its parameter vector ``model.vector("p", inputs.params)`` (packed on
     the way to the initial state; the pre-flight hands it to its Simulation instead of packing
     the same values again)."""
-    manifest = model.manifest
-    params = sc.params(manifest, copy=False)  # read here; RunInputs gets copies
-    gains = sc.gains(manifest)
+    params = sc.params(copy=False)  # read here; RunInputs gets copies
+    gains = sc.gains()
     try:
         p = model.vector("p", params)
         orbit = model.functions["target_orbit"](0.0, p)
@@ -96,7 +95,7 @@ def packed_run_inputs(sc: Scenario, model: Model) -> tuple[RunInputs, np.ndarray
         speeds = np.array(sc.chaser.wheel_speed_rpm or [0.0] * 4, float) * RPM
         limit = float(params["wheel_speed_max"][0])
         if np.abs(speeds).max() > limit * (1 + 1e-12):
-            key = param(manifest, "wheel_speed_max")
+            key = sc.scenario_schema.param("wheel_speed_max")
             raise ScenarioError(f"{sc.source}: chaser.wheel_speed_rpm = {sc.chaser.wheel_speed_rpm}: each |speed| "
                                 f"must be <= {key.key} = {key.to_scenario([limit]):g} {key.unit}")
         plant["h_w"] = _wheel_momentum(model, p, plant, speeds)

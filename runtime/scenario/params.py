@@ -1,14 +1,14 @@
 """The parameters a scenario sets, as ``generated/manifest.json`` describes them.
 
 Each field of layout ``p`` (and of a controller's gains ``k_<name>``) may carry, from
-``symbolic/physics/layout.py`` ``Layout.add``:
+``symbolic/physics/layout.py`` ``Layout.add`` (typed in :mod:`rpo.runtime.model.manifest`,
+:class:`~rpo.runtime.model.manifest.LayoutField`):
 
-* ``bounds``: ``{"lo", "hi", "lo_open", "hi_open"}``, the admissible values of every entry, SI;
-* ``scenario``: ``{"key", "kind", "unit", "scale"[, "choices"]}``, the dotted TOML key that sets
+* ``bounds``: an :class:`Interval`, the admissible values of every entry, SI;
+* ``scenario``: a :class:`~rpo.runtime.model.manifest.ScenarioKey`, the dotted TOML key that sets
   it, the kind of value (``number``, ``switch``, ``choice``, ``reciprocal``, ``inertia``), the
   unit it is written in and the factor to SI (SI = scale * value; ``reciprocal``: scale / value);
-* ``presets``: ``{"<preset>": [SI values]}``, the values it takes in a named preset
-  (``full``: ``rpo run --plant full``).
+* ``presets``: preset name -> the SI values it takes in that preset (``full``: ``rpo run --plant full``).
 
 :class:`ScenarioParam` turns one such entry into the conversion to SI, its inverse (for the
 presets) and the check and error text of its bounds in the scenario's units.  Nothing here
@@ -18,64 +18,15 @@ knows a parameter by name.
 from __future__ import annotations
 
 import math
-from collections.abc import Iterator, Sequence
-from contextlib import contextmanager
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
+from rpo.runtime.model.manifest import Interval, LayoutField, Manifest
 
-@dataclass(frozen=True)
-class Interval:
-    """``lo``/``hi`` (None: unbounded), open or closed, in one unit; ``per_step``: a limit on
-    ``|value| * dt`` (a rate the fixed step must resolve), checked once the step is known."""
-
-    lo: float | None = None
-    hi: float | None = None
-    lo_open: bool = False
-    hi_open: bool = False
-    per_step: float | None = None
-
-    @classmethod
-    def from_manifest(cls, d: dict | None) -> Interval | None:
-        if not d:
-            return None
-        per_step = d.get("per_step")
-        return cls(d.get("lo"), d.get("hi"), bool(d.get("lo_open")), bool(d.get("hi_open")),
-                   None if per_step is None else float(per_step))
-
-    def contains(self, v: float) -> bool:
-        """Whether ``v`` is inside (never for nan or +-inf)."""
-        if not math.isfinite(v):
-            return False
-        if self.lo is not None and (v <= self.lo if self.lo_open else v < self.lo):
-            return False
-        return not (self.hi is not None and (v >= self.hi if self.hi_open else v > self.hi))
-
-    def text(self, unit: str = "") -> str:
-        """``in [0, 1)``, ``> 0 kg``, ``<= 5 m``: what an error message says is allowed."""
-        u = f" {unit}" if unit and unit != "-" else ""
-        if self.lo is not None and self.hi is not None:
-            return f"in {'(' if self.lo_open else '['}{self.lo:g}, {self.hi:g}{')' if self.hi_open else ']'}{u}"
-        if self.lo is not None:
-            return f"{'>' if self.lo_open else '>='} {self.lo:g}{u}"
-        if self.hi is not None:
-            return f"{'<' if self.hi_open else '<='} {self.hi:g}{u}"
-        return "any number"
-
-    def refusal(self, v: float, unit: str = "") -> str:
-        """Why ``v`` is refused (it is not inside): ``must be in [0.01, 1e+07] kg``; a value of the
-        wrong sign is told its sign first (``must be > 0 kg (allowed range [0.01, 1e+07] kg)``)."""
-        full = self.text(unit)
-        if self.lo is not None and self.lo > 0 and math.isfinite(v) and v <= 0:
-            # the range starts above 0 (a magnitude): the sign is the first thing wrong
-            return f"must be > 0{f' {unit}' if unit and unit != '-' else ''} (allowed range {full.removeprefix('in ')})"
-        return f"must be {full}"
-
-    def step_limit(self, dt: float) -> float | None:
-        """The largest |value| the step ``dt`` [s] resolves (None: no such limit)."""
-        return None if self.per_step is None else self.per_step / dt
+__all__ = ["Interval", "ScenarioParam", "finite", "manifest_defaults"]
 
 
 @dataclass(frozen=True)
@@ -95,14 +46,13 @@ class ScenarioParam:
     presets: dict[str, tuple[float, ...]] = field(default_factory=dict)
 
     @classmethod
-    def from_manifest(cls, entry: dict) -> ScenarioParam:
-        s = entry["scenario"]
-        return cls(name=entry["name"], key=s["key"], kind=s.get("kind", "number"), unit=s.get("unit", entry["unit"]),
-                   scale=float(s.get("scale", 1.0)), size=int(entry["size"]), labels=tuple(entry["labels"]),
-                   default=tuple(entry["default"]) if "default" in entry else None,
-                   bounds=Interval.from_manifest(entry.get("bounds")),
-                   choices={k: float(v) for k, v in (s.get("choices") or {}).items()},
-                   presets={k: tuple(float(x) for x in v) for k, v in (entry.get("presets") or {}).items()})
+    def from_field(cls, f: LayoutField) -> ScenarioParam:
+        """The parameter of a layout field that has a scenario key."""
+        s = f.scenario
+        if s is None:
+            raise ValueError(f"layout field {f.name} has no scenario key")
+        return cls(name=f.name, key=s.key, kind=s.kind, unit=s.unit, scale=s.scale, size=f.size, labels=f.labels,
+                   default=f.default, bounds=f.bounds, choices=dict(s.choices), presets=dict(f.presets))
 
     # -- values ------------------------------------------------------------------------------
 
@@ -215,97 +165,17 @@ class ScenarioParam:
         return all(self.bounds.contains(float(v)) for v in si)
 
 
-#: Manifests declared unchanging (:func:`unchanging`): id -> (the manifest, its parsed entries).
-_FROZEN: dict[int, tuple[dict, dict]] = {}
+def manifest_defaults(manifest: Manifest, layout: str, copy: bool = True) -> dict[str, np.ndarray]:
+    """Default values of a manifest layout by field name (as :meth:`Model.defaults`), a new dict.
 
-
-@contextmanager
-def unchanging(manifest: dict) -> Iterator[None]:
-    """Within this block ``manifest`` is not edited, so what is read from it is parsed once: a
-    campaign validates thousands of scenarios against its model's manifest.  Outside such a block
-    every call reads the manifest afresh (a test may edit one in place and validate again)."""
-    key = id(manifest)
-    outer = key in _FROZEN
-    if not outer:
-        _FROZEN[key] = (manifest, {})
-    try:
-        yield
-    finally:
-        if not outer:
-            _FROZEN.pop(key, None)
-
-
-def frozen_cache(manifest: dict) -> dict | None:
-    """The parse cache of a manifest inside :func:`unchanging`, else None."""
-    hit = _FROZEN.get(id(manifest))
-    return hit[1] if hit is not None and hit[0] is manifest else None
-
-
-def _cached(manifest: dict, what: tuple, make):
-    cache = frozen_cache(manifest)
-    if cache is None:
-        return make()
-    if what not in cache:
-        cache[what] = make()
-    return cache[what]
-
-
-def scenario_params(manifest: dict, layout: str = "p") -> list[ScenarioParam]:
-    """Every field of ``layout`` that a scenario sets, in layout order (a new list; the entries
-    are frozen)."""
-    fields = manifest["layouts"][layout]
-    return list(_cached(manifest, ("params", layout),
-                        lambda: [ScenarioParam.from_manifest(f) for f in fields if "scenario" in f]))
-
-
-def param(manifest: dict, name: str) -> ScenarioParam:
-    """The scenario entry of p field ``name`` (for messages naming its key and unit)."""
-    hit = _cached(manifest, ("param", name), lambda: _find_param(manifest, name))
-    if hit is None:
-        raise KeyError(f"the manifest's layout p has no field {name} with a scenario key: run `python build.py`")
-    return hit
-
-
-def _find_param(manifest: dict, name: str) -> ScenarioParam | None:
-    for f in manifest["layouts"]["p"]:
-        if f["name"] == name and "scenario" in f:
-            return ScenarioParam.from_manifest(f)
-    return None
-
-
-def manifest_defaults(manifest: dict, layout: str, copy: bool = True) -> dict[str, np.ndarray]:
-    """Default values of a manifest layout by field name (as :meth:`Model.defaults`).
-
-    ``copy=True``: a new dict of new arrays, the caller may change them.  ``copy=False``: the
-    parsed defaults themselves, read-only arrays (for readers: a campaign reads them a few times
-    per run)."""
-    fields = manifest["layouts"][layout]
-
-    def make() -> dict[str, np.ndarray]:
-        out = {f["name"]: np.array(f["default"], float) for f in fields if "default" in f}
-        for v in out.values():
-            v.flags.writeable = False
-        return out
-
-    d = _cached(manifest, ("defaults", layout), make)
-    return {k: v.copy() for k, v in d.items()} if copy else d
+    ``copy=True``: new arrays, the caller may change them.  ``copy=False``: the parsed defaults
+    themselves, read-only arrays (``manifest.layouts[layout].defaults``), for readers."""
+    d = manifest.layouts[layout].defaults
+    return {k: v.copy() for k, v in d.items()} if copy else dict(d)
 
 
 def _is_number(x: Any) -> bool:
     return isinstance(x, (int, float)) and not isinstance(x, bool)
-
-
-def gain_bounds(entry: dict) -> Interval | None:
-    """The bounds a controller module declared for one gain (SI, the gain's unit), if any."""
-    return Interval.from_manifest(entry.get("bounds"))
-
-
-def layout_fields(manifest: dict, layout: str) -> dict[str, tuple[dict, Interval | None]]:
-    """field name -> (its manifest entry, its bounds (SI) or None), in layout order (parsed once
-    inside :func:`unchanging`; a read-only mapping for the validators)."""
-    fields = manifest["layouts"][layout]
-    return _cached(manifest, ("fields", layout),
-                   lambda: {f["name"]: (f, Interval.from_manifest(f.get("bounds"))) for f in fields})
 
 
 def finite(values: Sequence[float]) -> bool:

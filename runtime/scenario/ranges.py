@@ -6,7 +6,8 @@ from __future__ import annotations
 
 from typing import Any
 
-from rpo.runtime.scenario.params import Interval, gain_bounds, scenario_params
+from rpo.runtime.model.manifest import Interval, Manifest
+from rpo.runtime.scenario.schema import scenario_params
 
 #: Where :func:`ranges_markdown` is written (``python -m rpo.runtime.scenario.ranges --write``).
 RANGES_DOC = "docs/parameters.md"
@@ -25,7 +26,7 @@ integration cannot carry: a denormal mass, a 1e300 gain, a negative gain (which 
 loop). *per step*: a rate the step must resolve, checked against the scenario's
 `simulation.rate` (`|value| x dt <= limit`). An inertia's range is on its principal moments.
 The relations between fields (perigee above the surface, `u_off < u_on`, the wheel delay within
-the delay line, ideal actuators with their limits) are checked too (`runtime/scenario/schema.py`),
+the delay line, ideal actuators with their limits) are checked too (`runtime/scenario/checks.py`),
 and `rpo validate` and `rpo run` then build the initial state and the controller's initial states
 and try step 0 (`runtime/run/preflight.py`): a combination that gives a nan there is
 refused as well.
@@ -43,14 +44,14 @@ def _md_range(iv: Interval | None, unit: str) -> str:
     return "any number" if iv is None else iv.text(unit if unit not in ("", "-") else "").removeprefix("in ")
 
 
-def ranges_markdown(manifest: dict) -> str:
+def ranges_markdown(manifest: Manifest) -> str:
     """The page ``docs/parameters.md``: every scenario parameter and every gain with its unit,
     default, allowed range (in the scenario's unit), step limit and the reason for the range."""
     out = [_RANGES_HEAD, "## Plant parameters (`rpo info` lists them with their documentation)\n",
            "| scenario key | unit | default | allowed | per step | why |", "| --- | --- | --- | --- | --- | --- |"]
-    fields = {f["name"]: f for f in manifest["layouts"]["p"]}
+    fields = manifest.layouts["p"]
     for prm in scenario_params(manifest):
-        f = fields[prm.name]
+        f = fields.field(prm.name)
         if prm.kind in ("switch", "choice"):
             allowed = "true or false" if prm.kind == "switch" else ", ".join(f"`{c}`" for c in prm.choices)
             default = "" if prm.default is None else str(prm.to_scenario(prm.default)).lower()
@@ -62,16 +63,15 @@ def ranges_markdown(manifest: dict) -> str:
         allowed = _md_range(prm.scenario_interval(), prm.unit)
         if prm.kind == "inertia":
             allowed = f"principal moments {allowed}"
-        out.append(f"| `{prm.key}` | {prm.unit} | {default} | {allowed} | {step} | {f.get('bounds_why', '')} |")
-    for ctrl, entry in sorted(manifest["controllers"].items()):
+        out.append(f"| `{prm.key}` | {prm.unit} | {default} | {allowed} | {step} | {f.bounds_why} |")
+    for ctrl, entry in sorted(manifest.controllers.items()):
         out += ["", f"## Gains of `{ctrl}` (`[controller.{ctrl}]`)\n",
                 "| gain | unit | default | allowed | per step | why |", "| --- | --- | --- | --- | --- | --- |"]
-        for f in manifest["layouts"][entry["gains"]]:
-            b = gain_bounds(f)
+        for f in manifest.layouts[entry.gains]:
+            b = f.bounds
             step = "" if b is None or b.per_step is None else f"{b.per_step:g} / dt"
-            default = _md_value(f["default"][0] if f["size"] == 1 else f["default"]) if "default" in f else ""
-            out.append(f"| `{f['name']}` | {f['unit']} | {default} | {_md_range(b, f['unit'])} | {step} | "
-                       f"{f.get('bounds_why', '')} |")
+            default = "" if f.default is None else _md_value(f.default[0] if f.size == 1 else list(f.default))
+            out.append(f"| `{f.name}` | {f.unit} | {default} | {_md_range(b, f.unit)} | {step} | {f.bounds_why} |")
     return "\n".join(out) + "\n"
 
 
