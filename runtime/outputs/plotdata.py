@@ -17,7 +17,6 @@ if TYPE_CHECKING:
     from rpo.runtime.model.manifest import LayoutField
     from rpo.runtime.run.result import RunResult
 
-FIGURE_FORMATS = ("png", "svg", "pdf")
 #: Standard diagnostic fields every paper controller logs first (in the ``controller`` figure).
 STANDARD_DIAG = ("ctrl_att_err", "ctrl_q_err", "ctrl_pos_err", "ctrl_rate_err", "ctrl_vel_err")
 #: The fields (names or glob patterns) each figure reads, heaviest figure first (the order the

@@ -35,8 +35,9 @@ import numpy as np
 from matplotlib.figure import Figure
 from matplotlib.ticker import MaxNLocator
 
+from rpo.runtime.formats import DEFAULT_FIGURE_FORMAT, FIGURE_FORMATS, figure_format_of, unknown_figure_format
 from rpo.runtime.outputs.metrics import quat_angle
-from rpo.runtime.outputs.plotdata import FIGURE_FORMATS, STANDARD_DIAG, PlotData
+from rpo.runtime.outputs.plotdata import STANDARD_DIAG, PlotData
 
 if TYPE_CHECKING:
     from rpo.runtime.model.manifest import LayoutField
@@ -149,8 +150,8 @@ def _finish(fig: Figure, axes, d: PlotData, title: str, path: Path) -> None:
     if d.divergence is not None:
         title = f"{title}\nDIVERGED at t = {d.divergence[0]:.6g} s ({d.divergence[1]})"
     fig.suptitle(f"{d.title}: {title}", fontsize=11, y=1 - 0.12 / fig.get_figheight(), va="top")
-    # zlib level 1: a third of the PNG encoding time for files about 20 % larger
-    extra: dict[str, Any] = {"pil_kwargs": {"compress_level": 1}} if path.suffix == ".png" else {}
+    fmt = figure_format_of(path)  # its quick options (PNG: a fast zlib level)
+    extra: dict[str, Any] = fmt.quick_options() if fmt is not None else {}
     fig.savefig(path, dpi=DPI, **extra)
 
 
@@ -318,11 +319,12 @@ FIGURES: dict[str, Callable[[PlotData, Path], bool]] = {
 }
 
 
-def render(d: PlotData, out_dir: str | Path, fmt: str = "png", names: Sequence[str] | None = None) -> list[str]:
+def render(d: PlotData, out_dir: str | Path, fmt: str = DEFAULT_FIGURE_FORMAT,
+           names: Sequence[str] | None = None) -> list[str]:
     """Write the figures ``names`` (default: all of :data:`FIGURES`) of ``d`` into ``out_dir`` as
     ``<name>.<fmt>``; returns the file names written (a figure with no logged column is skipped)."""
     if fmt not in FIGURE_FORMATS:
-        raise ValueError(f"figure format {fmt!r}: allowed {', '.join(FIGURE_FORMATS)}")
+        raise ValueError(unknown_figure_format(fmt))
     out = Path(out_dir)
     written = []
     for name in names or list(FIGURES):
@@ -332,7 +334,7 @@ def render(d: PlotData, out_dir: str | Path, fmt: str = "png", names: Sequence[s
 
 
 def make_plots(result: RunResult, model: Any, out_dir: str | Path, params: dict | None = None,
-               gains: dict | None = None, title: str = "", fmt: str = "png") -> list[str]:
+               gains: dict | None = None, title: str = "", fmt: str = DEFAULT_FIGURE_FORMAT) -> list[str]:
     """Write the figures of ``result`` into ``out_dir`` in this process; returns the file names.
 
     ``params`` (p fields, SI) gives the wheel limits; ``gains`` the goal position ``r_goal``.
