@@ -19,6 +19,8 @@ from pathlib import Path
 from types import ModuleType
 
 from rpo.runtime.errors import ModelError
+from rpo.runtime.model.cache import cache_dir, ensure_built
+from rpo.runtime.model.toolchain import compiler_command, csrc_dir, run_cc
 
 SOURCE = "fastcall.c"
 _loaded: dict[str, ModuleType | None] = {}
@@ -28,11 +30,6 @@ why_not: list[str] = []
 
 def load(cache: Path | None = None) -> ModuleType | None:
     """The ``_rpo_fastcall`` module, built if needed; None when it cannot be (see :data:`why_not`)."""
-    from rpo.runtime.model.cache import cache_dir, ensure_built
-    from rpo.runtime.model.toolchain import compiler_command as _compiler
-    from rpo.runtime.model.toolchain import csrc_dir
-    from rpo.runtime.model.toolchain import run_cc as _run_cc
-
     if os.environ.get("RPO_NO_FASTCALL"):
         why_not[:] = ["RPO_NO_FASTCALL is set"]
         return None
@@ -41,7 +38,7 @@ def load(cache: Path | None = None) -> ModuleType | None:
         why_not[:] = [f"Python's C headers are not installed (no {include}/Python.h)"]
         return None
     try:
-        cc, cc_id = _compiler()
+        cc, cc_id = compiler_command()
     except ModelError as exc:
         why_not[:] = [str(exc)]
         return None
@@ -55,7 +52,7 @@ def load(cache: Path | None = None) -> ModuleType | None:
     try:
         cache.mkdir(parents=True, exist_ok=True)
         # built, or rebuilt when its bytes do not match the recorded sha256, before it is imported
-        ensure_built(path, lambda tmp: _run_cc([*cc, "-O2", "-fPIC", "-shared", "-I", include,
+        ensure_built(path, lambda tmp: run_cc([*cc, "-O2", "-fPIC", "-shared", "-I", include,
                                                 str(csrc_dir() / SOURCE), "-o", str(tmp)],
                                                "compiling the fast-call extension", cc), "the fast-call extension")
         loader = importlib.machinery.ExtensionFileLoader("_rpo_fastcall", str(path))

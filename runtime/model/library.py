@@ -20,6 +20,7 @@ from rpo.runtime.model.cache import (
     object_key,
     object_path,
 )
+from rpo.runtime.model.lanes import LANES_VERSION, LaneError, lane_source
 from rpo.runtime.model.manifest import Manifest, generated_dir, read_manifest, selected_sources
 from rpo.runtime.model.toolchain import (
     LANE_CFLAGS,
@@ -146,7 +147,6 @@ def lane_sources(gen_dir: Path, manifest: Manifest, controllers: Iterable[str] |
                  ) -> tuple[list[tuple[str, bytes]], dict[str, str]]:
     """The lane forms (runtime/model/lanes.py) of the selected generated files whose every operation has
     one, and of the composed steps whose callees all have one; plus {file: why not} for the rest."""
-    from rpo.runtime.model.lanes import LaneError, lane_source
 
     done: dict[str, tuple[bytes, list[str]]] = {}
     skipped: dict[str, str] = {}
@@ -185,7 +185,6 @@ def build_lane_library(gen_dir: Path, manifest: Manifest, cache: Path | None = N
 
 def lane_plan(gen_dir: Path, manifest: Manifest, controllers: list[str] | None, cache: Path, cc: list[str], cc_id: str):
     """(objects, library path, compile flags, skipped) of the lane library of a selection."""
-    from rpo.runtime.model.lanes import LANES_VERSION
 
     native, target_id = native_target(cc)
     flags = lane_flags(native)
