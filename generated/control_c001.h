@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * control_c001: controller half of a step of c001: command, controller state after RK4 over dt
- * Produced by `python build.py` from family 'controller_c001' (hash ca3b6ca5e12fe1dbaf78a5ed7ee49f0e91e0de61e95bb23bd11a720e8c8ab47b),
+ * Produced by `python build.py` from family 'controller_c001' (hash b179033baf62ab0d9453c021308c9b05d335bb8ffb7a1f43abb66c10b4557347),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/codegen/__init__.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c000: control law of c000
- * Produced by `python build.py` from family 'controller_c000' (hash b0637a0747a95650d1b98fc7490d49c39ea3e9087094cc2812b211026b44df15),
+ * Produced by `python build.py` from family 'controller_c000' (hash 4563da206a244cb090e1a87d7b97ff5619da2b5ddbb4f6801f6b4afb36aa4b4c),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/codegen/__init__.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * law_c002: control law of c002
- * Produced by `python build.py` from family 'controller_c002' (hash d2b032bd57de53acc63e27426518e1d490706a702dba642d1c97ae890ebdf2e8),
+ * Produced by `python build.py` from family 'controller_c002' (hash db6ab6d172b50faa661c4143ecf4e44579da46b1c43c02440fd897702343d293),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/codegen/__init__.py

@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * plant_rhs: plant right-hand side dx/dt (000 eqs. 6, 10, 24, 30, 45-47)
- * Produced by `python build.py` from family 'plant' (hash 3bffbfcbb48a7a36f2525fe28246abdefd3a3a087808ea5e943ddfa5f43c6834),
+ * Produced by `python build.py` from family 'plant' (hash dde6b38f915a85a51528262d277b60b0c4ae8b498d1829182ace53eda8db1e8e),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/codegen/__init__.py

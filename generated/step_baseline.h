@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_baseline: one closed-loop step (plant + baseline + actuators), RK4 over dt: measure, control_baseline, plant_advance
- * Produced by `python build.py` from family 'controller_baseline' (hash 998e1c8dbd653b6e527688afd4bae360c698cb3804b1f23315338cd9fc832516),
+ * Produced by `python build.py` from family 'controller_baseline' (hash 7610b69f0a9884596650a0b57d2b8bd705a00737a28e6faa8002b3cf3974d5af),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/codegen/__init__.py

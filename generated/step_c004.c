@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_c004: one closed-loop step (plant + c004 + actuators), RK4 over dt: measure, control_c004, plant_advance
- * Produced by `python build.py` from family 'controller_c004' (hash 4bb59dd3f5d14b790ba5a4382caa296fe18ea0aa913696a6ff65e9df0e593aa8),
+ * Produced by `python build.py` from family 'controller_c004' (hash 20f8bcd9fa5c0210979aed4403e6ffe789e5d176a282255cb892fec17985d6cf),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/codegen/__init__.py

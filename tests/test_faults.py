@@ -364,9 +364,14 @@ def test_a_sensor_frozen_from_the_start_repeats_the_noise_free_first_measurement
 
 
 def test_the_runtime_s_never_is_the_manifest_s(model):
-    """runtime/scenario/faults.py cannot import symbolic/: its NEVER must equal the windows' default."""
-    from rpo.runtime.scenario import faults as rf
-
+    """runtime/scenario/faults.py cannot import symbolic/ and has no NEVER of its own: the manifest's
+    (symbolic/physics/faults.py NEVER) is the default of every window its kinds name, and they name
+    every window of p."""
+    vocab = model.manifest.faults
+    windows = {name for k in vocab.kinds.values() for name in (k.start, k.end)}
+    assert windows == {f.name for f in model.layouts["p"]
+                       if f.name.startswith("fault_") and f.name.endswith(("_start", "_end"))}
+    assert vocab.never == NEVER
     for f in model.layouts["p"]:
-        if f.name.startswith("fault_") and f.name.endswith(("_start", "_end")):
-            assert set(f.default or ()) == {rf.NEVER}, f.name
+        if f.name in windows:
+            assert set(f.default or ()) == {vocab.never}, f.name

@@ -27,8 +27,8 @@ from rpo.runtime.scenario import ScenarioSchema, load_scenario, scenario_model, 
 ROOT = Path(__file__).resolve().parents[1]
 GEN = ROOT / "generated"
 #: the top-level keys symbolic/codegen.py writes (a new one must be typed before the runtime reads it)
-KEYS = {"controllers", "delay_slots", "families", "files", "format_version", "functions", "generator", "layouts",
-        "manifest_hash", "quaternion_convention", "source_hash", "sources", "specialised", "tools"}
+KEYS = {"controllers", "delay_slots", "faults", "families", "files", "format_version", "functions", "generator",
+        "layouts", "manifest_hash", "quaternion_convention", "source_hash", "sources", "specialised", "tools"}
 
 
 @pytest.fixture
@@ -45,6 +45,10 @@ def gen_copy(tmp_path) -> Path:
 
 def _interval(d: dict | None) -> Interval | None:
     return None if d is None else Interval(d["lo"], d["hi"], d["lo_open"], d["hi_open"], d.get("per_step"))
+
+
+def _interval_dict(i: Interval | None) -> dict | None:
+    return None if i is None else {"lo": i.lo, "hi": i.hi, "lo_open": i.lo_open, "hi_open": i.hi_open}
 
 
 def test_every_key_of_the_manifest_is_typed(raw):
@@ -92,6 +96,20 @@ def test_every_key_of_the_manifest_is_typed(raw):
         assert (c.z_layout, c.y_layout) == (f"z_{name}", f"y_{name}") and c.z_layout in m.layouts
     assert {k: [{"function": s.function, "zero": list(s.zero)} for s in v] for k, v in m.specialised.items()} == \
         raw["specialised"]
+    f = raw["faults"]
+    assert set(f) == {"never", "families", "sensors", "kinds"} and m.faults.never == f["never"]
+    assert [{"prefix": x.prefix, "noun": x.noun, "units": list(x.units), "first": x.first, "what": x.what,
+             "actuator": x.actuator} for x in m.faults.families.values()] == f["families"]
+    assert [{"name": x.name, "short": x.short, "unit": x.unit, "scale": x.scale}
+            for x in m.faults.sensors.values()] == f["sensors"]
+    kinds = []
+    for k in m.faults.kinds.values():
+        v = k.value
+        kinds.append({"name": k.name, "family": k.family, "param": k.param, "start": k.start, "end": k.end,
+                      "value": None if v is None else {
+                          "what": v.what, "shape": v.shape, "range": _interval_dict(v.range), "unit": v.unit,
+                          "vector": v.vector, "fields": dict(v.fields) or None, "none": v.none}})
+    assert kinds == f["kinds"]
 
 
 def test_a_folder_is_read_once_and_again_when_a_file_changes(gen_copy):

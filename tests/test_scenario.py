@@ -338,15 +338,18 @@ def p_field(manifest, name):
 
 def test_every_parameter_has_a_scenario_key_and_the_old_keys_are_kept(manifest):
     # the fault parameters are set by the [[faults]] array instead: every one of them by some entry
-    from rpo.runtime.scenario.faults import KINDS, Fault, fault_params
+    from rpo.runtime.scenario.faults import fault_model, fault_params
 
     faults = [f for f in manifest["layouts"]["p"] if f["name"].startswith("fault_")]
     defaults = {f["name"]: f["default"] for f in faults}
+    m = typed(manifest)
+    Fault, vocab = fault_model(m), m.faults
     reached: set[str] = set()
-    for kind, (family, _k, value) in KINDS.items():
-        unit = {"wheel": 1, "thr": 0, "sensor": "attitude"}[family]
-        for u in ([unit] if family != "sensor" else ["attitude", "rate", "position", "velocity"]):
-            v = None if value is None else ([1.0, 0.0, 0.0] if kind == "sensor_bias" else 0.5)
+    for kind, spec in vocab.kinds.items():  # every unit of every kind
+        family = vocab.families[spec.family]
+        for i, label in enumerate(family.units):
+            u = label if family.first is None else family.first + i
+            v = None if spec.value is None else ([0.5] * spec.value.shape if spec.value.shape > 1 else 0.5)
             reached |= set(fault_params([Fault(kind=kind, unit=u, time=1.0, value=v)], defaults))
     assert reached == set(defaults)
     keys = {f["name"]: f["scenario"]["key"] for f in manifest["layouts"]["p"] if not f["name"].startswith("fault_")}

@@ -1,7 +1,9 @@
 """Each vocabulary is declared once and derived everywhere else (issue 23).
 
 * the time-history formats and the figure formats: :mod:`rpo.runtime.formats`;
-* the distributions of a campaign's dispersions: :mod:`rpo.runtime.campaign.dispersions`.
+* the distributions of a campaign's dispersions: :mod:`rpo.runtime.campaign.dispersions`;
+* the fault kinds, unit families, sensors and NEVER: ``symbolic/physics/faults.py``, through the
+  manifest's ``faults`` (:class:`rpo.runtime.model.manifest.FaultVocabulary`).
 
 For each: no other module of ``runtime/`` spells its names (a second list, a ``== "<name>"``
 switch), and the consumers (the scenario schema's allowed values, the command's choices and help,
@@ -229,3 +231,145 @@ def test_the_campaign_docs_hold_the_table_of_the_distributions():
     text = (ROOT / "docs" / "campaigns.md").read_text()
     table = dispersions.reference_table()
     assert table in text, f"docs/campaigns.md: replace the table of distributions by\n{table}"
+
+
+# --------------------------------------------------------------------------- fault vocabulary
+
+#: the runtime packages that read a scenario and the manifest: no fault family, sensor or kind is
+#: spelled there (elsewhere ``"attitude"``, ``"position"``, ``"rate"`` and ``"wheel"`` name the goals,
+#: the figures and the metrics, other vocabularies)
+SCENARIO_LAYERS = ("runtime/scenario/", "runtime/model/")
+#: the one place a fault kind may be written in runtime/: the reproduction report's fault study, which
+#: is [[faults]] entries (a scenario's data, checked below against the manifest), not a list of kinds
+FAULT_STUDY = "runtime/jobs/reproduction_runs.py"
+
+
+def _fault_manifest() -> dict:
+    from rpo.runtime.model.manifest import generated_dir
+
+    return json.loads((generated_dir() / "manifest.json").read_text())
+
+
+def _fault_literals(trees: dict[str, ast.Module], kinds: set[str], words: set[str], never: float) -> list[str]:
+    """Every string constant equal to a fault kind (anywhere but the fault study), to a family's or a
+    sensor's name (in :data:`SCENARIO_LAYERS`), and every number equal to NEVER."""
+    out = []
+    for rel, tree in trees.items():
+        names = (set() if rel == FAULT_STUDY else kinds) | (words if rel.startswith(SCENARIO_LAYERS) else set())
+        out += [f"{rel}:{c.lineno} {c.value!r}" for c in _strings(tree) if c.value in names]
+        out += [f"{rel}:{n.lineno} {n.value!r}" for n in ast.walk(tree) if isinstance(n, ast.Constant)
+                and isinstance(n.value, float) and n.value == never]
+    return out
+
+
+def _fault_names() -> tuple[set[str], set[str], float]:
+    from rpo.symbolic.physics import faults as flt
+
+    words = {s.name for s in flt.SENSORS} | {s.short for s in flt.SENSORS}
+    words |= {f.prefix for f in flt.FAMILIES} | {f.noun for f in flt.FAMILIES}
+    return {k.name for k in flt.KINDS}, words, flt.NEVER
+
+
+def test_the_runtime_s_fault_vocabulary_is_the_symbolic_declaration():
+    from rpo.runtime.model.manifest import read_manifest
+    from rpo.symbolic.physics import faults as flt
+
+    assert _fault_manifest()["faults"] == json.loads(json.dumps(flt.vocabulary()))
+    v = read_manifest().faults
+    assert list(v.kinds) == [k.name for k in flt.KINDS] and v.never == flt.NEVER
+    assert [(s.name, s.short, s.unit, s.scale) for s in v.sensors.values()] == \
+        [(s.name, s.short, s.unit, s.scale) for s in flt.SENSORS]
+    assert [(f.prefix, f.units, f.first, f.what) for f in v.families.values()] == \
+        [(f.prefix, f.units, f.first, f.what) for f in flt.FAMILIES]
+    for k in flt.KINDS:
+        spec = v.kinds[k.name]
+        assert (spec.family, spec.start, spec.end) == (k.family.prefix, k.window("start"), k.window("end"))
+        assert (spec.value is None) == (k.value is None)
+
+
+def test_the_fault_scan_sees_a_second_list():
+    kinds, words, never = _fault_names()
+    doctored = ast.parse('KINDS = ("wheel_off", "sensor_bias")\nif f.kind in ("thruster_weak",):\n    x = 1e30\n'
+                         'SENSORS = {"attitude": ("att", "deg")}\nunit = f"sensor_bias of {u}"\n')
+    found = _fault_literals({"runtime/scenario/doctored.py": doctored}, kinds, words, never)
+    assert sorted(s.split(" ", 1)[1] for s in found) == \
+        sorted(["'wheel_off'", "'sensor_bias'", "'thruster_weak'", "'attitude'", "'att'", "1e+30"])
+    # elsewhere in runtime/ the kinds (and NEVER) are still found, the other words are not
+    found = _fault_literals({"runtime/outputs/doctored.py": doctored}, kinds, words, never)
+    assert sorted(s.split(" ", 1)[1] for s in found) == sorted(["'wheel_off'", "'sensor_bias'", "'thruster_weak'",
+                                                                "1e+30"])
+
+
+def test_no_fault_kind_sensor_family_or_never_is_written_in_the_runtime():
+    kinds, words, never = _fault_names()
+    assert not _fault_literals(SOURCES, kinds, words, never), \
+        "a fault kind, sensor or family is spelled in runtime/: derive it from the manifest's faults"
+
+
+def test_the_fault_study_names_kinds_of_the_manifest():
+    from rpo.runtime.jobs.reproduction_runs import FAULT_CASES
+    from rpo.runtime.model.manifest import read_manifest
+    from rpo.runtime.scenario.faults import fault_model
+
+    entry = fault_model(read_manifest())
+    for _case, faults in FAULT_CASES:
+        for f in faults:
+            entry(**f)  # a kind and unit of the manifest's vocabulary
+
+
+EXTRA_KIND = {"name": "wheel_slow", "family": "wheel", "param": "slow", "start": "fault_wheel_slow_start",
+              "end": "fault_wheel_slow_end", "value": {
+                  "what": "the fraction of the speed limit left, 0 < value <= 2", "shape": 1, "unit": "-",
+                  "none": "wheel_off", "range": {"lo": 0.0, "hi": 2.0, "lo_open": True, "hi_open": False},
+                  "vector": "fault_wheel_slow_value", "fields": None}}
+
+
+def test_a_kind_added_to_the_model_is_flown_with_no_edit_of_the_runtime():
+    """What adding a fault kind to symbolic/physics/faults.py (and its parameters to p) gives the
+    manifest: the runtime validates, maps, describes and lists an entry of it as it does the others."""
+    from rpo.runtime.errors import ScenarioError
+    from rpo.runtime.model.manifest import parse_manifest
+    from rpo.runtime.scenario import loads_scenario
+    from rpo.runtime.scenario.faults import active_faults, describe
+
+    data = _fault_manifest()
+    p = data["layouts"]["p"]
+    like = {f["name"]: f for f in p}
+    for edge in ("start", "end"):
+        p.append({**like[f"fault_wheel_off_{edge}"], "name": f"fault_wheel_slow_{edge}"})
+    p.append({**like["fault_wheel_weak_value"], "name": "fault_wheel_slow_value",
+              "bounds": {"lo": 0.0, "hi": 2.0, "lo_open": True, "hi_open": False}})
+    data["faults"]["kinds"].append(EXTRA_KIND)
+    m = parse_manifest(data)
+    base = open(ROOT / "scenarios" / "000_scenario_III.toml").read()
+    sc = loads_scenario(base + '\n[[faults]]\nkind = "wheel_slow"\nunit = 2\ntime = 1.0\nvalue = 1.5\n', "s.toml", m)
+    params = sc.params()
+    never = data["faults"]["never"]
+    assert list(params["fault_wheel_slow_start"]) == [never, 1.0, never, never]
+    assert list(params["fault_wheel_slow_value"]) == [1.0, 1.5, 1.0, 1.0]
+    assert describe(sc.faults)[0]["unit_name"] == "2"
+    assert active_faults(m.faults, params, 10.0) == [(1.0, "wheel_slow 2")]
+    with pytest.raises(ScenarioError) as exc:
+        loads_scenario(base + '\n[[faults]]\nkind = "wheel_slow"\nunit = 2\ntime = 1.0\nvalue = 0.0\n', "s.toml", m)
+    assert str(exc.value) == ('s.toml: faults[0] = { kind = "wheel_slow", unit = 2, time = 1.0, value = 0.0 }: '
+                              "value = 0: must be the fraction of the speed limit left, 0 < value <= 2 "
+                              "(use kind wheel_off for none)")
+    # the generated model has no such kind
+    with pytest.raises(ScenarioError, match=r"faults\[0\]\.kind = \"wheel_slow\": must be one of"):
+        loads_scenario(base + '\n[[faults]]\nkind = "wheel_slow"\nunit = 2\ntime = 1.0\nvalue = 1.5\n', "s.toml")
+
+
+def test_the_fault_docs_list_the_declared_kinds_and_sensors():
+    from rpo.symbolic.physics import faults as flt
+
+    text = (ROOT / "docs" / "faults.md").read_text()
+    rows = [line.split("|")[1:3] for line in text.splitlines() if line.startswith("| `")]
+    assert [kind.strip().strip("`") for kind, _unit in rows] == [k.name for k in flt.KINDS]
+    for (_kind, unit), k in zip(rows, flt.KINDS, strict=True):  # the family as a message names it
+        f = k.family
+        assert unit.strip() == (f.noun if f.first is None else f.what.removeprefix("a "))
+    sensors = text.split("\nSensors: ", 1)[1].split(".\n\n", 1)[0]
+    assert [s for s in sensors.split("`")[1::2]] == [s.name for s in flt.SENSORS]
+    numbered = ", ".join(f.what.removeprefix("a ") for f in flt.FAMILIES if f.first is not None)
+    named = " | ".join(f'"{s.name}"' for s in flt.SENSORS)
+    assert f"unit = 1                  # {numbered}, or {named}" in text

@@ -229,7 +229,7 @@ def run_row(camp: Campaign, model: Any, inputs: Any, res: Any) -> tuple[dict[str
     goal = np.ravel(inputs.gains["r_goal"]) if "r_goal" in inputs.gains else None
     signals = error_signals(cols, goal, components=False)  # the row needs the error signals only
     met = compute_metrics(res.t, cols, goal=goal, params=inputs.params, per_unit=False, signals=signals)
-    ver = verdict(met, res.t, cols, inputs.params, res.divergence)
+    ver = verdict(met, res.t, cols, inputs.params, res.divergence, model.manifest.faults)
     goals = ver["goals"]
     att, pos = goals["att"]["reached"], goals["pos"]["reached"]
     # constraints count where the scenario states them ([constraints]: 001's camera cone and

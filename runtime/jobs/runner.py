@@ -151,7 +151,8 @@ def _execute_run(scenario: str | Path | Scenario, out_dir: str | Path | None, mo
     metrics = compute_metrics(result.t, columns, thresholds, goal=goal, error_times=error_times, params=inputs.params)
     metrics["status"] = ("diverged" if result.divergence is not None else
                          "interrupted" if stopped_by is not None else "ok")
-    metrics["verdict"] = verdict(metrics, result.t, columns, inputs.params, result.divergence)  # also in run.json
+    metrics["verdict"] = verdict(metrics, result.t, columns, inputs.params, result.divergence,  # also in run.json
+                                 model.manifest.faults)
     lap("metrics")
     # 6. outputs
     overrides: dict[str, Any] = {k: v for k, v in (("duration", duration), ("seed", seed),

@@ -9,12 +9,14 @@ into frozen dataclasses, once per folder and file identity:
   (:class:`Layout` of :class:`LayoutField`: units, defaults, bounds as :class:`Interval`, scenario keys
   as :class:`ScenarioKey`, presets), the families (:class:`FamilySpec`), the controllers
   (:class:`ControllerSpec`), the specialised copies (:class:`Specialisation`), the plant's constants
-  (``delay_slots``, ``quaternion_convention``) and the hashes and tool versions;
+  (``delay_slots``, ``quaternion_convention``), the fault vocabulary (:class:`FaultVocabulary`: the
+  kinds a scenario's ``[[faults]]`` may name, their unit families, values and parameters) and the
+  hashes and tool versions;
 * :meth:`Manifest.derived`: what a higher layer derives from a manifest (the scenario schema), made
   once per manifest and kept with it, so nothing is keyed by ``id()``.
 
 The manifest is passed explicitly (``Model.manifest``, ``Scenario.manifest``); only this module reads
-its JSON.  No fault entry exists: the fault windows are fields of layout ``p``.
+its JSON.  The fault windows and values are fields of layout ``p``; ``faults`` says which.
 """
 
 from __future__ import annotations
@@ -284,6 +286,113 @@ class Specialisation:
     zero: tuple[str, ...]
 
 
+# --------------------------------------------------------------------------- the fault vocabulary
+
+
+@dataclass(frozen=True)
+class FaultFamily:
+    """Units a fault can name (``symbolic/physics/faults.py`` ``Family``): ``prefix`` of their
+    parameters, the ``noun`` of the messages, the ``units`` as the parameters label them, ``first``
+    the number a scenario writes for the first unit (None: a scenario writes the label), ``what``
+    (``a wheel 1-4``) and whether its units are actuators (``actuator``)."""
+
+    prefix: str
+    noun: str
+    units: tuple[str, ...]
+    first: int | None
+    what: str
+    actuator: bool = False
+
+    def index(self, unit: Any) -> int | None:
+        """Index of the unit a scenario writes as ``unit`` (None: not one of this family's)."""
+        if self.first is None:
+            return self.units.index(unit) if isinstance(unit, str) and unit in self.units else None
+        if isinstance(unit, int) and not isinstance(unit, bool) and 0 <= unit - self.first < len(self.units):
+            return unit - self.first
+        return None
+
+
+@dataclass(frozen=True)
+class FaultSensor:
+    """A sensor a fault can name: its ``name`` in a scenario, ``short`` name in the parameters, the
+    ``unit`` a scenario writes its fault values in and their ``scale`` to SI."""
+
+    name: str
+    short: str
+    unit: str
+    scale: float
+
+
+@dataclass(frozen=True)
+class FaultValue:
+    """The ``value`` a fault kind takes: ``what`` it is (messages), ``shape`` (1: a number, 3:
+    [x, y, z]), the ``range`` a scenario's value must be in (None: the parameter's bounds only), its
+    ``unit`` (None: the named sensor's), and where it goes: ``vector``, one parameter over the
+    family's units, or ``fields``, unit -> a parameter of its own set whole; ``none``: the kind a
+    value of 0 would mean."""
+
+    what: str
+    shape: int
+    range: Interval | None
+    unit: str | None
+    vector: str | None
+    fields: Mapping[str, str]
+    none: str | None = None
+
+
+@dataclass(frozen=True)
+class FaultKind:
+    """A fault kind: its ``name`` in a scenario, unit ``family`` (a prefix), ``param`` (its name in the
+    parameters), the parameters of its window's ``start`` and ``end``, and its ``value`` (None: none)."""
+
+    name: str
+    family: str
+    param: str
+    start: str
+    end: str
+    value: FaultValue | None = None
+
+
+@dataclass(frozen=True)
+class FaultVocabulary:
+    """What a scenario's ``[[faults]]`` may say (the manifest's ``faults``): the unit families and
+    sensors, the kinds (declaration order), and ``never``, the window edge of a window that never
+    opens.  Empty for a model without faults."""
+
+    never: float = math.inf
+    families: Mapping[str, FaultFamily] = field(default_factory=FrozenDict)
+    sensors: Mapping[str, FaultSensor] = field(default_factory=FrozenDict)
+    kinds: Mapping[str, FaultKind] = field(default_factory=FrozenDict)
+
+    def family(self, kind: str) -> FaultFamily:
+        """The unit family of the kind named ``kind``."""
+        return self.families[self.kinds[kind].family]
+
+
+def _fault_vocabulary(d: Mapping[str, Any] | None) -> FaultVocabulary:
+    if not d:
+        return FaultVocabulary()
+
+    def value(v: Mapping[str, Any] | None) -> FaultValue | None:
+        if v is None:
+            return None
+        return FaultValue(what=v["what"], shape=int(v["shape"]), range=Interval.from_manifest(v.get("range")),
+                          unit=v.get("unit"), vector=v.get("vector"), fields=_frozen(v.get("fields")),
+                          none=v.get("none"))
+
+    return FaultVocabulary(
+        never=float(d["never"]),
+        families=_frozen({f["prefix"]: FaultFamily(f["prefix"], f["noun"], tuple(f["units"]),
+                                                   None if f["first"] is None else int(f["first"]), f["what"],
+                                                   bool(f["actuator"]))
+                          for f in d["families"]}),
+        sensors=_frozen({s["name"]: FaultSensor(s["name"], s["short"], s["unit"], float(s["scale"]))
+                         for s in d["sensors"]}),
+        kinds=_frozen({k["name"]: FaultKind(k["name"], k["family"], k["param"], k["start"], k["end"],
+                                            value(k.get("value")))
+                       for k in d["kinds"]}))
+
+
 # --------------------------------------------------------------------------- the manifest
 
 
@@ -305,6 +414,7 @@ class Manifest:
     specialised: Mapping[str, tuple[Specialisation, ...]]
     delay_slots: int = 4                        # steps the wheel command's delay line holds
     quaternion_convention: str = ""
+    faults: FaultVocabulary = field(default_factory=FaultVocabulary)
     _derived: dict[Any, Any] = field(default_factory=dict, init=False, repr=False)
 
     def derived(self, make: Callable[[Manifest], T]) -> T:
@@ -386,7 +496,8 @@ def parse_manifest(data: Mapping[str, Any]) -> Manifest:
         controllers=_frozen({name: _controller(name, d) for name, d in data.get("controllers", {}).items()}),
         specialised=_frozen({name: tuple(Specialisation(s["function"], tuple(s["zero"])) for s in copies)
                              for name, copies in data.get("specialised", {}).items()}),
-        delay_slots=int(data.get("delay_slots", 4)), quaternion_convention=data.get("quaternion_convention", ""))
+        delay_slots=int(data.get("delay_slots", 4)), quaternion_convention=data.get("quaternion_convention", ""),
+        faults=_fault_vocabulary(data.get("faults")))
 
 
 # --------------------------------------------------------------------------- reading

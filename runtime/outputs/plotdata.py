@@ -76,7 +76,8 @@ class PlotData:
                    controller=ctrl, record_every=int(result.meta.get("record_every", 1)),
                    divergence=None if div is None else (float(div.time), str(div.label)),
                    title=title or ctrl, limits=limits, goal=goal,
-                   faults=active_faults(params or {}, float(np.asarray(result.t)[-1])))
+                   faults=active_faults(model.manifest.faults, params, float(np.asarray(result.t)[-1]))
+                   if params else [])
 
     def subset(self, figure: str) -> PlotData:
         """A copy with only the columns of ``figure`` (what a worker process is sent)."""

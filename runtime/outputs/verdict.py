@@ -55,6 +55,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from rpo.runtime.model.manifest import FaultVocabulary
 from rpo.runtime.outputs.metrics import (
     SPEED_LIMIT_TOL,
     TORQUE_LIMIT_TOL,
@@ -205,12 +206,15 @@ def _pct(v: float) -> str:
 
 
 def verdict(metrics: Mapping[str, Any], t: ArrayLike, columns: Mapping[str, Any],
-            params: Mapping[str, Any] | None = None, divergence: Any = None) -> dict[str, Any]:
+            params: Mapping[str, Any] | None = None, divergence: Any = None,
+            faults: FaultVocabulary | None = None) -> dict[str, Any]:
     """The verdict (JSON-ready): ``status`` (``reached``, ``partly reached``, ``not reached``,
     ``not measured``, ``diverged``), per goal ``reached``/``time_s``/``final``/``reason``, the
     ``saturation`` of each actuator family, the ``constraints``, the ``divergence`` message and
     ``line``, the one-line summary ``rpo run`` prints.  ``divergence``: the run's
-    :class:`~rpo.runtime.run.result.Divergence` (its ``time``, ``label``, ``message()``) or None."""
+    :class:`~rpo.runtime.run.result.Divergence` (its ``time``, ``label``, ``message()``) or None;
+    ``faults``: the manifest's fault vocabulary (``Manifest.faults``), to list the faults of ``params``
+    (None: none listed)."""
     t = np.asarray(t, float)
     w, span = _weights(t)  # shared by every time fraction of the run
     sat = _saturation(columns, params, w, span)
@@ -247,9 +251,9 @@ def verdict(metrics: Mapping[str, Any], t: ArrayLike, columns: Mapping[str, Any]
             f"{c['min_t_s']:.4g} s)" for n, c in con.items() if c["violated"]))
     elif con:
         parts.append("constraints held")
-    faults = active_faults(params or {}, float(t[-1]) if t.size else 0.0)
-    if faults:
-        parts.append("faults: " + ", ".join(f"{label} at {t_f:g} s" for t_f, label in faults))
+    active = [] if faults is None else active_faults(faults, params or {}, float(t[-1]) if t.size else 0.0)
+    if active:
+        parts.append("faults: " + ", ".join(f"{label} at {t_f:g} s" for t_f, label in active))
     measured = [g["reached"] for g in goals.values() if g["reached"] is not None]
     if divergence is not None:
         status = "diverged"
@@ -258,7 +262,7 @@ def verdict(metrics: Mapping[str, Any], t: ArrayLike, columns: Mapping[str, Any]
     else:
         status = "reached" if all(measured) else ("not reached" if not any(measured) else "partly reached")
     return {"status": status, "goals": goals, "saturation": sat, "constraints": con,
-            "faults": [{"time_s": t_f, "fault": label} for t_f, label in faults],
+            "faults": [{"time_s": t_f, "fault": label} for t_f, label in active],
             "divergence": None if divergence is None else divergence.message(),
             "saturation_min": SATURATION_MIN, "line": f"verdict: {status}: " + "; ".join(parts)}
 

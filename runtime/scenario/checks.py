@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from rpo.runtime.model.manifest import Interval
-from rpo.runtime.scenario.faults import FaultConflict, fault_params, fault_value_unit
+from rpo.runtime.scenario.faults import FaultConflict, actuator_families, fault_params, fault_value_unit
 from rpo.runtime.scenario.messages import field_error, unknown_key
 from rpo.runtime.scenario.params import finite
 
@@ -122,18 +122,20 @@ def check_faults(sc: Scenario, schema: ScenarioSchema) -> None:
             entry = fields.field(name)
             b = entry.bounds
             if b is not None and not all(b.contains(v) for v in values):
-                where = "time" if name.endswith(("_start", "_end")) else "value"
-                scale, unit = fault_value_unit(f, entry.unit) if where == "value" else (1.0, "s")
+                where = "time" if name in (f.spec.start, f.spec.end) else "value"
+                scale, unit = fault_value_unit(f) if where == "value" else (1.0, "s")
                 shown = Interval(None if b.lo is None else b.lo / scale, None if b.hi is None else b.hi / scale,
                                  b.lo_open, b.hi_open)
                 raise field_error(f"faults[{n}].{where}", getattr(f, where),
                                   f"out of range for {f.kind} of {f.unit_name()}: must be {shown.text(unit)}")
     ideal = sc.param_overrides().get("actuators_ideal", defaults["actuators_ideal"])
+    actuators = actuator_families(schema.manifest.faults)
     if float(np.ravel(ideal)[0]) == 1.0:
         for n, f in enumerate(sc.faults):
-            if f.family != "sensor":
+            if f.family in actuators:
                 raise field_error(f"faults[{n}].kind", f.kind,
-                                  "wheel and thruster faults need plant.actuators = \"wheels_thrusters\" (this "
+                                  " and ".join(a.noun for a in actuators) + " faults need plant.actuators = "
+                                  "\"wheels_thrusters\" (this "
                                   "scenario flies the ideal actuators, which have no units to fail; "
                                   "try --plant full)")
 

@@ -37,7 +37,7 @@ from rpo.runtime.errors import ModelError, ScenarioError
 from rpo.runtime.formats import DEFAULT_FIGURE_FORMAT, DEFAULT_FORMATS, FIGURE_FORMAT_NAMES, FORMAT_NAMES
 from rpo.runtime.model.manifest import Manifest
 from rpo.runtime.scenario.checks import cross_checks
-from rpo.runtime.scenario.faults import Fault, fault_params
+from rpo.runtime.scenario.faults import Fault, fault_params, faults_field
 from rpo.runtime.scenario.messages import field_error, first_error
 from rpo.runtime.scenario.params import ScenarioParam
 from rpo.runtime.scenario.reproduction import Reproduction
@@ -313,8 +313,8 @@ class ScenarioSchema:
             prm for prm in self.params if prm.bounds is not None and prm.bounds.per_step is not None)
         #: the defaults of p (SI, read-only arrays)
         self.p_defaults: Mapping[str, np.ndarray] = p.defaults
-        #: :class:`Scenario` with the parameters' keys added
-        self.model: type[Scenario] = _derive_model(self.params)
+        #: :class:`Scenario` with the parameters' keys and the manifest's ``[[faults]]`` entry added
+        self.model: type[Scenario] = _derive_model(self.params, {"faults": faults_field(manifest)})
 
     @classmethod
     def of(cls, manifest: Manifest) -> ScenarioSchema:
@@ -376,8 +376,9 @@ def apply_preset(data: dict, manifest: Manifest, preset: str) -> None:
             table[leaf] = prm.to_scenario(value)
 
 
-def _derive_model(params: tuple[ScenarioParam, ...]) -> type[Scenario]:
-    """:class:`Scenario` with the parameters' keys added to its sections, or in new ones."""
+def _derive_model(params: tuple[ScenarioParam, ...], top: dict[str, Any]) -> type[Scenario]:
+    """:class:`Scenario` with the parameters' keys added to its sections, or in new ones, and the
+    top-level fields ``top`` (name -> pydantic field definition) replaced."""
     tree: dict[str, Any] = {}
     for prm in params:
         *sections, leaf = prm.key.split(".")
@@ -391,11 +392,12 @@ def _derive_model(params: tuple[ScenarioParam, ...]) -> type[Scenario]:
         if leaf in node:
             raise ModelError(f"manifest: two parameters have the scenario key {prm.key!r}")
         node[leaf] = prm
-    return cast(type[Scenario], _build("Scenario", tree, Scenario))
+    return cast(type[Scenario], _build("Scenario", tree, Scenario, top))
 
 
-def _build(name: str, node: dict[str, Any], base: type[BaseModel]) -> type[BaseModel]:
-    fields: dict[str, Any] = {}
+def _build(name: str, node: dict[str, Any], base: type[BaseModel], top: dict[str, Any] | None = None) \
+        -> type[BaseModel]:
+    fields: dict[str, Any] = dict(top or {})
     for k, v in node.items():
         existing = base.model_fields.get(k)
         if isinstance(v, ScenarioParam):

@@ -144,6 +144,7 @@ def _build_plant(_resolve) -> FamilyOutput:
     import casadi as ca
 
     from ..physics import closed_loop as cl
+    from ..physics import faults as flt
     from ..physics.plant import make_plant
     from .to_casadi import sympy_function
 
@@ -173,6 +174,7 @@ def _build_plant(_resolve) -> FamilyOutput:
                 ("zp", cl.state_layout(P)))}
     return FamilyOutput(funcs, layouts, {"delay_slots": cl.DELAY_SLOTS,
                                          "quaternion_convention": QUATERNION_CONVENTION,
+                                         "faults": flt.vocabulary(),
                                          "specialised": variants})
 
 

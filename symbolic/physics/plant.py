@@ -42,8 +42,8 @@ from .rigid_body import (
 from .rotations import cross, norm, quat_conj, quat_mul, quat_rate, quat_to_dcm, vec
 
 INERTIA_COMPONENTS = ("xx", "yy", "zz", "xy", "xz", "yz")
-WHEELS = ("1", "2", "3", "4")
-THRUSTERS = tuple(f"{j:02d}" for j in range(16))
+WHEELS = flt.WHEEL.units
+THRUSTERS = flt.THRUSTER.units
 DEG = math.pi / 180
 RPM = 2 * math.pi / 60
 
@@ -277,32 +277,30 @@ def _params() -> Layout:
     return p
 
 
-SENSOR_NAMES = ("attitude", "rate", "position", "velocity")
-
-
 def _fault_params(p: Layout) -> None:
     """The fault windows and values of :mod:`rpo.symbolic.physics.faults`, set by the scenario's
     ``[[faults]]`` array (``runtime/scenario/faults.py``), and the FDIR switch."""
     never = flt.NEVER
     window = Bounds(0.0, never, why=f"a time from t = 0; the default {never:g} s means never")
-    for unit, kinds, names in (("wheel", flt.WHEEL_KINDS, WHEELS), ("thr", flt.THRUSTER_KINDS, THRUSTERS),
-                               ("sensor", flt.SENSOR_KINDS, SENSOR_NAMES)):
-        for kind in kinds:
+    for family in flt.FAMILIES:
+        names = family.units
+        for kind in flt.kinds_of(family):
             for edge in ("start", "end"):
-                p.add(f"fault_{unit}_{kind}_{edge}", len(names), "s", f"{unit} {kind} fault: window {edge} time "
+                p.add(kind.window(edge), len(names), "s", f"{family.prefix} {kind.param} fault: window {edge} time "
                       f"(never: {never:g})", names, default=(never,) * len(names), bounds=window)
     fraction = Bounds(0.0, 1.0, lo_open=True, why="the fraction left of the nominal value; none left is the _off kind")
-    p.add("fault_wheel_weak_value", 4, "-", "weak wheel: fraction of the torque limit left", WHEELS,
+    p.add(flt.value_of("wheel_weak").param, 4, "-", "weak wheel: fraction of the torque limit left", WHEELS,
           default=(1.0,) * 4, bounds=fraction)
-    p.add("fault_thr_weak_value", 16, "-", "weak thruster: fraction of the thrust left", THRUSTERS,
+    p.add(flt.value_of("thruster_weak").param, 16, "-", "weak thruster: fraction of the thrust left", THRUSTERS,
           default=(1.0,) * 16, bounds=fraction)
     # the units and ranges of the nominal sensor noise and bias (declared once, above)
     nominal = {f.name: f for f in p.fields}
-    for s in flt.SENSORS:
+    step, noise = flt.value_of("sensor_bias"), flt.value_of("sensor_noise")
+    for s in (s.short for s in flt.SENSORS):
         bias, std = nominal[f"meas_{s}_bias"], nominal[f"meas_{s}_std"]
-        p.add(f"fault_bias_{s}", 3, bias.unit, f"{s} sensor bias step (added to meas_{s}_bias)", XYZ,
+        p.add(step.param_of(s), 3, bias.unit, f"{s} sensor bias step (added to meas_{s}_bias)", XYZ,
               default=(0.0,) * 3, bounds=bias.bounds)
-        p.add(f"fault_noise_{s}_std", 1, std.unit, f"{s} sensor noise std during a noise fault", default=0.0,
+        p.add(noise.param_of(s), 1, std.unit, f"{s} sensor noise std during a noise fault", default=0.0,
               bounds=std.bounds)
     p.add("fdir_allocation", 1, "-", "fault-aware allocation over the healthy units (1, rpo's FDIR model) "
           "or the nominal allocation (0)", default=0,
@@ -369,8 +367,8 @@ def _measurement() -> Layout:
     return m
 
 
-#: The measurement fields of the four sensors a fault can name (faults.SENSORS, in order).
-SENSOR_FIELDS = ("q_c", "w_c", "r", "v")
+#: The measurement fields of the sensors a fault can name (faults.SENSORS, in order).
+SENSOR_FIELDS = tuple(s.field for s in flt.SENSORS)
 
 
 def _sensor_hold() -> Layout:
@@ -634,7 +632,7 @@ class Plant:
                 "rate": x["w_c"] + nb["rate"][0] * w["n_rate"] + nb["rate"][1],
                 "pos": x["r"] + nb["pos"][0] * w["n_pos"] + nb["pos"][1],
                 "vel": x["v"] + nb["vel"][0] * w["n_vel"] + nb["vel"][1]}
-        held = {s: self.hold[f"sensor_{f}"] for s, f in zip(flt.SENSORS, SENSOR_FIELDS, strict=True)}
+        held = {s.short: self.hold[f"sensor_{s.field}"] for s in flt.SENSORS}
         out = flt.frozen(t, p, held, live)
         q_c, w_c = out["att"], out["rate"]
         q_e = attitude_error(q_c, x["q_t"])
