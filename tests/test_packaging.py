@@ -8,12 +8,15 @@ from __future__ import annotations
 
 import glob
 import tomllib
+from importlib import resources
 from pathlib import Path
 
+import pytest
 import structure
 
 import setup
-from rpo.runtime.scenario import read_scenario
+from rpo.runtime.errors import OutputError, ScenarioError
+from rpo.runtime.scenario import SCENARIO_DIR, paper_data, read_scenario, shipped
 
 ROOT = Path(__file__).resolve().parents[1]
 PYPROJECT = tomllib.loads((ROOT / "pyproject.toml").read_text())
@@ -88,3 +91,74 @@ def test_the_files_the_installed_package_reads_are_package_data():
 def test_what_the_scenarios_extend_is_shipped_too():
     for f in SHIPPED_FILES:
         assert set(read_scenario(f).bases) <= {p.resolve() for p in SHIPPED_FILES}, f
+
+
+# --------------------------------------------------------------------------- the shipped scenarios
+
+
+def _rel(paths) -> list[str]:
+    return [Path(p).relative_to(SCENARIO_DIR).as_posix() for p in paths]
+
+
+def test_the_shipped_scenarios_come_through_importlib_resources():
+    """In every install mode: this checkout's scenarios/ (pip install -e .) or the installed copy of it."""
+    assert SCENARIO_DIR == shipped.folder() == Path(str(resources.files("rpo.scenarios")))
+    assert {f: (SCENARIO_DIR / f).read_bytes() for f in _rel(SCENARIO_DIR.rglob("*.toml"))} == \
+        {f.relative_to(ROOT / "scenarios").as_posix(): f.read_bytes() for f in SHIPPED_FILES}
+    assert paper_data("000_scenario_III") == read_scenario(ROOT / "scenarios" / "000_scenario_III.toml").data
+    assert paper_data("campaigns/000_III_mc")["campaign"]["runs"] >= 1
+
+
+def test_the_list_names_every_shipped_file_with_a_description():
+    items = shipped.shipped()
+    rel = sorted(f.relative_to(ROOT / "scenarios").as_posix() for f in SHIPPED_FILES)
+    assert _rel(s.path for s in items) == [*(f for f in rel if "/" not in f), *(f for f in rel if "/" in f)]
+    assert [s.name for s in items] == [f.removesuffix(".toml") for f in _rel(s.path for s in items)]
+    by_name = {s.name: s for s in items}
+    assert by_name["000_scenario_III"].description.startswith("tumbling target")  # [meta] description
+    assert by_name["000_III_ideal"].description == "000 scenario III with ideal actuators"  # its own [meta] name
+    assert by_name["campaigns/000_III_mc"].kind == "campaign"
+    assert all(s.description and "\n" not in s.description for s in items)
+
+
+def test_find_by_name_stem_or_file_name():
+    assert shipped.find("000_scenario_III").path == SCENARIO_DIR / "000_scenario_III.toml"
+    assert shipped.find("000_scenario_III.toml") == shipped.find("000_scenario_III")
+    assert shipped.find("000_III_mc") == shipped.find("campaigns/000_III_mc")
+    with pytest.raises(ScenarioError, match=r"no shipped scenario '000_scenario_IV'; did you mean 000_scenario_I"):
+        shipped.find("000_scenario_IV")
+
+
+def test_copy_of_a_scenario_is_the_shipped_bytes(tmp_path):
+    copies = shipped.copy_out("001_scenario", tmp_path / "mine.toml")
+    assert [(c.path, c.written) for c in copies] == [(tmp_path / "mine.toml", True)]
+    assert (tmp_path / "mine.toml").read_bytes() == (ROOT / "scenarios" / "001_scenario.toml").read_bytes()
+    shipped.copy_out("001_scenario", tmp_path)  # into a folder: under its own name
+    assert (tmp_path / "001_scenario.toml").read_bytes() == (tmp_path / "mine.toml").read_bytes()
+
+
+@pytest.mark.parametrize("name", ["000_III_ideal", "campaigns/000_III_mc", "campaigns/001_mc_c000"])
+def test_copy_of_a_variant_brings_its_bases_and_reads_the_same(tmp_path, name):
+    """A variant is copied with what it extends (``../`` bases next to it), and reads as the shipped one."""
+    copies = shipped.copy_out(name, tmp_path / "edit.toml")
+    assert all(c.written and c.path.parent == tmp_path for c in copies)
+    src = read_scenario(shipped.find(name).path)
+    assert [c.source for c in copies[1:]] == list(src.bases)
+    assert read_scenario(tmp_path / "edit.toml").data == src.data
+    assert {p.name for p in tmp_path.iterdir()} == {"edit.toml", *(b.name for b in src.bases)}
+
+
+def test_copy_reuses_an_identical_base_and_refuses_a_different_one(tmp_path):
+    shipped.copy_out("000_scenario_III", tmp_path)
+    copies = shipped.copy_out("000_III_ideal", tmp_path)
+    assert [(c.path.name, c.written) for c in copies] == [("000_III_ideal.toml", True),
+                                                          ("000_scenario_III.toml", False)]
+    base = tmp_path / "000_scenario_III.toml"
+    base.write_text(base.read_text() + "# edited\n")
+    with pytest.raises(OutputError, match="000_scenario_III.toml exists and is not the shipped"):
+        shipped.copy_out("000_III_no_acc_d", tmp_path)
+    assert not (tmp_path / "000_III_no_acc_d.toml").exists()  # refused before anything was written
+    (tmp_path / "sub").mkdir()
+    with pytest.raises(OutputError, match="would have the name of its base"):
+        shipped.copy_out("000_III_ideal", tmp_path / "sub" / "000_scenario_III.toml")
+    assert not any((tmp_path / "sub").iterdir())

@@ -32,7 +32,7 @@ line naming the file, the dotted key, the offending value and the allowed range,
 Modules: :mod:`.loader` (TOML and ``extends``), :mod:`.params` (the manifest's parameter
 entries), :mod:`.schema` (sections and validation), :mod:`.initial_state` (to the inputs of a
 run), :mod:`.messages` (error text), :mod:`.reproduction` (the report's table), :mod:`.preflight`,
-:mod:`.ranges`.
+:mod:`.ranges`, :mod:`.shipped` (the scenarios shipped with rpo, read through importlib.resources).
 """
 
 from __future__ import annotations
@@ -40,6 +40,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
+from rpo.runtime.scenario import shipped
 from rpo.runtime.scenario.initial_state import RunInputs, run_inputs
 from rpo.runtime.scenario.loader import ScenarioSource, merge, parse_toml, read_scenario
 from rpo.runtime.scenario.messages import format_error
@@ -55,14 +56,15 @@ from rpo.runtime.scenario.schema import (
 )
 from rpo.runtime.scenario.units import DEG, RPM
 
-#: The scenarios of this checkout (``<repo>/scenarios``); absent in an installed copy.
-SCENARIO_DIR = Path(__file__).resolve().parents[2] / "scenarios"
+#: The shipped scenarios (package data of ``rpo.scenarios``, :mod:`.shipped`): this checkout's
+#: ``scenarios/`` after ``pip install -e .``, ``site-packages/rpo/scenarios`` otherwise.
+SCENARIO_DIR = shipped.folder()
 
 __all__ = [
     "DEG", "MAX_RECORD_BYTES", "QUAT_TOL", "RPM", "SCENARIO_DIR", "Interval", "Reproduction", "RunInputs",
     "Scenario", "ScenarioParam", "ScenarioSource", "apply_preset", "format_error", "load_scenario",
     "loads_scenario", "manifest_defaults", "merge", "paper_data", "parse_toml", "read_scenario", "run_inputs",
-    "scenario_model", "scenario_params", "validate_scenario",
+    "scenario_model", "scenario_params", "shipped", "validate_scenario",
 ]
 
 
@@ -85,8 +87,9 @@ def loads_scenario(text: str, source: str = "scenario", manifest: dict | None = 
 def paper_data(name: str | Path, folder: Path | None = None) -> dict[str, Any]:
     """The table of a scenario file as written (``extends`` resolved, not validated): the one place
     a paper's gains, initial state and published values are typed, for tests and scripts to read
-    instead of retyping them.  ``name`` is a path, or a file stem in ``folder`` (default
-    :data:`SCENARIO_DIR`): ``paper_data("000_scenario_III")["orbit"]["eccentricity"]``."""
+    instead of retyping them.  ``name`` is a path, or a file stem in ``folder`` (default: the shipped
+    scenarios, :data:`SCENARIO_DIR`, in every install mode):
+    ``paper_data("000_scenario_III")["orbit"]["eccentricity"]``, ``paper_data("campaigns/000_III_mc")``."""
     path = Path(name)
     if not path.suffix:
         path = (folder or SCENARIO_DIR) / f"{name}.toml"
