@@ -15,6 +15,7 @@ import pytest
 import structure
 
 import setup
+from rpo.runtime.cli.main import main
 from rpo.runtime.errors import OutputError, ScenarioError
 from rpo.runtime.scenario import SCENARIO_DIR, paper_data, read_scenario, shipped
 
@@ -162,3 +163,36 @@ def test_copy_reuses_an_identical_base_and_refuses_a_different_one(tmp_path):
     with pytest.raises(OutputError, match="would have the name of its base"):
         shipped.copy_out("000_III_ideal", tmp_path / "sub" / "000_scenario_III.toml")
     assert not any((tmp_path / "sub").iterdir())
+
+
+def test_cli_lists_the_shipped_scenarios(capsys):
+    assert main(["scenarios"]) == 0
+    out = capsys.readouterr()
+    lines = out.out.splitlines()
+    assert lines[0].split() == ["name", "description"] and len(lines) == len(SHIPPED_FILES) + 1
+    assert any(ln.startswith("campaigns/001_mc ") for ln in lines)
+    assert "rpo scenarios NAME --to FILE" in out.err
+
+
+def test_cli_copies_one_out_and_prints_where_a_shipped_one_is(tmp_path, capsys):
+    assert main(["scenarios", "000_III_ideal", "--to", str(tmp_path / "x.toml")]) == 0
+    assert capsys.readouterr().err.splitlines() == [f"wrote {tmp_path / 'x.toml'} (a copy of 000_III_ideal.toml)",
+                                                    f"wrote {tmp_path / '000_scenario_III.toml'}"]
+    assert main(["scenarios", "campaigns/001_mc"]) == 0
+    assert capsys.readouterr().out.strip() == str(SCENARIO_DIR / "campaigns" / "001_mc.toml")
+
+
+@pytest.mark.parametrize("args,message", [
+    (["scenarios", "001_scenario", "--to", "{tmp}/taken.toml"], "error: {tmp}/taken.toml exists; not overwritten"),
+    (["scenarios", "001_scenario", "--to", "{tmp}/missing/"], "error: {tmp}/missing/001_scenario.toml: cannot copy"),
+    (["scenarios", "no_such", "--to", "{tmp}/new.toml"], "error: no shipped scenario 'no_such'"),
+    (["scenarios", "--to", "{tmp}/new.toml"], "error: --to needs the NAME"),
+])
+def test_cli_bad_input_is_one_line_exit_2_and_nothing_written(tmp_path, capsys, args, message):
+    taken = tmp_path / "taken.toml"
+    taken.write_text("# mine\n")
+    before = sorted(tmp_path.rglob("*"))
+    assert main([a.format(tmp=tmp_path) for a in args]) == 2
+    err = capsys.readouterr().err
+    assert len(err.splitlines()) == 1 and err.startswith(message.format(tmp=tmp_path)), err
+    assert sorted(tmp_path.rglob("*")) == before and taken.read_text() == "# mine\n"
