@@ -7,6 +7,9 @@ The wheel itself is built, installed into a fresh venv and used from outside the
 from __future__ import annotations
 
 import glob
+import importlib.util
+import subprocess
+import sys
 import tomllib
 from importlib import resources
 from pathlib import Path
@@ -196,3 +199,42 @@ def test_cli_bad_input_is_one_line_exit_2_and_nothing_written(tmp_path, capsys, 
     err = capsys.readouterr().err
     assert len(err.splitlines()) == 1 and err.startswith(message.format(tmp=tmp_path)), err
     assert sorted(tmp_path.rglob("*")) == before and taken.read_text() == "# mine\n"
+
+
+# --------------------------------------------------------------------------- build.py / verify.py: this checkout
+
+
+@pytest.mark.parametrize("script", ["build.py", "verify.py"])
+def test_scripts_refuse_an_rpo_that_is_not_this_checkouts(tmp_path, script):
+    """Another checkout (here: a copy of the scripts) refuses the rpo installed from this one: one line,
+    exit 2, before reading or writing anything."""
+    for f in ("build.py", "verify.py"):
+        (tmp_path / f).write_bytes((ROOT / f).read_bytes())
+    res = subprocess.run([sys.executable, script, "--check"], cwd=tmp_path, capture_output=True, text=True)
+    assert res.returncode == 2 and res.stdout == ""
+    assert res.stderr.splitlines() == [
+        f"{script}: rpo.symbolic is imported from {_installed().resolve() / 'symbolic'}, not from this checkout: "
+        f"run `pip install -e .` in this checkout ({tmp_path.resolve()}) with this Python ({sys.executable})"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["build.py", "verify.py"]
+
+
+def test_build_py_refuses_when_rpo_is_not_installed():
+    """``python -S``: no site-packages, so no rpo at all."""
+    res = subprocess.run([sys.executable, "-S", "build.py", "--check"], cwd=ROOT, capture_output=True, text=True)
+    assert res.returncode == 2 and res.stdout == ""
+    assert res.stderr.splitlines() == [f"build.py: rpo is not installed: run `pip install -e .` in this checkout "
+                                       f"({ROOT}) with this Python ({sys.executable})"]
+
+
+def _installed() -> Path:
+    """The folder the installed rpo's symbolic/, runtime/, generated/ are in (this checkout after
+    ``pip install -e .``)."""
+    spec = importlib.util.find_spec("rpo.symbolic")
+    assert spec is not None and spec.origin
+    return Path(spec.origin).parents[1]
+
+
+def test_build_py_accepts_the_checkout_rpo_is_installed_from():
+    import build
+
+    assert build.installed_elsewhere(_installed()) is None
