@@ -12,8 +12,9 @@ controller family reuses the plant's CasADi functions from ``generated/`` instea
 plant again.  Compilation is one object file per generated function, compiled in parallel on
 every core and cached by content hash; the library is linked from the cached objects.
 
-The build always uses *this checkout's* symbolic/, runtime/ and generated/ (never an installed
-copy of rpo), so it works before ``pip install`` and cannot pick up the wrong model.
+The build always uses *this checkout's* symbolic/, runtime/ and generated/, as ``import rpo`` finds
+them after ``pip install -e .`` in this checkout; if rpo is not installed, or installed from elsewhere
+(another checkout, a wheel), it stops with one line saying so before anything is read or written.
 """
 
 from __future__ import annotations
@@ -24,29 +25,42 @@ import gzip
 import importlib.util
 import sys
 import time
-import types
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent
 GEN = ROOT / "generated"
 
 
-def _bootstrap() -> None:
-    """Import rpo.symbolic / rpo.runtime / rpo.generated from this checkout."""
-    if getattr(sys.modules.get("rpo"), "__rpo_checkout__", None) == str(ROOT):
-        return
-    pkg = types.ModuleType("rpo")
-    pkg.__path__ = []
-    pkg.__rpo_checkout__ = str(ROOT)  # type: ignore[attr-defined]
-    sys.modules["rpo"] = pkg
-    for sub in ("symbolic", "runtime", "generated"):
-        spec = importlib.util.spec_from_file_location(
-            f"rpo.{sub}", ROOT / sub / "__init__.py", submodule_search_locations=[str(ROOT / sub)])
-        assert spec is not None and spec.loader is not None
-        mod = importlib.util.module_from_spec(spec)
-        sys.modules[f"rpo.{sub}"] = mod
-        setattr(pkg, sub, mod)
-        spec.loader.exec_module(mod)
+#: The packages of rpo that must come from this checkout, and their folders in it.
+CHECKOUT_PACKAGES = {"rpo.symbolic": "symbolic", "rpo.runtime": "runtime", "rpo.generated": "generated"}
+
+
+def installed_elsewhere(root: Path = ROOT) -> str | None:
+    """None if ``import rpo`` imports this checkout's symbolic/, runtime/ and generated/ (as after
+    ``pip install -e .`` here), else one line saying what is wrong and what to run.
+
+    Only looks (``importlib.util.find_spec``): nothing of rpo runs before the check passes.
+    """
+    fix = f"run `pip install -e .` in this checkout ({root}) with this Python ({sys.executable})"
+    for name, folder in CHECKOUT_PACKAGES.items():
+        try:
+            spec = importlib.util.find_spec(name)
+        except (ImportError, ValueError):
+            spec = None
+        if spec is None or not spec.origin:
+            return f"rpo is not installed: {fix}"
+        where = Path(spec.origin).resolve().parent
+        if where != (root / folder).resolve():
+            return f"{name} is imported from {where}, not from this checkout: {fix}"
+    return None
+
+
+def require_checkout(script: str) -> None:
+    """Exit 2 with :func:`installed_elsewhere`'s one line unless rpo is this checkout's."""
+    problem = installed_elsewhere()
+    if problem is not None:
+        print(f"{script}: {problem}", file=sys.stderr)
+        sys.exit(2)
 
 
 def _text(name: str, data: bytes) -> list[str]:
@@ -129,7 +143,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"build.py: --jobs must be >= 1 (got {args.jobs})", file=sys.stderr)
         return 2
 
-    _bootstrap()
+    require_checkout("build.py")
     from rpo.runtime.errors import RpoError
     from rpo.symbolic.codegen import codegen, functions
     from rpo.symbolic.codegen.codegen import ModelDefinitionError

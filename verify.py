@@ -12,7 +12,7 @@
 
 Claims live in ``symbolic/lyapunov/<controller>/``, discovered (a controller without one is not checked);
 the method is in ``docs/verification_method.md``.
-Like build.py, this uses *this checkout's* symbolic/ (never an installed copy).
+Like build.py, this uses *this checkout's* symbolic/ (``pip install -e .`` here; else one line and exit 2).
 """
 
 from __future__ import annotations
@@ -24,14 +24,14 @@ import sys
 import time
 from pathlib import Path
 
-from build import _bootstrap
+from build import require_checkout
 
 ROOT = Path(__file__).resolve().parent
 MD, JSON = ROOT / "docs" / "verification.md", ROOT / "docs" / "verification.json"
 
 
 def main(argv: list[str] | None = None) -> int:
-    _bootstrap()
+    require_checkout("verify.py")
     from rpo.symbolic.lyapunov import controllers
 
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)

@@ -46,6 +46,19 @@ def _copy_checkout(dst: Path) -> Path:
     return dst
 
 
+def _importing(copy: Path, env: dict | None = None) -> dict:
+    """``env`` (default: this process's) in which ``import rpo`` is the copy, as ``pip install -e .`` there
+    would make it (build.py and verify.py refuse any other rpo): ``rpo/<top>`` links on PYTHONPATH."""
+    site = copy.parent / f"{copy.name}-site"
+    (site / "rpo").mkdir(parents=True, exist_ok=True)
+    for d in ("symbolic", "runtime", "generated", "scenarios"):
+        if not (site / "rpo" / d).exists():
+            (site / "rpo" / d).symlink_to(copy / d, target_is_directory=True)
+    env = dict(os.environ if env is None else env)
+    env["PYTHONPATH"] = os.pathsep.join(p for p in (str(site), env.get("PYTHONPATH")) if p)
+    return env
+
+
 def _timed(cmd: list[str], cwd: Path, env: dict) -> tuple[float, str]:
     t0 = time.perf_counter()
     res = subprocess.run(cmd, cwd=cwd, env=env, capture_output=True, text=True, check=False)
@@ -56,8 +69,7 @@ def _timed(cmd: list[str], cwd: Path, env: dict) -> tuple[float, str]:
     return dt, res.stdout + res.stderr
 
 
-RUN_CODE = ("import sys; sys.path.insert(0, '.'); import build; build._bootstrap(); "
-            "from rpo.runtime.cli.main import main; sys.exit(main(sys.argv[1:]))")
+RUN_CODE = "import sys; from rpo.runtime.cli.main import main; sys.exit(main(sys.argv[1:]))"
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -74,7 +86,7 @@ def main(argv: list[str] | None = None) -> int:
         base = Path(tmp)
         for rep in range(args.repeat):
             work = _copy_checkout(base / f"checkout{rep}")
-            env = dict(os.environ, RPO_CACHE_DIR=str(base / f"cache{rep}"))
+            env = _importing(work, dict(os.environ, RPO_CACHE_DIR=str(base / f"cache{rep}")))
             # first run of a fresh install: committed generated/, empty cache
             dt, out = _timed([py, "-c", RUN_CODE, "run", "scenarios/000_scenario_III.toml", "--duration", "1",
                               "--no-plots", "--quiet", "--out", str(base / f"run{rep}")], work, env)

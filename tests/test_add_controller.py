@@ -8,6 +8,7 @@ sees no hand-written file changed besides the new module.
 
 from __future__ import annotations
 
+import os
 import re
 import shutil
 import subprocess
@@ -15,8 +16,8 @@ import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-RUN = ("import sys; sys.path.insert(0, '.'); import build; build._bootstrap(); "
-       "from rpo.runtime.cli.main import main; sys.exit(main(sys.argv[1:]))")
+TOPS = ("symbolic", "runtime", "generated", "scenarios")
+RUN = "import sys; from rpo.runtime.cli.main import main; sys.exit(main(sys.argv[1:]))"
 
 
 def _git(repo: Path, *args: str) -> str:
@@ -25,17 +26,29 @@ def _git(repo: Path, *args: str) -> str:
 
 
 def _checkout(repo: Path) -> Path:
-    for d in ("symbolic", "runtime", "generated", "scenarios"):
+    for d in TOPS:
         shutil.copytree(ROOT / d, repo / d, ignore=shutil.ignore_patterns("__pycache__", ".lock"))
     shutil.copy(ROOT / "build.py", repo / "build.py")
     return repo
+
+
+def _env(repo: Path) -> dict[str, str]:
+    """An environment in which ``import rpo`` is the copy ``repo``, as ``pip install -e .`` there would
+    make it (build.py refuses any other rpo): ``rpo/<top>`` links to the copy's folders, on PYTHONPATH
+    (outside the copy, which git must see unchanged)."""
+    site = repo.parent / f"{repo.name}-site"
+    for d in TOPS:
+        (site / "rpo").mkdir(parents=True, exist_ok=True)
+        (site / "rpo" / d).symlink_to(repo / d, target_is_directory=True)
+    return dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in (str(site), os.environ.get("PYTHONPATH")) if p))
 
 
 def test_controller_module_without_design_is_one_line_exit_2(tmp_path):
     repo = _checkout(tmp_path / "checkout")
     (repo / "symbolic" / "controllers" / "half_done.py").write_text('"""Not finished yet."""\n')
     before = {p.name: p.read_bytes() for p in (repo / "generated").iterdir() if p.is_file() and p.name != ".lock"}
-    res = subprocess.run([sys.executable, "build.py", "--no-compile"], cwd=repo, capture_output=True, text=True)
+    res = subprocess.run([sys.executable, "build.py", "--no-compile"], cwd=repo, env=_env(repo),
+                         capture_output=True, text=True)
     assert res.returncode == 2
     assert res.stderr.strip() == ("error: symbolic/controllers/half_done.py defines no DESIGN "
                                   "(the controller class to generate)")
@@ -54,7 +67,8 @@ def test_copy_of_baseline_is_a_new_controller(tmp_path, model):
     assert 'default=0.28)' in text
     new.write_text(text.replace('default=0.28)', 'default=0.3)'))  # one changed gain
 
-    res = subprocess.run([sys.executable, "build.py"], cwd=repo, capture_output=True, text=True)
+    env = _env(repo)
+    res = subprocess.run([sys.executable, "build.py"], cwd=repo, env=env, capture_output=True, text=True)
     assert res.returncode == 0, res.stdout + res.stderr
     assert "re-derived controller_my_pd;" in res.stdout  # nothing else was derived
     # only the new controller's files are compiled (if not cached already); the rest come from the cache
@@ -63,7 +77,7 @@ def test_copy_of_baseline_is_a_new_controller(tmp_path, model):
 
     out = tmp_path / "run"
     res = subprocess.run([sys.executable, "-c", RUN, "run", "scenarios/000_scenario_III.toml", "--controller",
-                          "my_pd", "--duration", "1", "--no-plots", "--out", str(out)], cwd=repo,
+                          "my_pd", "--duration", "1", "--no-plots", "--out", str(out)], cwd=repo, env=env,
                          capture_output=True, text=True)
     assert res.returncode == 0, res.stdout + res.stderr
     assert "controller my_pd" in res.stdout + res.stderr and (out / "timeseries.parquet").is_file()

@@ -90,6 +90,7 @@ def cli() -> None:
       rpo info
       rpo linearize scenarios/000_scenario_III.toml   (closed-loop eigenvalues at the goal)
       rpo report                       (the reproduction report: docs/reproduction.md)
+      rpo scenarios                    (the shipped scenarios; NAME --to FILE copies one to edit)
     """
 
 
@@ -510,6 +511,44 @@ def cache(prune: bool, dry_run: bool) -> int:
         n, size = prune_cache(dry_run=dry_run)
         verb = "would delete" if dry_run else "deleted"
         click.echo(f"pruned           {verb} {n} files ({size / 1e6:.1f} MB) the current generated/ does not use")
+    return 0
+
+
+@cli.command()
+@click.argument("name", required=False)
+@click.option("--to", "to", type=click.Path(path_type=str), default=None,
+              help="Copy NAME to this file (or into this folder) for editing; never overwrites a file.")
+def scenarios(name: str | None, to: str | None) -> int:
+    """The scenarios shipped with rpo: list them, or copy one out for editing.
+
+    \b
+      rpo scenarios                               (name and description of each)
+      rpo scenarios 001_scenario --to my.toml     (a copy to edit, then: rpo run my.toml)
+      rpo scenarios campaigns/000_III_mc          (where the shipped file is, to run it as it is)
+
+    A variant is copied with the files it extends, next to it.
+    """
+    from rpo.runtime.scenario import shipped
+
+    if name is None:
+        if to is not None:
+            raise click.UsageError("--to needs the NAME of the scenario to copy (`rpo scenarios` lists them)")
+        items = shipped.shipped()
+        width = max(len(s.name) for s in items)
+        click.echo(f"{'name':<{width}}  description")
+        for s in items:
+            click.echo(f"{s.name:<{width}}  {s.description}")
+        _err(f"{len(items)} shipped scenarios and campaigns in {shipped.folder()}; "
+             "copy one to edit: rpo scenarios NAME --to FILE")
+        return 0
+    if to is None:
+        click.echo(shipped.find(name).path)
+        return 0
+    for c in shipped.copy_out(name, to):
+        if not c.written:
+            _err(f"{c.path}: there already, identical to the shipped {c.source.name}")
+        else:
+            _err(f"wrote {c.path}" + ("" if c.path.name == c.source.name else f" (a copy of {c.source.name})"))
     return 0
 
 

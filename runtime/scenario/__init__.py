@@ -33,7 +33,8 @@ Modules: :mod:`.loader` (TOML and ``extends``), :mod:`.params` (the manifest's p
 entries), :mod:`.sections` (the value types and static sections), :mod:`.schema` (the scenario and
 its schema per manifest, validation), :mod:`.checks` (the checks across keys), :mod:`.initial_state`
 (to the inputs of a run), :mod:`.messages` (error text), :mod:`.reproduction` (the report's table),
-:mod:`.preflight`, :mod:`.ranges`.
+:mod:`.preflight`, :mod:`.ranges`,
+:mod:`.shipped` (the scenarios shipped with rpo, read through importlib.resources).
 
 Validation takes the typed manifest (:class:`~rpo.runtime.model.manifest.Manifest`, ``model.manifest``
 or :func:`~rpo.runtime.model.manifest.read_manifest`) explicitly; only the user-facing
@@ -46,6 +47,7 @@ from pathlib import Path
 from typing import Any
 
 from rpo.runtime.model.manifest import Manifest, read_manifest
+from rpo.runtime.scenario import shipped
 from rpo.runtime.scenario.checks import MAX_RECORD_BYTES
 from rpo.runtime.scenario.initial_state import RunInputs, run_inputs
 from rpo.runtime.scenario.loader import ScenarioSource, merge, parse_toml, read_scenario
@@ -63,14 +65,15 @@ from rpo.runtime.scenario.schema import (
 from rpo.runtime.scenario.sections import QUAT_TOL
 from rpo.runtime.scenario.units import DEG, RPM
 
-#: The scenarios of this checkout (``<repo>/scenarios``); absent in an installed copy.
-SCENARIO_DIR = Path(__file__).resolve().parents[2] / "scenarios"
+#: The shipped scenarios (package data of ``rpo.scenarios``, :mod:`.shipped`): this checkout's
+#: ``scenarios/`` after ``pip install -e .``, ``site-packages/rpo/scenarios`` otherwise.
+SCENARIO_DIR = shipped.folder()
 
 __all__ = [
     "DEG", "MAX_RECORD_BYTES", "QUAT_TOL", "RPM", "SCENARIO_DIR", "Interval", "Reproduction", "RunInputs",
     "Scenario", "ScenarioParam", "ScenarioSchema", "ScenarioSource", "apply_preset", "format_error", "load_scenario",
     "loads_scenario", "manifest_defaults", "merge", "paper_data", "parse_toml", "read_scenario", "run_inputs",
-    "scenario_model", "scenario_params", "validate_scenario",
+    "scenario_model", "scenario_params", "shipped", "validate_scenario",
 ]
 
 
@@ -97,8 +100,9 @@ def loads_scenario(text: str, source: str = "scenario", manifest: Manifest | Non
 def paper_data(name: str | Path, folder: Path | None = None) -> dict[str, Any]:
     """The table of a scenario file as written (``extends`` resolved, not validated): the one place
     a paper's gains, initial state and published values are typed, for tests and scripts to read
-    instead of retyping them.  ``name`` is a path, or a file stem in ``folder`` (default
-    :data:`SCENARIO_DIR`): ``paper_data("000_scenario_III")["orbit"]["eccentricity"]``."""
+    instead of retyping them.  ``name`` is a path, or a file stem in ``folder`` (default: the shipped
+    scenarios, :data:`SCENARIO_DIR`, in every install mode):
+    ``paper_data("000_scenario_III")["orbit"]["eccentricity"]``, ``paper_data("campaigns/000_III_mc")``."""
     path = Path(name)
     if not path.suffix:
         path = (folder or SCENARIO_DIR) / f"{name}.toml"

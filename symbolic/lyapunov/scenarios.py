@@ -1,4 +1,4 @@
-"""The papers' data, read from ``scenarios/*.toml`` (one place for each paper's gains and scenario data).
+"""The papers' data, read from the shipped ``scenarios/*.toml`` (one place for each paper's gains and scenario data).
 
 Claims that check a paper's published gains, bounds or initial state read them here instead of typing
 them again, so a scenario file and the claims about it cannot drift apart.  The files are read by rpo's
@@ -11,16 +11,13 @@ from __future__ import annotations
 
 import copy
 import functools
-from pathlib import Path
-
-SCENARIOS = Path(__file__).resolve().parents[2] / "scenarios"
 
 
 @functools.cache
 def _read(file: str) -> dict:
     from rpo.runtime.scenario import paper_data
 
-    return paper_data(SCENARIOS / file)
+    return paper_data(file.removesuffix(".toml"))  # the shipped file (rpo.scenarios, in every install mode)
 
 
 def scenario(name: str) -> dict:
