@@ -3,6 +3,8 @@
     python -m tests.structure           # a readable summary
     python -m tests.structure --json    # one JSON line with the figures (issue 23's keys)
 
+(from the repository's root; the vocabulary figures reuse the scanners of tests/test_vocabularies.py)
+
 The import graph is read from the sources (``ast``), every ``import`` and ``from ... import`` counted
 wherever it is written (a function-local import is still a dependency), except those under
 ``if TYPE_CHECKING:`` (annotations only, never executed).  ``tests/test_structure.py`` asserts on the same
@@ -21,6 +23,8 @@ from collections.abc import Iterator
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+if str(ROOT / "tests") not in sys.path:       # the vocabulary scanners live in tests/test_vocabularies.py
+    sys.path.insert(0, str(ROOT / "tests"))
 TOPS = ("symbolic", "runtime", "generated")
 
 #: The runtime's layers, lowest first, as docs/architecture.md draws them: a module may import modules of its
@@ -205,6 +209,33 @@ def hand_kept_packages(root: Path = ROOT) -> int:
     return len(pk) if isinstance(pk, list) else 0
 
 
+def vocabulary_copies() -> dict[str, list[str]]:
+    """Per vocabulary, the places in runtime/ that spell its names outside the module that declares it
+    (the scanners of tests/test_vocabularies.py): an empty list is a vocabulary declared once."""
+    import test_vocabularies as tv
+
+    from rpo.runtime.campaign.dispersions import DISTRIBUTIONS
+    from rpo.runtime.formats import FIGURE_FORMATS, OUTPUT_FORMATS
+    from rpo.runtime.model.manifest import read_manifest
+
+    kinds = set(read_manifest().faults.kinds)
+    return {"output formats": tv._literal_uses(set(OUTPUT_FORMATS), tv.FORMATS_PY),
+            "figure formats": tv._literal_uses(set(FIGURE_FORMATS), tv.FORMATS_PY),
+            # a distribution's name may be a word of another vocabulary (a parameter's kind "inertia"):
+            # a second copy is a module listing them all, or a switch on a name
+            "distributions": files_naming_every(set(DISTRIBUTIONS), exclude=tv.DISPERSIONS_PY)
+            + [f"{rel}: {c}" for rel, tree in tv.SOURCES.items() for c in tv._switches_on_dist(tree)],
+            "fault kinds": tv._literal_uses(kinds, tv.FAULT_STUDY)}
+
+
+def files_naming_every(names: set[str], exclude: str = "") -> list[str]:
+    """The runtime modules that spell every one of ``names``: where a new name would have to be added."""
+    import test_vocabularies as tv
+
+    return sorted(rel for rel, tree in tv.SOURCES.items()
+                  if rel != exclude and names <= {c.value for c in tv._strings(tree)})
+
+
 def figures(root: Path = ROOT) -> dict:
     g = graph(root)
     lines = module_lines("runtime", root)
@@ -213,7 +244,19 @@ def figures(root: Path = ROOT) -> dict:
             "largest_runtime_module_lines": largest[1], "largest_runtime_module": largest[0],
             "runtime_modules_over_600_without_reason": len(oversized(root)),
             "manifest_subscripts_outside_model": len(manifest_subscripts(root)),
-            "hand_kept_package_entries": hand_kept_packages(root)}
+            "hand_kept_package_entries": hand_kept_packages(root), **_vocabulary_figures()}
+
+
+def _vocabulary_figures() -> dict:
+    from rpo.runtime.formats import OUTPUT_FORMATS
+    from rpo.runtime.model.manifest import read_manifest
+
+    copies = vocabulary_copies()
+    kinds = set(read_manifest().faults.kinds)
+    in_runtime = files_naming_every(kinds)
+    return {"vocabularies_defined_twice": sum(bool(v) for v in copies.values()),
+            "files_to_add_fault_kind": "symbolic + docs" if not in_runtime else f"symbolic + docs + {in_runtime}",
+            "files_to_add_output_format": len(files_naming_every(set(OUTPUT_FORMATS)))}
 
 
 def main(argv: list[str] | None = None) -> int:

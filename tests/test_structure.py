@@ -52,3 +52,17 @@ def test_a_type_checking_import_is_not_a_dependency(tmp_path):
         (tmp_path / top).mkdir()
     g = structure.graph(tmp_path)
     assert g["rpo.runtime.a"] == {"rpo.runtime.c"}
+
+
+def test_no_runtime_module_is_oversized_and_no_package_is_listed_by_hand():
+    assert structure.oversized() == [], "a runtime module over 600 lines says no reason (# size: ...)"
+    assert structure.hand_kept_packages() == 0, "pyproject.toml lists packages by hand: setup.py discovers them"
+
+
+def test_each_vocabulary_is_declared_once_and_an_output_format_is_added_in_one_module():
+    copies = structure.vocabulary_copies()
+    assert set(copies) == {"output formats", "figure formats", "distributions", "fault kinds"}
+    assert all(v == [] for v in copies.values()), copies
+    from rpo.runtime.formats import OUTPUT_FORMATS
+
+    assert structure.files_naming_every(set(OUTPUT_FORMATS)) == ["runtime/formats.py"]
