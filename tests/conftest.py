@@ -3,9 +3,14 @@
 from __future__ import annotations
 
 import functools
+import os
+from pathlib import Path
 
 import numpy as np
 import pytest
+
+# the certificates are data of the checkout (docs/), not of the package: an installed copy finds them here
+os.environ.setdefault("RPO_CERTIFICATES", str(Path(__file__).resolve().parents[1] / "docs" / "certificates"))
 
 from rpo.runtime import load_model
 from rpo.runtime.scenario import paper_data

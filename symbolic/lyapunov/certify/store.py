@@ -11,7 +11,9 @@ from pathlib import Path
 from .recheck import CheckError
 
 ROOT = Path(__file__).resolve().parents[3]
-STORE = ROOT / "docs" / "certificates"
+#: The committed certificates: the checkout's docs/certificates.  An installed copy (pip install .) has no
+#: docs/: RPO_CERTIFICATES names the folder (tests/conftest.py points it at the checkout running the tests).
+STORE = Path(os.environ.get("RPO_CERTIFICATES") or ROOT / "docs" / "certificates")
 
 
 def path_for(claim_id: str, tag: str, store: Path = STORE) -> Path:
