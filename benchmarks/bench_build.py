@@ -35,6 +35,9 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "tests"))
+from checkout_copy import importing  # noqa: E402  (tests/checkout_copy.py)
+
 EDIT_FILE = "symbolic/controllers/c000.py"
 EDIT_FROM = '"lambda_0 of the attitude surfaces (eqs. 53, 79, 80)", default=0.2)'
 
@@ -44,19 +47,6 @@ def _copy_checkout(dst: Path) -> Path:
         shutil.copytree(ROOT / d, dst / d, ignore=shutil.ignore_patterns("__pycache__", ".lock", "*.so"))
     shutil.copy(ROOT / "build.py", dst / "build.py")
     return dst
-
-
-def _importing(copy: Path, env: dict | None = None) -> dict:
-    """``env`` (default: this process's) in which ``import rpo`` is the copy, as ``pip install -e .`` there
-    would make it (build.py and verify.py refuse any other rpo): ``rpo/<top>`` links on PYTHONPATH."""
-    site = copy.parent / f"{copy.name}-site"
-    (site / "rpo").mkdir(parents=True, exist_ok=True)
-    for d in ("symbolic", "runtime", "generated", "scenarios"):
-        if not (site / "rpo" / d).exists():
-            (site / "rpo" / d).symlink_to(copy / d, target_is_directory=True)
-    env = dict(os.environ if env is None else env)
-    env["PYTHONPATH"] = os.pathsep.join(p for p in (str(site), env.get("PYTHONPATH")) if p)
-    return env
 
 
 def _timed(cmd: list[str], cwd: Path, env: dict) -> tuple[float, str]:
@@ -86,7 +76,7 @@ def main(argv: list[str] | None = None) -> int:
         base = Path(tmp)
         for rep in range(args.repeat):
             work = _copy_checkout(base / f"checkout{rep}")
-            env = _importing(work, dict(os.environ, RPO_CACHE_DIR=str(base / f"cache{rep}")))
+            env = importing(work, dict(os.environ, RPO_CACHE_DIR=str(base / f"cache{rep}")))
             # first run of a fresh install: committed generated/, empty cache
             dt, out = _timed([py, "-c", RUN_CODE, "run", "scenarios/000_scenario_III.toml", "--duration", "1",
                               "--no-plots", "--quiet", "--out", str(base / f"run{rep}")], work, env)

@@ -24,7 +24,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import re
 import shutil
 import subprocess
@@ -34,6 +33,8 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "tests"))
+from checkout_copy import importing  # noqa: E402  (tests/checkout_copy.py)
 
 
 def _copy(dst: Path) -> Path:
@@ -44,22 +45,9 @@ def _copy(dst: Path) -> Path:
     return dst
 
 
-def _importing(copy: Path, env: dict | None = None) -> dict:
-    """``env`` (default: this process's) in which ``import rpo`` is the copy, as ``pip install -e .`` there
-    would make it (build.py and verify.py refuse any other rpo): ``rpo/<top>`` links on PYTHONPATH."""
-    site = copy.parent / f"{copy.name}-site"
-    (site / "rpo").mkdir(parents=True, exist_ok=True)
-    for d in ("symbolic", "runtime", "generated", "scenarios"):
-        if not (site / "rpo" / d).exists():
-            (site / "rpo" / d).symlink_to(copy / d, target_is_directory=True)
-    env = dict(os.environ if env is None else env)
-    env["PYTHONPATH"] = os.pathsep.join(p for p in (str(site), env.get("PYTHONPATH")) if p)
-    return env
-
-
 def _run(cmd: list[str], cwd: Path) -> tuple[float, str, int]:
     t0 = time.perf_counter()
-    res = subprocess.run(cmd, cwd=cwd, env=_importing(cwd), capture_output=True, text=True, check=False)
+    res = subprocess.run(cmd, cwd=cwd, env=importing(cwd), capture_output=True, text=True, check=False)
     return time.perf_counter() - t0, res.stdout + res.stderr, res.returncode
 
 

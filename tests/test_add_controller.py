@@ -8,15 +8,15 @@ sees no hand-written file changed besides the new module.
 
 from __future__ import annotations
 
-import os
 import re
 import shutil
 import subprocess
 import sys
 from pathlib import Path
 
+from checkout_copy import TOPS, importing
+
 ROOT = Path(__file__).resolve().parents[1]
-TOPS = ("symbolic", "runtime", "generated", "scenarios")
 RUN = "import sys; from rpo.runtime.cli.main import main; sys.exit(main(sys.argv[1:]))"
 
 
@@ -33,14 +33,8 @@ def _checkout(repo: Path) -> Path:
 
 
 def _env(repo: Path) -> dict[str, str]:
-    """An environment in which ``import rpo`` is the copy ``repo``, as ``pip install -e .`` there would
-    make it (build.py refuses any other rpo): ``rpo/<top>`` links to the copy's folders, on PYTHONPATH
-    (outside the copy, which git must see unchanged)."""
-    site = repo.parent / f"{repo.name}-site"
-    for d in TOPS:
-        (site / "rpo").mkdir(parents=True, exist_ok=True)
-        (site / "rpo" / d).symlink_to(repo / d, target_is_directory=True)
-    return dict(os.environ, PYTHONPATH=os.pathsep.join(p for p in (str(site), os.environ.get("PYTHONPATH")) if p))
+    """An environment in which ``import rpo`` is the copy ``repo`` (tests/checkout_copy.py)."""
+    return importing(repo)
 
 
 def test_controller_module_without_design_is_one_line_exit_2(tmp_path):
