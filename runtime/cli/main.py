@@ -495,26 +495,6 @@ def choices(folder: Path, target: Path | None, check: Path | None) -> int:
 
 
 @cli.command()
-@click.option("--prune", is_flag=True, help="Delete the objects and libraries the current generated/ does not use.")
-@click.option("--dry-run", is_flag=True, help="With --prune: only say what would be deleted.")
-def cache(prune: bool, dry_run: bool) -> int:
-    """The compile cache ($RPO_CACHE_DIR, else ~/.cache/rpo): where it is and how large; --prune."""
-    from rpo.runtime.model.cache import cache_dir
-    from rpo.runtime.model.library import prune_cache
-
-    root = cache_dir()
-    files = [f for f in root.rglob("*") if f.is_file() and not f.name.startswith(".")] if root.is_dir() else []
-    total = sum(f.stat().st_size for f in files)
-    libs = sum(1 for f in files if f.suffix == ".so")
-    click.echo(f"cache            {root}: {len(files) - libs} objects, {libs} libraries, {total / 1e6:.1f} MB")
-    if prune:
-        n, size = prune_cache(dry_run=dry_run)
-        verb = "would delete" if dry_run else "deleted"
-        click.echo(f"pruned           {verb} {n} files ({size / 1e6:.1f} MB) the current generated/ does not use")
-    return 0
-
-
-@cli.command()
 @click.argument("name", required=False)
 @click.option("--to", "to", type=click.Path(path_type=str), default=None,
               help="Copy NAME to this file (or into this folder) for editing; never overwrites a file.")
@@ -582,7 +562,10 @@ def main(argv: list[str] | None = None) -> int:
 
 def _register() -> None:
     from rpo.runtime.cli.campaign import mc
+    from rpo.runtime.cli.compile import build_cmd, cache
     cli.add_command(mc)
+    cli.add_command(build_cmd)
+    cli.add_command(cache)
 
 
 _register()

@@ -66,6 +66,9 @@ def packed_run_inputs(sc: Scenario, model: Model) -> tuple[RunInputs, np.ndarray
     gains = sc.gains()
     try:
         p = model.vector("p", params)
+        # what the run will call, compiled together (one compile on every core, not one per call)
+        ctrl = model.manifest.controllers.get(sc.simulation.controller)
+        model.prepare(["target_orbit", "env_outputs", "measure", *((ctrl.step, ctrl.xc0 or "") if ctrl else ())], p)
         orbit = model.functions["target_orbit"](0.0, p)
     except KeyError as exc:
         raise ModelError(f"the generated model has no function {exc}: run `python build.py`") from exc
