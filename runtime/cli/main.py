@@ -94,6 +94,21 @@ def cli() -> None:
     """
 
 
+#: ``--set KEY=VALUE`` (runtime/scenario/overrides.py), on every command that reads a scenario
+_SET = click.option("--set", "sets", multiple=True, metavar="KEY=VALUE",
+                    help="Change one value of the scenario (repeatable), validated as if written in the file: "
+                         "--set chaser.mass=90.0 --set relative.position=[60,0,25].")
+
+
+def _source(scenario: str, sets: tuple[str, ...]) -> Any:
+    """SCENARIO as a path, or (with --set) as read and changed: runtime/scenario/overrides.py."""
+    if not sets:
+        return scenario
+    from rpo.runtime.scenario import read_scenario
+    from rpo.runtime.scenario.overrides import parse_sets, with_sets
+    return with_sets(read_scenario(scenario), parse_sets(sets))
+
+
 @cli.command()
 @click.argument("scenario", type=click.Path(dir_okay=False, path_type=str), required=False)
 @click.option("--out", "out", type=click.Path(file_okay=False, path_type=str), default=None,
@@ -118,9 +133,10 @@ def cli() -> None:
 @click.option("--no-plots", is_flag=True, help="Do not write the figures.")
 @click.option("--quiet", "-q", is_flag=True,
               help="Print only errors and the divergence message (the verdict is still in metrics.json, run.json).")
+@_SET
 def run(scenario: str | None, out: str | None, campaign: Path | None, case: int | None, duration: float | None,
         seed: int | None, controller: str | None, plant: str | None, backend: str, formats: tuple[str, ...] | None,
-        figure_format: str | None, no_plots: bool, quiet: bool) -> int:
+        figure_format: str | None, no_plots: bool, quiet: bool, sets: tuple[str, ...]) -> int:
     """Simulate SCENARIO (a TOML file) and write the results into a new folder.
 
     The folder gets timeseries.parquet (and the other --format files), metrics.json, run.json, a
@@ -137,7 +153,7 @@ def run(scenario: str | None, out: str | None, campaign: Path | None, case: int 
         if scenario is not None or campaign is None or case is None:
             raise click.UsageError("give either SCENARIO, or --campaign DIR with --case N")
         given = [n for n, v in (("--duration", duration), ("--seed", seed), ("--controller", controller),
-                                ("--plant", plant)) if v is not None]
+                                ("--plant", plant), ("--set", sets or None)) if v is not None]
         if given:
             raise click.UsageError(f"{', '.join(given)}: not with --campaign (the case would not be the campaign's "
                                    "run; edit the campaign file instead)")
@@ -155,7 +171,7 @@ def run(scenario: str | None, out: str | None, campaign: Path | None, case: int 
         loaded.append(_load_model(backend, quiet, controllers=[controller]))
         return loaded[0]
 
-    source: Any = scenario
+    source: Any = _source(scenario, sets) if scenario is not None else None
     camp = None
     if campaign is not None:
         from rpo.runtime.campaign.replay import case_scenario
@@ -286,7 +302,8 @@ def report(run_list: str, out_base: str, md_path: str, json_path: str, notes_pat
 @click.argument("scenario", type=click.Path(dir_okay=False, path_type=str))
 @click.option("--backend", type=BACKENDS, default="auto", show_default=True,
               help="Model backend used to compute the initial state.")
-def validate(scenario: str, backend: str) -> int:
+@_SET
+def validate(scenario: str, backend: str, sets: tuple[str, ...]) -> int:
     """Check SCENARIO without running it and print what it sets.
 
     Makes every check `rpo run` makes before its first step (the same function: the schema and
@@ -299,7 +316,7 @@ def validate(scenario: str, backend: str) -> int:
     from rpo.runtime.run.preflight import preflight
     from rpo.runtime.scenario import load_scenario
 
-    sc = load_scenario(scenario, read_manifest())
+    sc = load_scenario(_source(scenario, sets), read_manifest())
     model = _load_model(backend, quiet=True)
     pre = preflight(sc, model)  # every check `rpo run` makes before its first step, by the same function
     inputs = pre.inputs
@@ -373,7 +390,9 @@ def _fmt(v) -> str:
               help="goal: the state the controller regulates to (its q_err, rate_err, pos_err, vel_err zero); "
                    "initial: the scenario's initial state.")
 @click.option("--json", "as_json", is_flag=True, help="Print the linearisation (A, labels, groups, modes) as JSON.")
-def linearize(scenario: str, controller: str | None, plant: str | None, at: str, as_json: bool) -> int:
+@_SET
+def linearize(scenario: str, controller: str | None, plant: str | None, at: str, as_json: bool,
+              sets: tuple[str, ...]) -> int:
     """Eigenvalues of SCENARIO's closed-loop step linearised at its goal (or initial state).
 
     The step's Jacobian is CasADi AD of the generated step_<controller>, in reduced coordinates
@@ -386,8 +405,9 @@ def linearize(scenario: str, controller: str | None, plant: str | None, at: str,
     from rpo.runtime.run.linearize import format_report, linearize_scenario
     from rpo.runtime.scenario import load_scenario
 
-    load_scenario(scenario, read_manifest())  # a bad file fails before anything is compiled
-    res = linearize_scenario(scenario, model=None, controller=controller, plant=plant, at=at, log=_loader(False))
+    source = _source(scenario, sets)
+    load_scenario(source, read_manifest())  # a bad file fails before anything is compiled
+    res = linearize_scenario(source, model=None, controller=controller, plant=plant, at=at, log=_loader(False))
     if as_json:
         out = {"scenario": res.scenario, "at": res.at, "plant": res.plant, **res.lin.to_json(),
                "z": res.lin.z.tolist(), "z_labels": res.lin.coords.z_labels}
