@@ -101,7 +101,7 @@ def test_table1_nominal_estimates_are_the_true_ratios():
     keep = np.setdiff1d(np.arange(ctrl.xc.size), orbit_terms)
     assert np.allclose(got[keep], dflt[keep], rtol=1e-12)  # orbit terms: defaults 0, xc0 = m0 theta(0)
     assert got[off["theta_xx"][0] + 3] == pytest.approx(100 * MU / 4.2164e7**3)
-    # Euler coefficients of I_t (SPEC: 0.228, -0.287, 0.0627) appear as a_j4..6 = -(...)
+    # Euler coefficients of I_t (0.228, -0.287, 0.0627; paper 000 prints 0.23, -29, 0.063) are a_j4..6 = -(...)
     a, _, _ = C.table1_attitude_axis(0, C.I_C_NOM, C.I_T_NOM, *[sp.zeros(3, 1)] * 3, sp.eye(3), sp.zeros(3, 1))
     assert np.allclose([float(x) for x in a[3:]], [0.2281, -0.2867, 0.0627], atol=1e-4)
 
