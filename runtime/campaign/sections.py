@@ -21,6 +21,7 @@ from rpo.runtime.campaign.folder import (
     CampaignFolder,
 )
 from rpo.runtime.campaign.storage import read_histories, read_rows
+from rpo.runtime.outputs.verdict import CONSTRAINT_RULE, declared_constraints
 
 # --------------------------------------------------------------------------- formatting
 
@@ -317,7 +318,7 @@ def failure_rate_lines(x: ReportContext) -> list[str]:
     L += ["## Failure rates", "",
           f"Over the {n_flown} flown runs (ok + diverged); invalid draws and worker errors over the {n_done} "
           f"done cases. Exact Clopper-Pearson intervals: the two-sided {conf_pct} interval, and the one-sided "
-          f"upper bound (the rate is at most this with {conf_pct} confidence).", ""]
+          f"upper bound (the rate is at most this with {conf_pct} confidence).", "", *_constraint_rule(c), ""]
     events: list[tuple[str, tuple[int, int] | None]] = [
         ("failed", _flag_count(c, "failed", flown)),
         ("attitude not settled", _not_settled(c, "att_settling_time_s", "att_reached", flown)),
@@ -343,6 +344,22 @@ def failure_rate_lines(x: ReportContext) -> list[str]:
         L.append("No case done.")
     L.append("")
     return L
+
+
+def _constraint_rule(c: CampaignFolder) -> list[str]:
+    """What "constraint violated" and "failed" count, in words: the verdict's rule, and which
+    constraints this campaign's scenario declares (from ``resolved.json``)."""
+    scenario = c.resolved.get("scenario")
+    if isinstance(scenario, dict):
+        names = declared_constraints(scenario)
+        declared = (f"this campaign's scenario declares {', '.join(f'`{n}`' for n in names)}" if names else
+                    "this campaign's scenario declares none, so a violated constraint is counted but fails no run")
+    else:
+        declared = "which constraints the scenario declares is not recorded in this folder"
+    return [f"`constraint violated` counts the runs whose verdict names a violated constraint (the rule of "
+            f"`rpo run`'s verdict, docs/verdict.md): {CONSTRAINT_RULE}. `failed` counts the runs that diverged, "
+            f"missed a measured goal, or violated a constraint their scenario declares in `[constraints]`: "
+            f"{declared}."]
 
 
 def wilks_lines(x: ReportContext) -> list[str]:
