@@ -47,6 +47,11 @@ Measured reasons (each a fraction of the run ``[t_0, t_end]``, sample i held ove
 
 Saturation is checked before constraints because it is the physical limit that stops a law from
 doing what it asks; a constraint violation says where the path went, not why the goal was missed.
+
+Units (``docs/verdict.md``, the JSON rule of :mod:`rpo.runtime.outputs.jsonunits`): SI, a key's unit
+in its name (``time_s``, ``min_t_s``, ``final_deg``; ``fraction`` and ``*_fraction`` are fractions of
+the run) or, where it differs from entry to entry, in the ``units`` object beside it (a goal's
+``final``: rad or m; a constraint's ``min``: m or m^2).
 """
 
 from __future__ import annotations
@@ -91,6 +96,9 @@ CONSTRAINTS = {"env_beta_fov": ("beta_fov", "camera field of view", "m"),
 CONSTRAINT_RULE = ("a constraint is violated when its margin (beta_fov [m], the camera cone; beta_ca [m^2], the "
                    "envelope spheres) is below 0 at some recorded sample; both are evaluated for every run, "
                    "whether or not its scenario declares them in [constraints]")
+#: the SI unit of each goal's error (``final``) and the factor of the degrees the text shows
+GOAL_UNITS = {"att": "rad", "pos": "m"}
+DEG = 180.0 / np.pi
 
 
 def violated_constraints(con: Mapping[str, Mapping[str, Any]], only: Iterable[str] | None = None) -> list[str]:
@@ -216,9 +224,9 @@ def _constraints(t: np.ndarray, columns: Mapping[str, Any], w: np.ndarray, span:
         else:
             continue
         violated = bool(bad.any())
-        out[name] = {"what": what, "unit": unit, "violated_fraction": held_fraction(w, span, bad),
+        out[name] = {"what": what, "violated_fraction": held_fraction(w, span, bad),
                      "violated": violated, "first_violated_t_s": float(t[np.argmax(bad)]) if violated else None,
-                     "min": float(x[i]), "min_t_s": float(t[i])}
+                     "min": float(x[i]), "min_t_s": float(t[i]), "units": {"min": unit}}
     return out
 
 
@@ -241,17 +249,18 @@ def verdict(metrics: Mapping[str, Any], t: ArrayLike, columns: Mapping[str, Any]
     sat = _saturation(columns, params, w, span)
     con = _constraints(t, columns, w, span)
     th = metrics.get("thresholds", {})
-    deg = 180.0 / np.pi
     limits = {"att": f"< {th.get('att_deg', 1.0):g} deg", "pos": f"< {th.get('pos_m', 0.5):g} m"}
     goals: dict[str, dict] = {}
     parts: list[str] = []
     for q, name in GOALS.items():
         unit_key = "att_err_final_rad" if q == "att" else "pos_err_final_m"
         final = metrics.get(unit_key)
-        final_text = "-" if final is None else (f"{final * deg:.4g} deg" if q == "att" else f"{final:.4g} m")
+        final_text = "-" if final is None else (f"{final * DEG:.4g} deg" if q == "att" else f"{final:.4g} m")
         settle = metrics.get(f"{q}_settling_time_s")
         g: dict[str, Any] = {"goal": f"{name} error {limits[q]}", "reached": None, "time_s": None,
-                             "final": final, "reason": None, "reason_kind": None}
+                             "final": final, "reason": None, "reason_kind": None, "units": {"final": GOAL_UNITS[q]}}
+        if q == "att":  # the degrees the line shows, beside the SI value
+            g["final_deg"] = None if final is None else final * DEG
         goals[q] = g
         if final is None:
             g["reason"] = "not measured: the controller logs no such error"
@@ -269,7 +278,7 @@ def verdict(metrics: Mapping[str, Any], t: ArrayLike, columns: Mapping[str, Any]
     if violated:
         parts.append("constraints violated: " + ", ".join(
             f"{n} < 0 for {_pct(con[n]['violated_fraction'] or 0.0)} of the run (min {con[n]['min']:.4g} "
-            f"{con[n]['unit']} at {con[n]['min_t_s']:.4g} s)" for n in violated))
+            f"{con[n]['units']['min']} at {con[n]['min_t_s']:.4g} s)" for n in violated))
     elif con:
         parts.append("constraints held")
     active = [] if faults is None else active_faults(faults, params or {}, float(t[-1]) if t.size else 0.0)
@@ -285,7 +294,8 @@ def verdict(metrics: Mapping[str, Any], t: ArrayLike, columns: Mapping[str, Any]
     return {"status": status, "goals": goals, "saturation": sat, "constraints": con,
             "faults": [{"time_s": t_f, "fault": label} for t_f, label in active],
             "divergence": None if divergence is None else divergence.message(),
-            "saturation_min": SATURATION_MIN, "line": f"verdict: {status}: " + "; ".join(parts)}
+            "saturation_min": SATURATION_MIN, "units": {"saturation_min": "-"},
+            "line": f"verdict: {status}: " + "; ".join(parts)}
 
 
 def _main_reason(q: str, sat: dict[str, dict], con: dict[str, dict], divergence: Any,

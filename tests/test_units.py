@@ -1,0 +1,93 @@
+"""Units in every output: each number of run.json and metrics.json has its unit (the rule of
+runtime/outputs/jsonunits.py), the verdict's error in SI beside its degrees."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import pytest
+
+from rpo.runtime.jobs.runner import execute_run
+from rpo.runtime.outputs.jsonunits import number_units, suffix_unit, without_units
+
+ROOT = Path(__file__).resolve().parents[1]
+SCENARIOS = ROOT / "scenarios"
+
+
+@pytest.fixture(scope="module")
+def folders(model, tmp_path_factory):
+    """Three results folders: 001 (ideal actuators, errors at given times, every format), 000 III on
+    the full plant (wheels and thrusters: per-unit use) and 002 with the paper's gains (diverges)."""
+    tmp = tmp_path_factory.mktemp("units")
+    a = execute_run(SCENARIOS / "001_scenario.toml", tmp / "a", model, duration=3.0, plots=False,
+                    error_times=[1.0, 2.5], formats=["parquet", "mat", "npz", "csv"])
+    b = execute_run(SCENARIOS / "000_scenario_III.toml", tmp / "b", model, duration=2.0, plots=False, plant="full")
+    c = execute_run(SCENARIOS / "002_scenario.toml", tmp / "c", model, duration=2.0, plots=False)
+    assert c.result.divergence is not None
+    return {"001": a, "III": b, "002": c}
+
+
+def load(outcome, name):
+    return json.loads((outcome.out_dir / name).read_text())
+
+
+# --------------------------------------------------------------------------- the JSON rule
+
+
+@pytest.mark.parametrize("run", ["001", "III", "002"])
+@pytest.mark.parametrize("name", ["run.json", "metrics.json"])
+def test_every_number_in_the_json_files_has_a_unit(folders, run, name):
+    doc = load(folders[run], name)
+    found = list(number_units(doc))
+    assert len(found) > 30  # the walk sees the numbers (parameters, metrics, the verdict...)
+    assert without_units(doc) == [], f"{run} {name}: numbers without a unit"
+
+
+def test_the_rule_reads_each_way_of_stating_a_unit_and_sees_a_number_without_one():
+    doc = {"time_s": 1.0, "n": 3.5, "steps_done": 4, "fraction": 0.5, "x": "inf",
+           "params": {"mu": 3.9e14, "q": [0, 0, 0, 1]}, "units": {"params": {"mu": "m^3/s^2", "q": "-"}},
+           "goal": {"final": 2.0, "final_deg": 114.6, "units": {"final": "rad"}},
+           "z0": [1.0, 2.0], "rows": [{"torque_peak_N_m": 0.1}]}
+    got = {p: u for p, _, u in number_units(doc)}
+    assert got["time_s"] == "s" and got["steps_done"] == "-" and got["fraction"] == "-"
+    assert got["params.mu"] == "m^3/s^2" and got["params.q[3]"] == "-"
+    assert got["goal.final"] == "rad" and got["goal.final_deg"] == "deg" and got["rows[0].torque_peak_N_m"] == "N m"
+    # a number without a unit is reported, the text "inf" counts as a number
+    assert without_units(doc) == ["n", "x", "z0[0]", "z0[1]"]
+    assert suffix_unit("wheel_speed_peak_rad_s") == "rad/s" and suffix_unit("beta_ca_min_m2") == "m^2"
+    assert suffix_unit("controller") is None
+
+
+def test_units_of_run_json_are_those_of_the_model_and_the_columns(folders, model):
+    rec = load(folders["001"], "run.json")
+    units = rec["units"]  # one object at the top, mirroring the record
+    assert units["dt"] == units["t_end"] == "s"
+    p_units = {f.name: f.unit for f in model.layouts["p"]}
+    assert units["inputs"]["params"] == {k: p_units[k] for k in rec["inputs"]["params"]}
+    assert units["inputs"]["params"]["orbit_inc"] == "rad"  # the scenario gives degrees: SI here
+    assert units["inputs"]["plant"]["r"] == "m" and units["inputs"]["gains"]["F_max"] == "N"
+    assert "units" not in rec["inputs"]  # the objects themselves are as the runner made them
+    res = folders["001"].result
+    assert units["z0"] == res.z_units and len(rec["z0"]) == len(res.z_units)
+    rec = load(folders["002"], "run.json")
+    div, units = rec["divergence"], rec["units"]["divergence"]
+    assert units["value"] == units["state"].get(div["label"], units["output"].get(div["label"]))
+    assert units["time"] == "s"
+
+
+def test_verdict_json_final_in_si_with_its_unit_and_the_degrees_the_line_shows(folders):
+    v = load(folders["001"], "metrics.json")["verdict"]
+    att, pos = v["goals"]["att"], v["goals"]["pos"]
+    assert att["units"] == {"final": "rad"} and pos["units"] == {"final": "m"}
+    assert att["final_deg"] == pytest.approx(math.degrees(att["final"]), rel=1e-15)
+    assert f"final {att['final_deg']:.4g} deg" in v["line"]  # what the line shows is final_deg
+    assert 0 <= att["final"] <= math.pi  # an angle in rad, not in deg
+    assert v["constraints"]["beta_fov"]["units"] == {"min": "m"} and v["constraints"]["beta_ca"]["units"] == {
+        "min": "m^2"}
+    assert "unit" not in v["constraints"]["beta_fov"]  # one way of stating a unit: the units object
+    m = load(folders["III"], "metrics.json")
+    assert m["per_wheel"][0]["wheel"] == "1" and "unit" not in m["per_wheel"][0]  # "unit" named a wheel
+    assert all("units" in e and e["units"]["diag"] for e in load(folders["001"], "metrics.json")["errors_at"])
+
