@@ -61,11 +61,18 @@ class Column:
 @dataclass
 class Table:
     """What a writer writes: ``columns`` (``t`` first, then ``z_count`` state columns, then the
-    outputs) and the run record as JSON (``metadata``), stored in the file where the format can."""
+    outputs) and the run record as JSON (``metadata``), stored in the file where the format can;
+    ``frame_attrs``: the pandas ``DataFrame.attrs`` of the table as JSON (units, fields, the run),
+    which the Parquet file carries where ``pandas.read_parquet`` restores them from."""
 
     columns: Sequence[Column]
     metadata: str
     z_count: int
+    frame_attrs: str = ""
+
+
+#: The Parquet schema metadata key pandas (>= 2.1) writes ``df.attrs`` to and restores them from.
+PANDAS_ATTRS = "PANDAS_ATTRS"
 
 
 # --------------------------------------------------------------------------- writers
@@ -79,7 +86,10 @@ def write_parquet(path: Path, table: Table) -> None:
     fields = [pa.field(c.label, pa.float64(), nullable=False, metadata={
         "unit": c.unit, "layout": c.layout, "field": c.field, "doc": c.doc}) for c in cols]
     units = json.dumps({c.label: c.unit for c in cols})
-    schema = pa.schema(fields, metadata={"rpo.run": table.metadata, "rpo.units": units})
+    meta = {"rpo.run": table.metadata, "rpo.units": units}
+    if table.frame_attrs:
+        meta[PANDAS_ATTRS] = table.frame_attrs
+    schema = pa.schema(fields, metadata=meta)
     arrow = pa.Table.from_arrays([pa.array(c.data, pa.float64()) for c in cols], schema=schema)
     pq.write_table(arrow, path, compression="zstd", use_dictionary=False,
                    column_encoding={c.label: "BYTE_STREAM_SPLIT" for c in cols})
@@ -164,8 +174,9 @@ OUTPUT_FORMATS: dict[str, OutputFormat] = {f.name: f for f in (
     OutputFormat("parquet", "parquet", default=True, write=write_parquet, holds=(
         "one table: `t` [s], the chosen z columns, then the chosen y columns, float64, zstd-compressed "
         "(byte-stream-split encoding: lossless); each field's metadata holds `unit`, `layout` "
-        "(`z_<ctrl>`/`y_<ctrl>`), `field` and `doc`, the file's metadata `rpo.run` (the run record) and "
-        "`rpo.units` (label -> unit). pandas, polars, pyarrow, DuckDB, R's arrow and MATLAB's "
+        "(`z_<ctrl>`/`y_<ctrl>`), `field` and `doc`, the file's metadata `rpo.run` (the run record), "
+        "`rpo.units` (label -> unit) and `PANDAS_ATTRS` (what `pandas.read_parquet` restores as `df.attrs`: "
+        "`units`, `fields`, `run`). pandas, polars, pyarrow, DuckDB, R's arrow and MATLAB's "
         "`parquetread` open it")),
     OutputFormat("mat", "mat", note="MATLAB", write=write_mat, holds=(
         "MATLAB v5 (`scipy.io.savemat`): one column vector per column, named by its label (an invalid "

@@ -1,14 +1,17 @@
 """Units in every output: each number of run.json and metrics.json has its unit (the rule of
-runtime/outputs/jsonunits.py), the verdict's error in SI beside its degrees."""
+runtime/outputs/jsonunits.py), the verdict's error in SI beside its degrees, pandas' attrs from the
+Parquet file and from RunResult.to_pandas()."""
 
 from __future__ import annotations
 
 import json
 import math
+import sys
 from pathlib import Path
 
 import pytest
 
+from rpo.runtime.errors import ModelError
 from rpo.runtime.jobs.runner import execute_run
 from rpo.runtime.outputs.jsonunits import number_units, suffix_unit, without_units
 
@@ -91,3 +94,39 @@ def test_verdict_json_final_in_si_with_its_unit_and_the_degrees_the_line_shows(f
     assert m["per_wheel"][0]["wheel"] == "1" and "unit" not in m["per_wheel"][0]  # "unit" named a wheel
     assert all("units" in e and e["units"]["diag"] for e in load(folders["001"], "metrics.json")["errors_at"])
 
+
+# --------------------------------------------------------------------------- pandas
+
+
+def test_read_parquet_gives_the_units_in_df_attrs(folders):
+    pd = pytest.importorskip("pandas")
+    import pyarrow.parquet as pq
+
+    out = folders["001"].out_dir
+    df = pd.read_parquet(out / "timeseries.parquet")
+    schema = pq.read_schema(out / "timeseries.parquet")
+    assert df.attrs, "pd.read_parquet gave empty attrs"
+    assert df.attrs["units"] == {c: schema.field(c).metadata[b"unit"].decode() for c in df.columns}
+    assert df.attrs["units"]["r_x"] == "m" and df.attrs["units"]["t"] == "s" and df.attrs["units"]["w_c_x"] == "rad/s"
+    assert df.attrs["fields"]["r"] == ["r_x", "r_y", "r_z"]
+    assert df.attrs["run"]["controller"] == "c001" and df.attrs["run"]["units"] == {"dt": "s", "t_end": "s"}
+    assert df["r_x"].attrs["units"]["r_x"] == "m"  # a column taken from the frame keeps the frame's attrs
+
+
+def test_to_pandas_of_the_run_has_the_attrs_of_its_parquet_file(folders):
+    pd = pytest.importorskip("pandas")
+    o = folders["001"]
+    ref = pd.read_parquet(o.out_dir / "timeseries.parquet")
+    mem = o.result.to_pandas()  # the in-memory result: every column (the file has the chosen ones)
+    assert list(mem.columns) == ["t", *o.result.z_labels, *o.result.y_labels]
+    assert mem.attrs["units"]["r_x"] == "m" and set(ref.attrs["units"].items()) <= set(mem.attrs["units"].items())
+    assert mem.attrs["fields"]["r"] == ref.attrs["fields"]["r"] == ["r_x", "r_y", "r_z"]
+    run = {k: v for k, v in ref.attrs["run"].items() if k not in ("scenario", "model_source_hash", "rpo_version",
+                                                                  "created_utc")}  # what only run.json knows
+    assert run == {k: mem.attrs["run"][k] for k in run}
+
+
+def test_to_pandas_without_pandas_is_a_clear_error(folders, monkeypatch):
+    monkeypatch.setitem(sys.modules, "pandas", None)
+    with pytest.raises(ModelError, match="needs pandas .*pip install pandas"):
+        folders["001"].result.to_pandas()

@@ -8,7 +8,9 @@ removed.
 Contents (:class:`OutputSpec` chooses the columns, the rows, the formats and the figures):
 
 * ``timeseries.<suffix>``, one file per chosen format (Parquet by default): ``t`` [s], the chosen z
-  columns, then the chosen y columns, float64, with their units and the run record.  The formats,
+  columns, then the chosen y columns, float64, with their units and the run record (Parquet: also
+  the pandas ``df.attrs`` of :func:`rpo.runtime.run.result.frame_attrs`, which ``pd.read_parquet``
+  restores).  The formats,
   their files, what each holds and its writer are declared once, in
   :data:`rpo.runtime.formats.OUTPUT_FORMATS` (``docs/scenarios.md`` lists them).  ``y`` at row i
   is the output over the step starting at ``t[i]``: the final row has none (NaN).  Written rows
@@ -68,6 +70,7 @@ from rpo.runtime.outputs import figure_workers
 from rpo.runtime.outputs.jsonunits import annotate_metrics, annotate_run
 from rpo.runtime.outputs.plotdata import FIGURE_FIELDS, FIGURE_ORDER, PlotData
 from rpo.runtime.run import interrupts
+from rpo.runtime.run.result import frame_attrs
 from rpo.runtime.scenario.channels import Selection, select
 
 if TYPE_CHECKING:
@@ -328,7 +331,9 @@ def write_run(result: RunResult, out_dir: str | Path, model: Model, scenario_pat
         meta = run_record(result, model, scenario_path, extra_meta)
         meta["output"] = {**spec.to_json(), "rows_written": len(cols[0].data), "columns_written": len(cols),
                           "files": [OUTPUT_FORMATS[f].file for f in spec.formats]}
-        table = Table(cols, json.dumps(meta, sort_keys=False, allow_nan=False), len(sel.z))
+        attrs = frame_attrs([c.label for c in cols], [c.unit for c in cols], [c.field for c in cols], meta)
+        table = Table(cols, json.dumps(meta, sort_keys=False, allow_nan=False), len(sel.z),
+                      json.dumps(attrs, allow_nan=False))
         for fmt in spec.formats:
             OUTPUT_FORMATS[fmt].write(tmp / OUTPUT_FORMATS[fmt].file, table)
 
