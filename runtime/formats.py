@@ -113,16 +113,35 @@ def matlab_names(labels: Sequence[str], reserved: Sequence[str] = ("units", "met
     return out
 
 
+#: The members of a ``.mat`` file's ``history`` struct that describe its fields (no field takes these names).
+MAT_INFO = ("units", "labels", "layouts", "docs")
+
+
+def mat_struct(table: Table) -> dict[str, Any]:
+    """The ``history`` struct of :func:`write_mat`: per layout field (``t`` first, then the state,
+    then the outputs, in column order) its N x k array of the written columns, and the structs
+    ``units`` (field -> unit), ``labels`` (field -> 1 x k cell array of the column labels),
+    ``layouts`` and ``docs``; a field's name is made a valid MATLAB name where it is not one."""
+    groups: dict[tuple[str, str], list[Column]] = {}
+    for c in table.columns:  # by layout and field (a state field and an output field never merge)
+        groups.setdefault((c.layout, c.field or c.label), []).append(c)
+    names = matlab_names([f for _, f in groups], reserved=MAT_INFO)
+    out: dict[str, Any] = {}
+    info: dict[str, dict[str, Any]] = {k: {} for k in MAT_INFO}
+    for name, cs in zip(names, groups.values(), strict=True):
+        out[name] = np.column_stack([c.data for c in cs])
+        info["units"][name] = cs[0].unit
+        info["labels"][name] = np.array([c.label for c in cs], dtype=object).reshape(1, -1)
+        info["layouts"][name] = cs[0].layout
+        info["docs"][name] = cs[0].doc
+    return {**out, **info}
+
+
 def write_mat(path: Path, table: Table) -> None:
     from scipy.io import savemat
 
-    cols = table.columns
-    names = matlab_names([c.label for c in cols])
-    data: dict[str, Any] = {n: c.data.reshape(-1, 1) for n, c in zip(names, cols, strict=True)}
-    data["units"] = {n: c.unit for n, c in zip(names, cols, strict=True)}
-    data["columns"] = np.array([c.label for c in cols], dtype=object).reshape(-1, 1)
-    data["metadata"] = table.metadata
-    savemat(path, data, do_compression=True, oned_as="column", long_field_names=True)
+    savemat(path, {"history": mat_struct(table), "metadata": table.metadata}, do_compression=True,
+            oned_as="column", long_field_names=True)
 
 
 def write_csv(path: Path, table: Table) -> None:
@@ -179,9 +198,10 @@ OUTPUT_FORMATS: dict[str, OutputFormat] = {f.name: f for f in (
         "`units`, `fields`, `run`). pandas, polars, pyarrow, DuckDB, R's arrow and MATLAB's "
         "`parquetread` open it")),
     OutputFormat("mat", "mat", note="MATLAB", write=write_mat, holds=(
-        "MATLAB v5 (`scipy.io.savemat`): one column vector per column, named by its label (an invalid "
-        "MATLAB name is rewritten; the cell array `columns` gives the labels in order), a struct `units` "
-        "(name -> unit) and the char array `metadata` (the run record as JSON)")),
+        "MATLAB v5 (`scipy.io.savemat`): a struct `history` with one N x k array per layout field "
+        "(`history.t` N x 1, `history.r` N x 3, ...: the field's written columns) and the structs "
+        "`history.units` (field -> unit), `history.labels` (field -> cell array of its column labels), "
+        "`history.layouts`, `history.docs`; the char array `metadata` (the run record as JSON)")),
     OutputFormat("csv", "csv", write=write_csv, holds=(
         "the same table as text, header `name [unit]`, every double with 17 significant digits "
         "(reads back bit for bit)")),

@@ -1,6 +1,6 @@
 """Units in every output: each number of run.json and metrics.json has its unit (the rule of
 runtime/outputs/jsonunits.py), the verdict's error in SI beside its degrees, pandas' attrs from the
-Parquet file and from RunResult.to_pandas()."""
+Parquet file and from RunResult.to_pandas(), the .mat file's N x k fields."""
 
 from __future__ import annotations
 
@@ -9,6 +9,7 @@ import math
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from rpo.runtime.errors import ModelError
@@ -130,3 +131,21 @@ def test_to_pandas_without_pandas_is_a_clear_error(folders, monkeypatch):
     monkeypatch.setitem(sys.modules, "pandas", None)
     with pytest.raises(ModelError, match="needs pandas .*pip install pandas"):
         folders["001"].result.to_pandas()
+
+
+# --------------------------------------------------------------------------- the formats
+
+
+def test_mat_holds_each_field_as_an_n_by_k_array_with_units_and_labels(folders):
+    from scipy.io import loadmat
+
+    o = folders["001"]
+    mat = loadmat(o.out_dir / "timeseries.mat", simplify_cells=True)
+    h = mat["history"]
+    n = o.result.t.size
+    assert h["r"].shape == (n, 3) and h["q_c"].shape == (n, 4) and h["t"].shape == (n,)
+    assert h["units"]["r"] == "m" and h["units"]["t"] == "s" and h["units"]["w_c"] == "rad/s"
+    assert list(h["labels"]["r"]) == ["r_x", "r_y", "r_z"] and h["layouts"]["r"] == "z_c001"
+    np.testing.assert_array_equal(h["r"], o.result["r"])
+    assert not any(k in mat for k in ("r_x", "columns", "units"))  # no flat columns any more
+    assert json.loads(mat["metadata"])["controller"] == "c001"

@@ -10,7 +10,7 @@ Contents (:class:`OutputSpec` chooses the columns, the rows, the formats and the
 * ``timeseries.<suffix>``, one file per chosen format (Parquet by default): ``t`` [s], the chosen z
   columns, then the chosen y columns, float64, with their units and the run record (Parquet: also
   the pandas ``df.attrs`` of :func:`rpo.runtime.run.result.frame_attrs`, which ``pd.read_parquet``
-  restores).  The formats,
+  restores; MATLAB: one N x k array per layout field).  The formats,
   their files, what each holds and its writer are declared once, in
   :data:`rpo.runtime.formats.OUTPUT_FORMATS` (``docs/scenarios.md`` lists them).  ``y`` at row i
   is the output over the step starting at ``t[i]``: the final row has none (NaN).  Written rows
