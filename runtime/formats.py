@@ -163,7 +163,55 @@ def write_npz(path: Path, table: Table) -> None:
 
     np.savez_compressed(path, t=cols[0].data, z=block(z), y=block(y), z_labels=text(z, "label"),
                         z_units=text(z, "unit"), y_labels=text(y, "label"), y_units=text(y, "unit"),
-                        metadata=np.array(table.metadata))
+                        z_fields=text(z, "field"), y_fields=text(y, "field"), metadata=np.array(table.metadata))
+
+
+# --------------------------------------------------------------------------- readers (rpo.runtime.outputs.reading)
+
+
+def read_parquet(path: Path) -> Table:
+    import pyarrow.parquet as pq
+
+    arrow = pq.read_table(path)
+    cols = []
+    for name in arrow.column_names:
+        meta = {k.decode(): v.decode() for k, v in (arrow.schema.field(name).metadata or {}).items()}
+        cols.append(Column(name, meta.get("unit", ""), meta.get("layout", ""), meta.get("field", name),
+                           meta.get("doc", ""), np.asarray(arrow.column(name).to_numpy(), dtype=np.float64)))
+    raw = arrow.schema.metadata or {}
+    return Table(cols, raw.get(b"rpo.run", b"{}").decode(), sum(c.layout.startswith("z") for c in cols),
+                 raw.get(PANDAS_ATTRS.encode(), b"").decode())
+
+
+def read_mat(path: Path) -> Table:
+    from scipy.io import loadmat
+
+    mat = loadmat(path)
+    h = mat["history"][0, 0]
+    info = {k: h[k][0, 0] for k in MAT_INFO}
+
+    def text(a: np.ndarray) -> str:
+        return str(a[0]) if a.size else ""
+
+    cols = []
+    for name in h.dtype.names:
+        if name in MAT_INFO:
+            continue
+        block = np.asarray(h[name], np.float64)
+        labels = [text(x) for x in info["labels"][name].ravel()]
+        cols += [Column(lbl, text(info["units"][name]), text(info["layouts"][name]), name, text(info["docs"][name]),
+                        np.ascontiguousarray(block[:, i])) for i, lbl in enumerate(labels)]
+    return Table(cols, text(mat["metadata"]), sum(c.layout.startswith("z") for c in cols))
+
+
+def read_npz(path: Path) -> Table:
+    with np.load(path) as f:
+        cols = [Column("t", "s", "", "t", "time", np.asarray(f["t"], np.float64))]
+        for b in ("z", "y"):
+            fields = f[f"{b}_fields"] if f"{b}_fields" in f else f[f"{b}_labels"]  # older files: no fields
+            cols += [Column(str(lbl), str(u), b, str(fld), "", np.ascontiguousarray(f[b][:, i], np.float64))
+                     for i, (lbl, u, fld) in enumerate(zip(f[f"{b}_labels"], f[f"{b}_units"], fields, strict=True))]
+        return Table(cols, str(f["metadata"]), len(f["z_labels"]))
 
 
 # --------------------------------------------------------------------------- the time histories' formats
@@ -173,8 +221,9 @@ def write_npz(path: Path, table: Table) -> None:
 class OutputFormat:
     """A time-history format: ``name`` (as ``[output] formats`` and ``--format`` spell it), the file
     ``suffix`` (``timeseries.<suffix>``), ``note`` (a word for lists: "MATLAB"), ``holds`` (what
-    the file holds, for the reference), ``write(path, table)``, and whether it is written by
-    default."""
+    the file holds, for the reference), ``write(path, table)``, whether it is written by default,
+    and ``read(path)``, the :class:`Table` back with its units, layouts and fields (None: the file
+    does not keep them; :func:`rpo.runtime.outputs.reading.read_run` reads the first format with one)."""
 
     name: str
     suffix: str
@@ -182,6 +231,7 @@ class OutputFormat:
     write: Callable[[Path, Table], None]
     note: str = ""
     default: bool = False
+    read: Callable[[Path], Table] | None = None
 
     @property
     def file(self) -> str:
@@ -190,14 +240,14 @@ class OutputFormat:
 
 #: The time-history formats, in the order the messages, the help and the docs list them.
 OUTPUT_FORMATS: dict[str, OutputFormat] = {f.name: f for f in (
-    OutputFormat("parquet", "parquet", default=True, write=write_parquet, holds=(
+    OutputFormat("parquet", "parquet", default=True, write=write_parquet, read=read_parquet, holds=(
         "one table: `t` [s], the chosen z columns, then the chosen y columns, float64, zstd-compressed "
         "(byte-stream-split encoding: lossless); each field's metadata holds `unit`, `layout` "
         "(`z_<ctrl>`/`y_<ctrl>`), `field` and `doc`, the file's metadata `rpo.run` (the run record), "
         "`rpo.units` (label -> unit) and `PANDAS_ATTRS` (what `pandas.read_parquet` restores as `df.attrs`: "
         "`units`, `fields`, `run`). pandas, polars, pyarrow, DuckDB, R's arrow and MATLAB's "
         "`parquetread` open it")),
-    OutputFormat("mat", "mat", note="MATLAB", write=write_mat, holds=(
+    OutputFormat("mat", "mat", note="MATLAB", write=write_mat, read=read_mat, holds=(
         "MATLAB v5 (`scipy.io.savemat`): a struct `history` with one N x k array per layout field "
         "(`history.t` N x 1, `history.r` N x 3, ...: the field's written columns) and the structs "
         "`history.units` (field -> unit), `history.labels` (field -> cell array of its column labels), "
@@ -205,8 +255,9 @@ OUTPUT_FORMATS: dict[str, OutputFormat] = {f.name: f for f in (
     OutputFormat("csv", "csv", write=write_csv, holds=(
         "the same table as text, header `name [unit]`, every double with 17 significant digits "
         "(reads back bit for bit)")),
-    OutputFormat("npz", "npz", write=write_npz, holds=(
-        "NumPy: `t`, `z`, `y`, `z_labels`, `z_units`, `y_labels`, `y_units`, `metadata`")),
+    OutputFormat("npz", "npz", write=write_npz, read=read_npz, holds=(
+        "NumPy: `t`, `z`, `y`, `z_labels`, `z_units`, `y_labels`, `y_units`, `z_fields`, `y_fields` (each "
+        "column's layout field), `metadata`")),
 )}
 #: The names, in order (what ``[output] formats`` accepts).
 FORMAT_NAMES: tuple[str, ...] = tuple(OUTPUT_FORMATS)

@@ -1,6 +1,7 @@
 """Units in every output: each number of run.json and metrics.json has its unit (the rule of
 runtime/outputs/jsonunits.py), the verdict's error in SI beside its degrees, pandas' attrs from the
-Parquet file and from RunResult.to_pandas(), the .mat file's N x k fields."""
+Parquet file and from RunResult.to_pandas(), read_run() on a results folder, the .mat file's N x k
+fields."""
 
 from __future__ import annotations
 
@@ -12,9 +13,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rpo.runtime.errors import ModelError
+from rpo.runtime.errors import ModelError, OutputError
 from rpo.runtime.jobs.runner import execute_run
 from rpo.runtime.outputs.jsonunits import number_units, suffix_unit, without_units
+from rpo.runtime.outputs.reading import read_run
 
 ROOT = Path(__file__).resolve().parents[1]
 SCENARIOS = ROOT / "scenarios"
@@ -127,13 +129,57 @@ def test_to_pandas_of_the_run_has_the_attrs_of_its_parquet_file(folders):
     assert run == {k: mem.attrs["run"][k] for k in run}
 
 
+def test_read_run_to_pandas_is_the_frame_pd_read_parquet_gives(folders):
+    pd = pytest.importorskip("pandas")
+    out = folders["001"].out_dir
+    df, ref = read_run(out).to_pandas(), pd.read_parquet(out / "timeseries.parquet")
+    pd.testing.assert_frame_equal(df, ref)
+    assert df.attrs == ref.attrs
+
+
 def test_to_pandas_without_pandas_is_a_clear_error(folders, monkeypatch):
     monkeypatch.setitem(sys.modules, "pandas", None)
     with pytest.raises(ModelError, match="needs pandas .*pip install pandas"):
         folders["001"].result.to_pandas()
 
 
-# --------------------------------------------------------------------------- the formats
+# --------------------------------------------------------------------------- read_run and the formats
+
+
+def test_read_run_gives_the_written_table_with_units_fields_and_the_record(folders):
+    o = folders["001"]
+    res = read_run(o.out_dir)
+    mem = o.result
+    assert res["r"].shape == (mem.t.size, 3) and res.unit("r") == "m" and res.unit("w_c") == "rad/s"
+    assert res["r"].tobytes() == mem["r"].tobytes() and res.t.tobytes() == mem.t.tobytes()
+    assert res.fields[0] == "q_c" and "env_beta_fov" in res.fields
+    assert res.meta["verdict"]["line"] == o.metrics["verdict"]["line"]
+    assert res.meta["metrics"]["att_err_final_rad"] == o.metrics["att_err_final_rad"]
+    assert res.ok and res.dt == mem.dt and res.steps_done == mem.steps_done
+    div = read_run(folders["002"].out_dir)
+    assert not div.ok and div.divergence.label == folders["002"].result.divergence.label
+    assert div.divergence.time == pytest.approx(folders["002"].result.divergence.time)
+
+
+@pytest.mark.parametrize("keep", ["timeseries.mat", "timeseries.npz"])
+def test_read_run_reads_the_same_table_from_mat_and_npz(folders, tmp_path, keep):
+    import shutil
+
+    src = folders["001"].out_dir
+    dst = tmp_path / "copy"
+    dst.mkdir()
+    for name in ("run.json", "metrics.json", keep):
+        shutil.copy(src / name, dst / name)
+    a, b = read_run(src), read_run(dst)
+    assert (a.z_labels, a.z_units, a.y_labels, a.y_units) == (b.z_labels, b.z_units, b.y_labels, b.y_units)
+    assert a.z.tobytes() == b.z.tobytes() and a.y.tobytes() == b.y.tobytes() and a.t.tobytes() == b.t.tobytes()
+    assert dict(a.field_labels) == dict(b.field_labels)
+    (dst / keep).unlink()
+    (dst / "timeseries.csv").write_text("t [s]\n0\n")
+    with pytest.raises(OutputError, match="no time histories read_run can read .*timeseries.csv"):
+        read_run(dst)
+    with pytest.raises(OutputError, match="no run.json"):
+        read_run(tmp_path)
 
 
 def test_mat_holds_each_field_as_an_n_by_k_array_with_units_and_labels(folders):
