@@ -1,7 +1,7 @@
 """Units in every output: each number of run.json and metrics.json has its unit (the rule of
 runtime/outputs/jsonunits.py), the verdict's error in SI beside its degrees, pandas' attrs from the
 Parquet file and from RunResult.to_pandas(), read_run() on a results folder, the .mat file's N x k
-fields."""
+fields, and human text that never shows rad and deg side by side."""
 
 from __future__ import annotations
 
@@ -15,7 +15,7 @@ import pytest
 
 from rpo.runtime.errors import ModelError, OutputError
 from rpo.runtime.jobs.runner import execute_run
-from rpo.runtime.outputs.jsonunits import number_units, suffix_unit, without_units
+from rpo.runtime.outputs.jsonunits import number_units, shown, suffix_unit, without_units
 from rpo.runtime.outputs.reading import read_run
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -195,3 +195,21 @@ def test_mat_holds_each_field_as_an_n_by_k_array_with_units_and_labels(folders):
     np.testing.assert_array_equal(h["r"], o.result["r"])
     assert not any(k in mat for k in ("r_x", "columns", "units"))  # no flat columns any more
     assert json.loads(mat["metadata"])["controller"] == "c001"
+
+
+# --------------------------------------------------------------------------- human text
+
+
+def test_human_text_shows_angles_in_deg_rates_in_deg_s_wheel_speeds_in_rpm():
+    assert shown("att_err_final_rad", "rad") == ("att_err_final_deg", "deg", pytest.approx(180 / math.pi))
+    assert shown("rate_err_final_rad_s", "rad/s")[:2] == ("rate_err_final_deg_s", "deg/s")
+    assert shown("wheel_speed_peak_rad_s", "rad/s")[:2] == ("wheel_speed_peak_rpm", "rpm")
+    assert shown("pos_err_final_m", "m") == ("pos_err_final_m", "m", 1.0)
+
+
+def test_the_printed_table_and_the_verdict_line_never_show_rad(folders, capsys):
+    from rpo.runtime.outputs.metrics import format_table
+
+    for o in folders.values():
+        text = format_table(o.metrics) + "\n" + o.metrics["verdict"]["line"]
+        assert " rad" not in text and "rad/s" not in text and " deg" in text

@@ -1,6 +1,7 @@
 """The units of the numbers in the JSON files of a results folder (``run.json``, ``metrics.json``, the
 verdict in both): one rule, declared here, that the writers follow, ``docs/outputs.md`` states and
-the tests check on every number (:func:`number_units`).
+the tests check on every number (:func:`number_units`); and the units human text shows
+(:func:`shown`).
 
 **The rule.** Every number is in SI, and its unit is written beside it, in one of two ways:
 
@@ -20,8 +21,11 @@ the tests check on every number (:func:`number_units`).
 A ``units`` entry comes first (``metrics.json``'s top-level ``units`` gives every scalar metric's,
 e.g. ``chatter_cmd_F_tv_per_s`` in N/s), then a ``units`` entry of an enclosing object, then the
 key's name.  Non-finite values are written as the text ``"nan"``, ``"inf"``, ``"-inf"`` (strict
-JSON) and count as numbers.  Human text (the verdict's ``line``, ``rpo run``'s table) shows
-degrees and rpm, and says so.
+JSON) and count as numbers.
+
+**Human text** (the verdict's ``line``, ``rpo run``'s table, a campaign's ``report.md``) shows
+angles in deg, body rates in deg/s and wheel speeds in rpm, everything else in SI, and names the
+unit beside each number (:func:`shown`: one document never shows rad and deg side by side).
 
 :func:`annotate_run` and :func:`annotate_metrics` add the ``units`` objects a run's record and
 metrics need (from the model's layouts and the run's column units); :func:`number_units` reads
@@ -30,6 +34,7 @@ the rule back: every number of a JSON document with its path and unit (None when
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator, Mapping
 from typing import TYPE_CHECKING, Any
 
@@ -183,3 +188,23 @@ def annotate_metrics(metrics: Mapping[str, Any], result: RunResult) -> dict[str,
                             if isinstance(e, Mapping) else e for e in entries]
     return out
 
+
+# --------------------------------------------------------------------------- human text
+
+#: SI unit -> (the unit human text shows, the factor from SI, the name suffix then); wheel speeds
+#: (rad/s in a column whose name says ``wheel_speed``) are shown in rpm (:data:`WHEEL_SPEED`)
+HUMAN: dict[str, tuple[str, float, str]] = {"rad": ("deg", 180.0 / math.pi, "_deg"),
+                                            "rad/s": ("deg/s", 180.0 / math.pi, "_deg_s")}
+WHEEL_SPEED = ("rpm", 60.0 / (2.0 * math.pi), "_rpm")
+
+
+def shown(name: str, unit: str) -> tuple[str, str, float]:
+    """(name, unit, factor) of the SI quantity ``name`` [``unit``] in human text: angles in deg,
+    angular rates in deg/s, wheel speeds in rpm (a name's SI suffix becomes the shown one:
+    ``att_err_final_rad`` is shown as ``att_err_final_deg``); other units as they are (factor 1)."""
+    rule = WHEEL_SPEED if unit == "rad/s" and "wheel_speed" in name else HUMAN.get(unit)
+    if rule is None:
+        return name, unit, 1.0
+    to, factor, suffix = rule
+    si = next((sfx for sfx, u in SUFFIXES.items() if u == unit and name.endswith(sfx)), None)
+    return (name[: -len(si)] + suffix if si else name), to, factor
