@@ -40,7 +40,7 @@ from rpo.runtime.campaign.spec import DERIVED, Campaign, campaign_from_resolved
 from rpo.runtime.errors import CampaignError, RpoError
 from rpo.runtime.model.manifest import Manifest
 from rpo.runtime.outputs.metrics import UNITS, compute_metrics, error_signals, norm_rows
-from rpo.runtime.outputs.verdict import verdict
+from rpo.runtime.outputs.verdict import declared_constraints, verdict, violated_constraints
 from rpo.runtime.run import interrupts
 
 #: Lane blocks per batch by default: enough runs per task to amortise its start, small enough that
@@ -233,13 +233,14 @@ def run_row(camp: Campaign, model: Any, inputs: Any, res: Any) -> tuple[dict[str
     ver = verdict(met, res.t, cols, inputs.params, res.divergence, model.manifest.faults)
     goals = ver["goals"]
     att, pos = goals["att"]["reached"], goals["pos"]["reached"]
-    # constraints count where the scenario states them ([constraints]: 001's camera cone and
-    # envelope spheres); the verdict evaluates them for every run, and a 000 run has no camera
-    declared = "constraints" in camp.scenario_data
-    violated = declared and any(c["violated"] for c in ver["constraints"].values())
+    # a constraint violated: the verdict's rule (violated_constraints, every run); a failure counts
+    # only those the scenario declares ([constraints]: 001's camera cone and envelope spheres; a 000
+    # run has no camera): docs/campaigns.md, the report says both
+    violated = bool(violated_constraints(ver["constraints"]))
+    declared = bool(violated_constraints(ver["constraints"], declared_constraints(camp.scenario_data)))
     diverged = res.divergence is not None
     outcome = {"att_reached": att, "pos_reached": pos, "diverged": diverged, "constraint_violated": violated,
-               "failed": bool(diverged or violated or att is False or pos is False)}
+               "failed": bool(diverged or declared or att is False or pos is False)}
     metrics = {k: _finite_or_none(met.get(k)) for k in UNITS}
     sel = _selection(camp, model, inputs.controller)
     ukey = (inputs.controller, model.manifest.manifest_hash)

@@ -15,11 +15,15 @@ import numpy as np
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from rpo.runtime.campaign.storage import history_path, read_histories, read_rows
+from rpo.runtime.campaign.storage import (  # noqa: F401  (the statuses and outcomes: declared once, there)
+    OUTCOMES,
+    STATUSES,
+    history_path,
+    read_histories,
+    read_rows,
+)
 
-STATUSES = ("ok", "diverged", "invalid", "error")
 FLOWN = ("ok", "diverged")
-OUTCOMES = ("att_reached", "pos_reached", "diverged", "constraint_violated", "failed")
 #: The metrics with a tolerance bound and a worst-case list: (column, bound side, worst-case title).
 MAIN_METRICS: tuple[tuple[str, str, str], ...] = (
     ("pos_err_final_m", "upper", "largest final position error"),
