@@ -7,10 +7,13 @@
 * each entry of ``rpo.runtime.scenario.goals.DESIGNS`` is right: with the mapped gains, the
   controller's own errors (its ``ctrl_*`` outputs, or ``|r - r_goal|``) are zero at the goal
   pose, on the paper plant, and stay small over a short flight from there;
+* refusals are one line, exit 2, nothing written; the run, ``run.json``, the verdict and
+  ``rpo validate`` name the goal flown; the report's comparison refuses what cannot fly.
 """
 
 from __future__ import annotations
 
+import json
 import math
 from pathlib import Path
 
@@ -18,6 +21,7 @@ import numpy as np
 import pytest
 
 from rpo.runtime import frames
+from rpo.runtime.cli.main import main
 from rpo.runtime.errors import ScenarioError
 from rpo.runtime.run.simulate import Simulation
 from rpo.runtime.scenario import goals, load_scenario, loads_scenario
@@ -100,7 +104,7 @@ def test_goal_inside_the_keep_out_sphere_is_refused_unless_contact(model):
     assert loads_scenario(smaller, "x.toml", model.manifest).goal_flown.mapped
 
 
-def test_a_goal_stated_by_gains_inside_the_keep_out_sphere_is_flagged(model):
+def test_a_goal_stated_by_gains_inside_the_keep_out_sphere_is_flagged(model, tmp_path, capsys):
     """As before [goal] existed (c000's and the baseline's default r_goal is the target's centre):
     flown, and the goal flown says so; the same goal in a [goal] table is refused."""
     t = text("000_scenario_III").replace("r_goal = [5.0, 0.0, 0.0]", "r_goal = [1.0, 0.0, 0.0]")
@@ -110,6 +114,10 @@ def test_a_goal_stated_by_gains_inside_the_keep_out_sphere_is_flagged(model):
     assert sc.goal_flown.warning == warning and sc.goal_flown.text().endswith(f" (WARNING: {warning})")
     other = sc.with_overrides(controller="baseline")  # flown by another controller: still flagged, not refused
     assert other.goal_flown.warning == warning and other.with_overrides(duration=1.0).goal_flown.warning == warning
+    f = tmp_path / "x.toml"
+    f.write_text(t)
+    assert main(["validate", str(f)]) == 0
+    assert f"warning: {warning}" in capsys.readouterr().err
 
 
 def test_camera_at_target_is_checked(model):
@@ -281,3 +289,70 @@ def test_mapped_gains_zero_the_controller_s_errors_at_the_goal(model, name, goal
     pos = np.linalg.norm(res["ctrl_pos_err"], axis=1) if "ctrl_pos_err" in labels else \
         np.linalg.norm(res["r"] - run.gains["r_goal"], axis=1)
     assert np.max(pos) < 0.1, np.max(pos)
+
+
+# --------------------------------------------------------------------------- the command, run.json, verdict, report
+
+
+def test_run_names_the_goal_and_a_refusal_is_one_line(model, tmp_path, capsys):
+    out = tmp_path / "refused"
+    rc = main(["run", "scenarios/001_scenario.toml", "--controller", "c004", "--plant", "full", "--duration", "1",
+               "--no-plots", "--out", str(out)])
+    cap = capsys.readouterr()
+    lines = cap.err.strip().splitlines()
+    assert rc == 2 and len(lines) == 1 and lines[0].startswith("error: scenarios/001_scenario.toml (with command-line "
+                                                               'overrides): simulation.controller = "c004": c004 '
+                                                               "cannot fly the scenario's goal (hold r = (50, 0, 0) m "
+                                                               "in target axes, camera at the target")
+    assert "Traceback" not in cap.err + cap.out and not out.exists()
+
+    out = tmp_path / "flown"
+    rc = main(["run", "scenarios/002_scenario.toml", "--controller", "c004", "--duration", "1", "--no-plots",
+               "--out", str(out), "--format", "npz"])
+    cap = capsys.readouterr()
+    assert rc == 0, cap.err
+    last = cap.out.strip().splitlines()
+    want = ("hold r = (0, 5, 0) m in target axes, the chaser's axes along the target's, q_S/T = (0, 0, 0, 1) "
+            "(x, y, z, w), from scenarios/002_scenario.toml [controller.c002] sigma_t")
+    assert last[-2] == f"goal: {want}" and last[-1].startswith("verdict: ")
+    meta = json.loads((out / "run.json").read_text())
+    metrics = json.loads((out / "metrics.json").read_text())
+    assert meta["goal"]["text"] == meta["verdict"]["goal"] == want
+    assert metrics["verdict"] == {k: v for k, v in meta["verdict"].items() if k != "goal"}  # metrics.json: no file name
+    assert meta["goal"]["gains"] == {"p_t": [0.0, 5.0, 0.0]} and meta["goal"]["controller"] == "c004"
+    assert meta["inputs"]["goal"] == meta["goal"]
+    # the metrics judge the errors from that goal: c004's pos_err at t = 0 is the distance from
+    # the scenario's initial position to the goal's (both in target axes, computed here)
+    data = np.load(out / "timeseries.npz")
+    labels = list(data["y_labels"])
+    pos0 = np.array([data["y"][0, labels.index(f"ctrl_pos_err_{a}")] for a in "xyz"])
+    run = load_scenario(SCEN / "002_scenario.toml", model.manifest).to_run(model)
+    C_TL = frames.dcm_from_quat(frames.quat_multiply(frames.quat_conjugate(run.plant["q_t"]),
+                                                     run.frame_info["q_IL0"]))
+    assert np.linalg.norm(pos0) == pytest.approx(np.linalg.norm(C_TL @ run.plant["r"] - [0.0, 5.0, 0.0]), rel=1e-9)
+
+
+def test_validate_prints_the_goal(capsys):
+    assert main(["validate", "scenarios/001_scenario.toml"]) == 0
+    out = capsys.readouterr().out
+    assert ("  goal        hold r = (50, 0, 0) m in target axes, camera at the target, q_S/T = (0, -0.707107, 0, "
+            "0.707107) (x, y, z, w), from scenarios/001_scenario.toml [controller.c001] r_D, q_D") in out.splitlines()
+
+
+def test_the_report_s_comparison_flies_the_scenario_s_goal(model, tmp_path):
+    """`rpo report`'s comparison runs go through the same overrides: a controller that cannot fly
+    the scenario's goal is "refused" with the reason, one that can flies it (short runs)."""
+    from rpo.runtime.jobs.reproduction import PlannedRun, execute
+
+    runs = [PlannedRun(label=f"cmp-{c}", scenario=SCEN / "004_scenario.toml", controller=c, plant="paper", paper=None,
+                       case="004", duration=0.5, seed=None, gains=None, thresholds=None, error_times=[])
+            for c in ("c000", "c002", "c004")]
+    execute(runs, model, tmp_path, plots=False)
+    status = {r.controller_used: (r.status, r.reason) for r in runs}
+    assert status["c000"][0] == "refused" and "c000 cannot fly the scenario's goal" in status["c000"][1]
+    assert status["c004"][0] == "ok"
+    assert status["c002"][0] in ("ok", "refused")  # the paper gains may not integrate from 004's start
+    if status["c002"][0] == "refused":
+        assert "cannot fly" not in status["c002"][1]
+    meta = json.loads((tmp_path / "cmp-c004" / "run.json").read_text())
+    assert meta["goal"]["source"].endswith("scenarios/004_scenario.toml [controller.c004] p_t")
