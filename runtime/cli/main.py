@@ -201,13 +201,16 @@ def run(scenario: str | None, out: str | None, campaign: Path | None, case: int 
         _err(f"diverged: {result.divergence.message()}")
         _err(f"results up to t = {result.t[-1]:.6g} s written to {outcome.out_dir}")
         if not quiet:
+            click.echo(f"goal: {outcome.inputs.goal.get('text', '-')}")
             click.echo(outcome.metrics["verdict"]["line"])
         return EXIT_DIVERGED
     if not quiet:
         _summary(result, outcome.model, outcome.inputs, outcome.out_dir, outcome.write_time)
         click.echo("metrics (metrics.json; definitions in rpo.runtime.outputs.metrics):")
         click.echo(format_table(outcome.metrics))
-        # last, so that the run ends with it (rule: rpo.runtime.outputs.verdict, docs/verdict.md)
+        # the goal flown (the scenario's, runtime/scenario/goals.py), then the verdict last, so that the run
+        # ends with it (rule: rpo.runtime.outputs.verdict, docs/verdict.md)
+        click.echo(f"goal: {outcome.inputs.goal.get('text', '-')}")
         click.echo(outcome.metrics["verdict"]["line"])
     return 0
 
@@ -332,6 +335,11 @@ def validate(scenario: str, backend: str, sets: tuple[str, ...]) -> int:
     echo(f"  name        {sc.name}" + (f": {sc.meta.description}" if sc.meta.description else ""))
     echo(f"  run         {inputs.duration:g} s, dt = {inputs.dt:g} s ({n_steps} steps), controller "
          f"{inputs.controller}, seed {inputs.seed}, record every {inputs.record_every}")
+    echo(f"  goal        {inputs.goal['text']}")  # the goal flown (runtime/scenario/goals.py)
+    if not inputs.goal["mapped"]:
+        _err(f"warning: {inputs.controller} flies its own goal gains: rpo has no goal mapping for it")
+    if inputs.goal.get("warning"):
+        _err(f"warning: {inputs.goal['warning']}")
     h_p = (a * (1 - e) - p["r_earth"]) / 1e3
     echo(f"  orbit       a = {a / 1e3:.6g} km, e = {e:g}, perigee altitude {h_p:.6g} km, "
          f"i = {math.degrees(p['orbit_inc']):g} deg, period {2 * math.pi * math.sqrt(a**3 / mu) / 60:.5g} min, "

@@ -298,6 +298,14 @@ def verdict(metrics: Mapping[str, Any], t: ArrayLike, columns: Mapping[str, Any]
             "line": f"verdict: {status}: " + "; ".join(parts)}
 
 
+def name_goal(v: Mapping[str, Any], goal: Mapping[str, Any] | None) -> dict[str, Any]:
+    """The verdict ``v`` naming the goal its errors are measured from (a copy with ``goal``, the
+    text of the run's ``RunInputs.goal``, rpo.runtime.scenario.goals; run.json).  The controller's
+    errors are to its goal gains, which are that goal's (or, for a controller rpo has no goal
+    mapping for, its own: the text says so)."""
+    return {**v, "goal": goal["text"]} if goal and goal.get("text") else dict(v)
+
+
 def _main_reason(q: str, sat: dict[str, dict], con: dict[str, dict], divergence: Any,
                  final_text: str) -> tuple[str, str]:
     """(kind, text) of the main reason a goal was not reached, by the rule of the module docstring."""

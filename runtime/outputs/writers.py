@@ -69,6 +69,7 @@ from rpo.runtime.formats import (
 from rpo.runtime.outputs import figure_workers
 from rpo.runtime.outputs.jsonunits import annotate_metrics, annotate_run
 from rpo.runtime.outputs.plotdata import FIGURE_FIELDS, FIGURE_ORDER, PlotData
+from rpo.runtime.outputs.verdict import name_goal
 from rpo.runtime.run import interrupts
 from rpo.runtime.run.result import frame_attrs
 from rpo.runtime.scenario.channels import Selection, select
@@ -300,6 +301,11 @@ def write_run(result: RunResult, out_dir: str | Path, model: Model, scenario_pat
     """
     spec = output or OutputSpec()
     out = check_out_dir(out_dir)  # again: the folder may have changed while the run simulated
+    goal = ((extra_meta or {}).get("inputs") or {}).get("goal")  # the goal flown: run.json and its verdict name it
+    if goal:
+        extra_meta = {**(extra_meta or {}), "goal": goal}
+        if isinstance(extra_meta.get("verdict"), dict):
+            extra_meta["verdict"] = name_goal(extra_meta["verdict"], goal)
     # an existing (empty, writable) folder is filled in place, so it keeps its permissions, owner
     # and identity; an absent one is made from a temporary sibling by one rename
     in_place = out.is_dir()
