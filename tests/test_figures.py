@@ -158,7 +158,7 @@ def test_the_goal_is_drawn_where_the_title_says_so(r001, model):
     r_ax = _visible_axes(fig)[0]
     goal = np.column_stack([ln.get_ydata() for ln in r_ax.get_lines() if ln.get_linestyle() == ":"])
     # c001's goal is r_D = (50, 0, 0) m in target axes: the drawn LVLH goal, turned into target axes
-    pose = plots._pose(d)
+    pose = plots.pose(d)
     in_target = np.einsum("nji,nj->ni", pose["C_Lt"][:-1], goal[:-1])
     np.testing.assert_allclose(in_target, np.broadcast_to([50.0, 0.0, 0.0], in_target.shape), atol=1e-9)
     # a run whose goal is not known says nothing of one and draws none
@@ -183,7 +183,8 @@ def test_ideal_actuators_get_no_wheel_or_thruster_panels(r001, r_iii):
     assert d3.ideal_actuators is False
     fig = plots.build("actuators", d3)
     labels = [ax.get_ylabel() for ax in _visible_axes(fig)]
-    assert labels[:3] == ["wheel speed rel. body [rpm]", "wheel torque, after the delay [N m]", "wheel momentum [N m s]"]
+    assert labels[:3] == ["wheel speed rel. body [rpm]", "wheel torque, after the delay [N m]",
+                          "wheel momentum [N m s]"]
     capacity = float(np.ravel(p3["wheel_inertia"])[0] * np.ravel(p3["wheel_speed_max"])[0])
     cap = _one(_visible_axes(fig)[2], "capacity")
     assert cap.get_ydata()[0] == pytest.approx(capacity)
@@ -223,7 +224,7 @@ def test_the_3d_approach_has_the_keep_out_sphere_and_the_camera_cone(r001):
     assert whats == ["start", "attitude reached", "end"]  # the attitude settles in this run (r001)
     cone = _labelled(axes[0], "camera cone at 0 s")[0]
     # the cone's apex is the lens vertex on chaser body +z, its spokes at the half angle to body +z
-    pose = plots._pose(d)
+    pose = plots.pose(d)
     half, zn = geo.camera(d.params)
     apex = pose["r"][0] + zn * pose["C_Lc"][0][:, 2]
     xs, ys, zs = cone.get_data_3d()

@@ -134,8 +134,9 @@ def plot_attitude(d: PlotData) -> Figure | None:
                                 "reached dash-dotted)")
 
 
-def _pose(d: PlotData) -> dict[str, Any]:
-    """r, the LVLH frame, both attitudes in LVLH and the goal in LVLH (None where unknown)."""
+def pose(d: PlotData) -> dict[str, Any]:
+    """``r``, both attitudes in LVLH (``C_Lc``, ``C_Lt``: body axes as columns) and the goal in LVLH
+    (None where unknown), with how the LVLH frame and the goal were found."""
     r = d.get("r")
     C_IL, how = geo.lvlh_frame(d.t, d.columns, d.params)
     C_Lc = geo.attitude_in_lvlh(d.columns, "q_c", C_IL)
@@ -149,8 +150,8 @@ def plot_translation(d: PlotData) -> Figure | None:
     if not (d.has("r") and d.has("v")):
         return None
     t, r, v = d.t, d.get("r"), d.get("v")
-    pose = _pose(d)
-    goal = pose["goal"]
+    where = pose(d)
+    goal = where["goal"]
     judged, _ = judged_errors(d)
     rows = ["r", "dist"] + (["pos"] if "pos" in judged else []) + ["v"]
     fig, axes = figure(len(rows), titled=True)
@@ -179,7 +180,7 @@ def plot_translation(d: PlotData) -> Figure | None:
             lines(ax, t, v, LVLH_AXES, "velocity, LVLH [m/s]")
             norm(ax, t, v, "|v|")
             legend(ax)
-    what = "relative position and velocity" + (f" (goal dotted: {pose['goal_how']})" if goal is not None else "")
+    what = "relative position and velocity" + (f" (goal dotted: {where['goal_how']})" if goal is not None else "")
     return finish(fig, axes, d, what)
 
 
@@ -305,11 +306,11 @@ def plot_diagnostics(d: PlotData) -> Figure | None:
 
 
 def plot_lvlh(d: PlotData) -> Figure | None:
-    return views.lvlh_figure(d, _pose(d)) if d.has("r") else None
+    return views.lvlh_figure(d, pose(d)) if d.has("r") else None
 
 
 def plot_approach(d: PlotData) -> Figure | None:
-    return views.approach_figure(d, _pose(d)) if d.has("r") else None
+    return views.approach_figure(d, pose(d)) if d.has("r") else None
 
 
 #: The figures in drawing order: (file stem, function).  Stems are part of the output contract.

@@ -1,7 +1,7 @@
 """The standard rendezvous views of one run (matplotlib, Agg): the errors on a logarithmic scale,
 the LVLH projections and the 3D approach.  Built as Figures from a
 :class:`~rpo.runtime.outputs.plotdata.PlotData` (and, for the geometric views, the pose
-:func:`rpo.runtime.outputs.plots._pose` derives with :mod:`rpo.runtime.outputs.geometry`);
+:func:`rpo.runtime.outputs.plots.pose` derives with :mod:`rpo.runtime.outputs.geometry`);
 :mod:`rpo.runtime.outputs.plots` registers and saves them.
 
 * ``errors``    every error the metrics compute (attitude, position, rate, velocity), the metrics'
