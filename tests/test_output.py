@@ -177,8 +177,9 @@ def test_figures_in_each_format(model, tmp_path, fmt):
     run(model, scenario(tmp_path), out, duration=0.3, figure_format=fmt)
     meta = json.loads((out / "run.json").read_text())
     assert "plot_error" not in meta
-    assert meta["figures"] == [f"{n}.{fmt}" for n in ("attitude", "translation", "actuators", "thrusters",
-                                                      "controller", "constraints", "diagnostics")]
+    assert meta["figures"] == [f"{n}.{fmt}" for n in ("attitude", "translation", "errors", "lvlh", "approach",
+                                                      "actuators", "thrusters", "controller", "constraints",
+                                                      "diagnostics")]
     for f in meta["figures"]:
         assert (out / f).read_bytes()[:len(MAGIC[fmt])] == MAGIC[fmt], f
     assert not list(tmp_path.glob(".*.tmp"))  # the temporary folder was renamed

@@ -91,6 +91,7 @@ def cli() -> None:
       rpo linearize scenarios/000_scenario_III.toml   (closed-loop eigenvalues at the goal)
       rpo report                       (the reproduction report: docs/reproduction.md)
       rpo scenarios                    (the shipped scenarios; NAME --to FILE copies one to edit)
+      rpo view runs/iii                (an interactive page of a run: runs/iii/view.html)
     """
 
 
@@ -591,9 +592,11 @@ def main(argv: list[str] | None = None) -> int:
 def _register() -> None:
     from rpo.runtime.cli.campaign import mc
     from rpo.runtime.cli.compile import build_cmd, cache
+    from rpo.runtime.cli.view import view
     cli.add_command(mc)
     cli.add_command(build_cmd)
     cli.add_command(cache)
+    cli.add_command(view)
 
 
 _register()

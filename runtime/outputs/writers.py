@@ -322,7 +322,7 @@ def write_run(result: RunResult, out_dir: str | Path, model: Model, scenario_pat
     clock = time.perf_counter()
     try:
         if plots and spec.figures:  # drawn by the workers while the data are written
-            data = PlotData.from_result(result, model, params, gains, title)
+            data = PlotData.from_result(result, model, params, gains, title, metrics)
             drawing = figure_workers.draw([(data.subset(name), str(tmp), spec.figure_format, name)
                                            for name in FIGURE_FIELDS])
 
