@@ -20,6 +20,7 @@ import click
 import numpy as np
 
 from rpo.runtime import frames
+from rpo.runtime.cli.options import _SET, _source
 from rpo.runtime.errors import RpoError
 from rpo.runtime.formats import DEFAULT_FIGURE_FORMAT, FIGURE_FORMAT_NAMES, FORMAT_NAMES, OUTPUT_FORMATS
 from rpo.runtime.model.toolchain import find_compiler, native_target
@@ -93,21 +94,6 @@ def cli() -> None:
       rpo scenarios                    (the shipped scenarios; NAME --to FILE copies one to edit)
       rpo view runs/iii                (an interactive page of a run: runs/iii/view.html)
     """
-
-
-#: ``--set KEY=VALUE`` (runtime/scenario/overrides.py), on every command that reads a scenario
-_SET = click.option("--set", "sets", multiple=True, metavar="KEY=VALUE",
-                    help="Change one value of the scenario (repeatable), validated as if written in the file: "
-                         "--set chaser.mass=90.0 --set relative.position=[60,0,25].")
-
-
-def _source(scenario: str, sets: tuple[str, ...]) -> Any:
-    """SCENARIO as a path, or (with --set) as read and changed: runtime/scenario/overrides.py."""
-    if not sets:
-        return scenario
-    from rpo.runtime.scenario import read_scenario
-    from rpo.runtime.scenario.overrides import parse_sets, with_sets
-    return with_sets(read_scenario(scenario), parse_sets(sets))
 
 
 @cli.command()
