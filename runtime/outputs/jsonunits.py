@@ -55,6 +55,9 @@ COUNTS = frozenset({"steps_done", "steps_requested", "rows", "rows_written", "co
 NON_FINITE = frozenset({"nan", "inf", "-inf"})
 #: ``inputs.frame_info`` (the LVLH frame at t = 0): its keys' units
 FRAME_INFO_UNITS = {"q_IL0": "-", "n0": "rad/s"}
+#: the goal flown (``goal``, ``inputs.goal``: rpo.runtime.scenario.goals.GoalFlown.record): its keys'
+#: units besides ``gains`` (the controller's goal gains, in their layout's units)
+GOAL_UNITS = {"position": "m", "attitude": "-"}
 #: an ``errors_at`` entry of ``metrics.json``: the keys without a unit suffix
 ERRORS_AT_UNITS = {"t": "s", "t_sample": "s", "q": "-"}
 #: ``metrics.json``'s ``thresholds``: the keys without a unit suffix
@@ -140,8 +143,8 @@ def annotate_run(rec: dict[str, Any], result: RunResult, model: Model | Any) -> 
     """``rec`` (a run record, ``run.json``) with its ``units`` object added, in place: one object at
     the top that mirrors the record (the module's rule), for ``dt``, ``t_end``, ``wall_time``,
     ``z0``, the divergence, the inputs (the parameters, gains and plant state by name, from the
-    model's layouts), the overrides and the interruption; the objects themselves are left as they
-    are.  Returns ``rec``."""
+    model's layouts), the goal flown, the overrides and the interruption; the objects themselves
+    are left as they are.  Returns ``rec``."""
     z_units = dict(zip(result.z_labels, result.z_units, strict=True))
     y_units = dict(zip(result.y_labels, result.y_units, strict=True))
     own: dict[str, Any] = {"dt": "s", "t_end": "s", "wall_time": "s"}
@@ -163,6 +166,10 @@ def annotate_run(rec: dict[str, Any], result: RunResult, model: Model | Any) -> 
                          "plant": _only(_field_units(model, "x"), inputs.get("plant")),
                          "duration": "s", "dt": "s",
                          "frame_info": _only(FRAME_INFO_UNITS, inputs.get("frame_info"))}
+        if isinstance(inputs.get("goal"), dict):
+            own["inputs"]["goal"] = _goal_units(inputs["goal"], gains)
+    if isinstance(rec.get("goal"), dict):
+        own["goal"] = _goal_units(rec["goal"], gains)
     overrides = rec.get("overrides")
     if isinstance(overrides, dict) and overrides:
         own["overrides"] = {"duration": "s", "gains": _only(gains, overrides.get("gains"))}
@@ -170,6 +177,11 @@ def annotate_run(rec: dict[str, Any], result: RunResult, model: Model | Any) -> 
         own["interrupted"] = {"time": "s"}
     rec["units"] = own
     return rec
+
+
+def _goal_units(goal: Mapping[str, Any], gains: Mapping[str, str]) -> dict[str, Any]:
+    """The units of a goal flown's record: its position and attitude, and its controller's goal gains."""
+    return {**_only(GOAL_UNITS, goal), "gains": _only(gains, goal.get("gains"))}
 
 
 def annotate_metrics(metrics: Mapping[str, Any], result: RunResult) -> dict[str, Any]:
