@@ -23,20 +23,26 @@ from setuptools import find_namespace_packages, setup
 #: files (package data, read through importlib.resources: ``rpo.runtime.scenario.shipped``).
 TOPS = ("symbolic", "runtime", "generated", "scenarios")
 
+#: The folder installed as the package ``rpo`` itself (``import rpo; rpo.run(...)``): the Python API,
+#: which lives with the runtime it calls; it is not also ``rpo.runtime.api``.
+API = "runtime/api"
+
 
 def packages(root: Path = Path(".")) -> list[str]:
     """Every package of rpo in the checkout ``root``: the tops and each folder under them."""
-    found = []
+    found = ["rpo"]
+    api = Path(API).relative_to("runtime").as_posix().replace("/", ".")
     for top in TOPS:
         found.append(f"rpo.{top}")
-        subs = find_namespace_packages(str(root / top), exclude=["__pycache__", "*.__pycache__"])
+        skip = [api, f"{api}.*"] if top == "runtime" else []
+        subs = find_namespace_packages(str(root / top), exclude=["__pycache__", "*.__pycache__", *skip])
         found.extend(f"rpo.{top}.{sub}" for sub in sorted(subs))
     return found
 
 
 def package_dir() -> dict[str, str]:
     """Where each top is (relative to the checkout, as setuptools requires)."""
-    return {f"rpo.{top}": top for top in TOPS}
+    return {"rpo": API, **{f"rpo.{top}": top for top in TOPS}}
 
 
 if __name__ == "__main__":  # run by pip's build backend; tests import packages() to check the discovery

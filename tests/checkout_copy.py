@@ -22,6 +22,8 @@ def importing(copy: Path, env: dict | None = None) -> dict:
     for d in TOPS:
         if not (site / "rpo" / d).exists():
             (site / "rpo" / d).symlink_to(copy / d, target_is_directory=True)
+    if not (site / "rpo" / "__init__.py").exists():  # the package rpo itself: setup.py's API folder
+        (site / "rpo" / "__init__.py").symlink_to(copy / "runtime" / "api" / "__init__.py")
     env = dict(os.environ if env is None else env)
     env["PYTHONPATH"] = os.pathsep.join(p for p in (str(site), env.get("PYTHONPATH")) if p)
     return env

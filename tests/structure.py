@@ -37,6 +37,7 @@ RUNTIME_LAYERS: tuple[tuple[str, ...], ...] = (
     ("rpo.runtime.outputs",),
     ("rpo.runtime.jobs", "rpo.runtime.campaign"),
     ("rpo.runtime.cli", "rpo.runtime.docgen"),
+    ("rpo.runtime.api",),
 )
 
 

@@ -31,13 +31,14 @@ SHIPPED_FILES = sorted((ROOT / "scenarios").rglob("*.toml"))
 
 
 def _folders(root: Path) -> set[str]:
-    """Every folder under the four tops as a dotted rpo package (``__pycache__`` aside)."""
-    out = set()
+    """Every folder under the four tops as a dotted rpo package (``__pycache__`` aside), and ``rpo`` itself
+    (setup.API, which is not also a runtime subpackage)."""
+    out = {"rpo"}
     for top in setup.TOPS:
         out.add(f"rpo.{top}")
         for d in (root / top).rglob("*"):
             rel = d.relative_to(root)
-            if d.is_dir() and "__pycache__" not in rel.parts:
+            if d.is_dir() and "__pycache__" not in rel.parts and rel.as_posix() != setup.API:
                 out.add("rpo." + ".".join(rel.parts))
     return out
 
@@ -48,8 +49,9 @@ def test_every_folder_is_a_discovered_package():
     assert set(pkgs) == _folders(ROOT)
     assert {"rpo.symbolic.controllers", "rpo.symbolic.lyapunov.certify", "rpo.runtime.model", "rpo.runtime.csrc",
             "rpo.generated", "rpo.scenarios", "rpo.scenarios.campaigns"} <= set(pkgs)
-    assert setup.package_dir() == {"rpo.symbolic": "symbolic", "rpo.runtime": "runtime",
+    assert setup.package_dir() == {"rpo": "runtime/api", "rpo.symbolic": "symbolic", "rpo.runtime": "runtime",
                                    "rpo.generated": "generated", "rpo.scenarios": "scenarios"}
+    assert "rpo" in pkgs and "rpo.runtime.api" not in pkgs  # the API is the package rpo, not a runtime subpackage
 
 
 def test_no_package_list_is_kept_by_hand():
@@ -66,7 +68,7 @@ def test_a_new_subpackage_is_picked_up_with_no_edit(tmp_path):
         (tmp_path / new / "__init__.py").write_text("")
     (tmp_path / "runtime" / "model" / "__pycache__").mkdir()
     assert setup.packages(tmp_path) == [
-        "rpo.symbolic", "rpo.symbolic.codegen", "rpo.symbolic.codegen.emit", "rpo.symbolic.physics",
+        "rpo", "rpo.symbolic", "rpo.symbolic.codegen", "rpo.symbolic.codegen.emit", "rpo.symbolic.physics",
         "rpo.runtime", "rpo.runtime.model", "rpo.generated", "rpo.scenarios", "rpo.scenarios.benchmarks"]
 
 

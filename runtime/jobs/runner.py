@@ -72,6 +72,19 @@ def default_out_dir(scenario_path: str | Path, base: Path = Path("runs")) -> Pat
     return out
 
 
+def run_metrics(result: RunResult, inputs: RunInputs, model: Model, *, thresholds: Mapping[str, float] | None = None,
+                error_times: Iterable[float] = (), interrupted: bool = False) -> dict[str, Any]:
+    """The metrics of a run (rpo.runtime.outputs.metrics), its ``status`` and its ``verdict``
+    (rpo.runtime.outputs.verdict): what ``metrics.json`` holds, for a folder or for ``rpo.run``."""
+    goal = np.ravel(inputs.gains["r_goal"]) if "r_goal" in inputs.gains else None
+    columns = result_columns(result)
+    metrics = compute_metrics(result.t, columns, thresholds, goal=goal, error_times=error_times, params=inputs.params)
+    metrics["status"] = "diverged" if result.divergence is not None else "interrupted" if interrupted else "ok"
+    metrics["verdict"] = verdict(metrics, result.t, columns, inputs.params, result.divergence,  # also in run.json
+                                 model.manifest.faults)
+    return metrics
+
+
 def execute_run(scenario: str | Path | Scenario, out_dir: str | Path | None, model: Model | Callable[[str], Model], *,
                 duration: float | None = None, seed: int | None = None, controller: str | None = None,
                 plant: str | None = None, gains: Mapping[str, Any] | None = None, plots: bool = True,
@@ -146,13 +159,8 @@ def _execute_run(scenario: str | Path | Scenario, out_dir: str | Path | None, mo
         how = f" (stopped by {interrupts.signal_name(stopped_by)})" if stopped_by is not None else ""
         log(f"simulated {result.steps_done} steps in {result.wall_time:.3g} s{how}; writing {out} ...")
     # 5. metrics
-    goal = np.ravel(inputs.gains["r_goal"]) if "r_goal" in inputs.gains else None
-    columns = result_columns(result)
-    metrics = compute_metrics(result.t, columns, thresholds, goal=goal, error_times=error_times, params=inputs.params)
-    metrics["status"] = ("diverged" if result.divergence is not None else
-                         "interrupted" if stopped_by is not None else "ok")
-    metrics["verdict"] = verdict(metrics, result.t, columns, inputs.params, result.divergence,  # also in run.json
-                                 model.manifest.faults)
+    metrics = run_metrics(result, inputs, model, thresholds=thresholds, error_times=error_times,
+                          interrupted=stopped_by is not None)
     lap("metrics")
     # 6. outputs
     overrides: dict[str, Any] = {k: v for k, v in (("duration", duration), ("seed", seed),
