@@ -53,3 +53,17 @@ def test_a_run_with_set_equals_the_run_of_the_edited_file(tmp_path):
     assert copy.read_text().startswith("# chaser.mass = 90.0  (rpo --set")
     verdict = [json.loads((f / "metrics.json").read_text())["verdict"]["line"] for f in (a, b)]
     assert verdict[0] == verdict[1]
+
+
+def test_mc_run_takes_set_and_refuses_a_bad_value_before_any_folder(tmp_path):
+    camp = ROOT / "scenarios" / "campaigns" / "000_III_mc.toml"
+    out = tmp_path / "mc"
+    assert_user_error(rpo("mc", "run", camp, "--runs", "2", "--duration", "0.5", "--set", "chaser.mass=-3",
+                          "--out", out), "chaser.mass = -3")
+    assert not out.exists()
+    res = rpo("mc", "run", camp, "--runs", "2", "--duration", "0.5", "--set", "campaign.seed=7", "--out", out, "-q",
+              timeout=300)
+    assert res.returncode == 0, res.stderr
+    resolved = json.loads((out / "resolved.json").read_text())
+    assert '"seed": 7' in json.dumps(resolved)  # the campaign flown is the changed one, recorded so
+    assert "campaign.seed" in (out / "campaign.toml").read_text()  # and its copy names the override

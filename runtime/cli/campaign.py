@@ -19,6 +19,7 @@ from typing import Any
 
 import click
 
+from rpo.runtime.cli.options import _SET, _source
 from rpo.runtime.errors import CampaignError
 
 EXIT_RUN_ERRORS = 1
@@ -144,8 +145,9 @@ def mc() -> None:
 @click.option("--batch", type=click.IntRange(min=1), default=None,
               help="Runs per task (default campaign.batch, else 4 lane blocks).")
 @click.option("--quiet", "-q", is_flag=True, help="Print only errors.")
+@_SET
 def run_cmd(campaign_file: str, out: str, workers: int | None, dask: str | None, runs: int | None,
-            duration: float | None, batch: int | None, quiet: bool) -> int:
+            duration: float | None, batch: int | None, quiet: bool, sets: tuple[str, ...]) -> int:
     """Fly CAMPAIGN_FILE (a scenario with [campaign] and [dispersions]) into a new folder."""
     from rpo.runtime.campaign import execute
     from rpo.runtime.campaign.spec import load_campaign
@@ -153,12 +155,13 @@ def run_cmd(campaign_file: str, out: str, workers: int | None, dask: str | None,
     from rpo.runtime.outputs.writers import check_out_dir
 
     dask = _dask_option(dask)
-    camp = load_campaign(campaign_file, read_manifest(), runs=runs, duration=duration)
+    source = _source(campaign_file, sets)  # --set: the campaign's scenario (or its [campaign]) changed first
+    camp = load_campaign(source, read_manifest(), runs=runs, duration=duration)
     check_out_dir(out)  # before the model loads (which may compile): a bad folder is told at once
     ctrl = camp.scenario_data.get("simulation", {}).get("controller", "baseline")
     model = _model(ctrl, quiet)
     if model.manifest.manifest_hash != camp.manifest.manifest_hash:
-        camp = load_campaign(campaign_file, model.manifest, runs=runs, duration=duration)
+        camp = load_campaign(source, model.manifest, runs=runs, duration=duration)
     command = " ".join(shlex.quote(a) for a in ["rpo", "mc", "run", *sys.argv[3:]]) if len(sys.argv) > 3 else ""
     folder = execute.start_folder(camp, model, out, command=command)
     return _fly(camp, model, folder, workers, dask, batch, quiet, "flying")
