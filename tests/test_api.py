@@ -7,7 +7,8 @@ import pandas as pd
 import pytest
 
 import rpo
-from tests.test_cli import III, rpo as rpo_cli
+from tests.test_cli import III
+from tests.test_cli import rpo as rpo_cli
 
 
 def test_rpo_run_is_the_command_line_run(tmp_path):

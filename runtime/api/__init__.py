@@ -23,19 +23,22 @@ from rpo.runtime.run.result import RunResult
 from rpo.runtime.scenario import Scenario, load_scenario, read_scenario
 from rpo.runtime.scenario.overrides import with_sets
 
-__all__ = ["Model", "ModelError", "OutputError", "RpoError", "RunResult", "Scenario", "ScenarioError", "load_model",
-           "load_scenario", "read_run", "run", "scenario"]
+__all__ = ["Model", "ModelError", "OutputError", "RpoError", "RunResult", "Scenario", "ScenarioError", "campaign",
+           "linearize", "load_model", "load_scenario", "load_summary", "read_run", "run", "scenario"]
+
+
+def _path(path: str | Path) -> Path:
+    """A file, or the shipped scenario of that name (``"001_scenario"``, ``"campaigns/000_III_mc"``)."""
+    from rpo.runtime.scenario import SCENARIO_DIR
+
+    p = Path(path)
+    return SCENARIO_DIR / f"{path}.toml" if not p.suffix and not p.exists() else p
 
 
 def scenario(path: str | Path, overrides: Mapping[str, Any] | None = None) -> Scenario:
     """The scenario file ``path`` (a path, or a shipped scenario's name: ``"001_scenario"``), validated,
     with ``overrides`` (dotted key -> value, as ``--set``: ``{"chaser.mass": 90.0}``) applied first."""
-    from rpo.runtime.scenario import SCENARIO_DIR
-
-    p = Path(path)
-    if not p.suffix and not p.exists():
-        p = SCENARIO_DIR / f"{path}.toml"
-    return load_scenario(with_sets(read_scenario(p), dict(overrides or {})))
+    return load_scenario(with_sets(read_scenario(_path(path)), dict(overrides or {})))
 
 
 def run(path: str | Path, *, controller: str | None = None, plant: str | None = None, duration: float | None = None,
@@ -71,3 +74,44 @@ def run(path: str | Path, *, controller: str | None = None, plant: str | None = 
     result.meta["metrics"] = metrics
     result.meta["verdict"] = metrics["verdict"]
     return result
+
+
+def campaign(path: str | Path, out: str | Path, *, runs: int | None = None, duration: float | None = None,
+             overrides: Mapping[str, Any] | None = None, workers: int | None = None, report: bool = True,
+             log: Callable[[str], None] | bool = True) -> Path:
+    """Fly the campaign file ``path`` into the new folder ``out`` (``rpo mc run``; ``runs``, ``duration`` [s]
+    and ``overrides`` as its --runs, --duration and --set), write its ``report.md`` unless
+    ``report=False`` (``rpo mc report``), and return the folder (:func:`load_summary` reads its runs)."""
+    from rpo.runtime.campaign import load_campaign, run_campaign, start_folder
+    from rpo.runtime.campaign.reporting import write_report
+    from rpo.runtime.model.manifest import read_manifest
+    from rpo.runtime.outputs.writers import check_out_dir
+
+    camp = load_campaign(with_sets(read_scenario(_path(path)), dict(overrides or {})), read_manifest(), runs=runs,
+                         duration=duration)
+    check_out_dir(out)
+    ctrl = camp.scenario_data.get("simulation", {}).get("controller", "baseline")
+    model = load_model(log=False if log is False else log, controllers=[ctrl])
+    folder = start_folder(camp, model, out, command="rpo.campaign")
+    run_campaign(camp, model, folder, workers=workers)
+    if report:
+        write_report(folder)
+    return folder
+
+
+def load_summary(folder: str | Path) -> Any:
+    """A campaign folder's ``summary.parquet`` as a pandas DataFrame, one row per run (units in
+    ``df.attrs["units"]``)."""
+    from rpo.runtime.campaign import load_summary as summary
+
+    return summary(folder)
+
+
+def linearize(path: str | Path, *, controller: str | None = None, plant: str | None = None, at: str = "goal",
+              overrides: Mapping[str, Any] | None = None, log: Callable[[str], None] | bool = True) -> Any:
+    """The closed loop of a scenario file linearised at its goal (or ``at="initial"``): ``rpo linearize``'s
+    result (``.lin`` the eigen-analysis; ``rpo.runtime.run.linearize.format_report(res)`` its printed report)."""
+    from rpo.runtime.run.linearize import linearize_scenario
+
+    src = with_sets(read_scenario(_path(path)), dict(overrides or {}))
+    return linearize_scenario(src, controller=controller, plant=plant, at=at, log=None if log is False else log)
