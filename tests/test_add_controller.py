@@ -51,6 +51,7 @@ def test_controller_module_without_design_is_one_line_exit_2(tmp_path):
 
 
 def test_copy_of_baseline_is_a_new_controller(tmp_path, model):
+    model.prepare(model.functions)  # every existing object in the cache (a model compiles on first use only)
     repo = _checkout(tmp_path / "checkout")
     _git(repo, "init", "-q")
     _git(repo, "add", "-A")
