@@ -126,11 +126,12 @@ def summary_lines(tables: dict[str, Any]) -> list[str]:
 
 
 def comparison_lines(rows: list[dict[str, Any]]) -> list[str]:
-    """Per common scenario and plant: which controllers reach both goals, which do not, which did not fly."""
+    """Per common scenario and plant: which controllers reach both goals, which do not, which did not
+    fly; then the outcomes of the table that depend on round-off."""
     groups: dict[tuple[str, str], list[dict]] = {}
     for row in rows:
         groups.setdefault((row["case"], row["plant"]), []).append(row)
-    out = []
+    out, dep = [], []
     for (case, plant), rs in groups.items():
         yes: list[str] = []
         no: list[str] = []
@@ -142,12 +143,20 @@ def comparison_lines(rows: list[dict[str, Any]]) -> list[str]:
                 continue
             tag = f"{r['controller']} [{o['k']}/{o['n']}]" if o.get("k") is not None else r["controller"]
             (yes if o["reached"] else no).append(tag)
-        parts = [f"both goals reached by {', '.join(yes)}" if yes else "no controller reaches both goals"]
-        if no:
-            parts.append(f"not by {', '.join(no)}")
+            if o["depends"]:
+                shown = "reached" if o["reached"] else "not reached"
+                dep.append(f"{case}, {plant} plant, {r['controller']}: {shown} in the run shown, "
+                           f"in {o['k']}/{o['n']} perturbed runs")
+        if yes:
+            parts = [f"both goals reached by {', '.join(yes)}"] + ([f"not by {', '.join(no)}"] if no else [])
+        else:
+            parts = ["both goals reached by none" + (f" ({', '.join(no)})" if no else "")]
         if other:
             parts.append(f"not flown: {', '.join(other)}")
         out.append(f"- {case}, {plant} plant: " + "; ".join(parts) + ".")
+    if any(r.get("outcome") and r["outcome"].get("k") is not None for r in rows):
+        out += ["", "Depends on round-off (the perturbed runs disagree with the run shown): " + "; ".join(dep) + "."
+                if dep else "No outcome of this table depends on round-off: every perturbed run agrees with its run."]
     return out
 
 
