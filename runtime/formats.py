@@ -61,11 +61,18 @@ class Column:
 @dataclass
 class Table:
     """What a writer writes: ``columns`` (``t`` first, then ``z_count`` state columns, then the
-    outputs) and the run record as JSON (``metadata``), stored in the file where the format can."""
+    outputs) and the run record as JSON (``metadata``), stored in the file where the format can;
+    ``frame_attrs``: the pandas ``DataFrame.attrs`` of the table as JSON (units, fields, the run),
+    which the Parquet file carries where ``pandas.read_parquet`` restores them from."""
 
     columns: Sequence[Column]
     metadata: str
     z_count: int
+    frame_attrs: str = ""
+
+
+#: The Parquet schema metadata key pandas (>= 2.1) writes ``df.attrs`` to and restores them from.
+PANDAS_ATTRS = "PANDAS_ATTRS"
 
 
 # --------------------------------------------------------------------------- writers
@@ -79,7 +86,10 @@ def write_parquet(path: Path, table: Table) -> None:
     fields = [pa.field(c.label, pa.float64(), nullable=False, metadata={
         "unit": c.unit, "layout": c.layout, "field": c.field, "doc": c.doc}) for c in cols]
     units = json.dumps({c.label: c.unit for c in cols})
-    schema = pa.schema(fields, metadata={"rpo.run": table.metadata, "rpo.units": units})
+    meta = {"rpo.run": table.metadata, "rpo.units": units}
+    if table.frame_attrs:
+        meta[PANDAS_ATTRS] = table.frame_attrs
+    schema = pa.schema(fields, metadata=meta)
     arrow = pa.Table.from_arrays([pa.array(c.data, pa.float64()) for c in cols], schema=schema)
     pq.write_table(arrow, path, compression="zstd", use_dictionary=False,
                    column_encoding={c.label: "BYTE_STREAM_SPLIT" for c in cols})
@@ -103,16 +113,35 @@ def matlab_names(labels: Sequence[str], reserved: Sequence[str] = ("units", "met
     return out
 
 
+#: The members of a ``.mat`` file's ``history`` struct that describe its fields (no field takes these names).
+MAT_INFO = ("units", "labels", "layouts", "docs")
+
+
+def mat_struct(table: Table) -> dict[str, Any]:
+    """The ``history`` struct of :func:`write_mat`: per layout field (``t`` first, then the state,
+    then the outputs, in column order) its N x k array of the written columns, and the structs
+    ``units`` (field -> unit), ``labels`` (field -> 1 x k cell array of the column labels),
+    ``layouts`` and ``docs``; a field's name is made a valid MATLAB name where it is not one."""
+    groups: dict[tuple[str, str], list[Column]] = {}
+    for c in table.columns:  # by layout and field (a state field and an output field never merge)
+        groups.setdefault((c.layout, c.field or c.label), []).append(c)
+    names = matlab_names([f for _, f in groups], reserved=MAT_INFO)
+    out: dict[str, Any] = {}
+    info: dict[str, dict[str, Any]] = {k: {} for k in MAT_INFO}
+    for name, cs in zip(names, groups.values(), strict=True):
+        out[name] = np.column_stack([c.data for c in cs])
+        info["units"][name] = cs[0].unit
+        info["labels"][name] = np.array([c.label for c in cs], dtype=object).reshape(1, -1)
+        info["layouts"][name] = cs[0].layout
+        info["docs"][name] = cs[0].doc
+    return {**out, **info}
+
+
 def write_mat(path: Path, table: Table) -> None:
     from scipy.io import savemat
 
-    cols = table.columns
-    names = matlab_names([c.label for c in cols])
-    data: dict[str, Any] = {n: c.data.reshape(-1, 1) for n, c in zip(names, cols, strict=True)}
-    data["units"] = {n: c.unit for n, c in zip(names, cols, strict=True)}
-    data["columns"] = np.array([c.label for c in cols], dtype=object).reshape(-1, 1)
-    data["metadata"] = table.metadata
-    savemat(path, data, do_compression=True, oned_as="column", long_field_names=True)
+    savemat(path, {"history": mat_struct(table), "metadata": table.metadata}, do_compression=True,
+            oned_as="column", long_field_names=True)
 
 
 def write_csv(path: Path, table: Table) -> None:
@@ -134,7 +163,55 @@ def write_npz(path: Path, table: Table) -> None:
 
     np.savez_compressed(path, t=cols[0].data, z=block(z), y=block(y), z_labels=text(z, "label"),
                         z_units=text(z, "unit"), y_labels=text(y, "label"), y_units=text(y, "unit"),
-                        metadata=np.array(table.metadata))
+                        z_fields=text(z, "field"), y_fields=text(y, "field"), metadata=np.array(table.metadata))
+
+
+# --------------------------------------------------------------------------- readers (rpo.runtime.outputs.reading)
+
+
+def read_parquet(path: Path) -> Table:
+    import pyarrow.parquet as pq
+
+    arrow = pq.read_table(path)
+    cols = []
+    for name in arrow.column_names:
+        meta = {k.decode(): v.decode() for k, v in (arrow.schema.field(name).metadata or {}).items()}
+        cols.append(Column(name, meta.get("unit", ""), meta.get("layout", ""), meta.get("field", name),
+                           meta.get("doc", ""), np.asarray(arrow.column(name).to_numpy(), dtype=np.float64)))
+    raw = arrow.schema.metadata or {}
+    return Table(cols, raw.get(b"rpo.run", b"{}").decode(), sum(c.layout.startswith("z") for c in cols),
+                 raw.get(PANDAS_ATTRS.encode(), b"").decode())
+
+
+def read_mat(path: Path) -> Table:
+    from scipy.io import loadmat
+
+    mat = loadmat(path)
+    h = mat["history"][0, 0]
+    info = {k: h[k][0, 0] for k in MAT_INFO}
+
+    def text(a: np.ndarray) -> str:
+        return str(a[0]) if a.size else ""
+
+    cols = []
+    for name in h.dtype.names:
+        if name in MAT_INFO:
+            continue
+        block = np.asarray(h[name], np.float64)
+        labels = [text(x) for x in info["labels"][name].ravel()]
+        cols += [Column(lbl, text(info["units"][name]), text(info["layouts"][name]), name, text(info["docs"][name]),
+                        np.ascontiguousarray(block[:, i])) for i, lbl in enumerate(labels)]
+    return Table(cols, text(mat["metadata"]), sum(c.layout.startswith("z") for c in cols))
+
+
+def read_npz(path: Path) -> Table:
+    with np.load(path) as f:
+        cols = [Column("t", "s", "", "t", "time", np.asarray(f["t"], np.float64))]
+        for b in ("z", "y"):
+            fields = f[f"{b}_fields"] if f"{b}_fields" in f else f[f"{b}_labels"]  # older files: no fields
+            cols += [Column(str(lbl), str(u), b, str(fld), "", np.ascontiguousarray(f[b][:, i], np.float64))
+                     for i, (lbl, u, fld) in enumerate(zip(f[f"{b}_labels"], f[f"{b}_units"], fields, strict=True))]
+        return Table(cols, str(f["metadata"]), len(f["z_labels"]))
 
 
 # --------------------------------------------------------------------------- the time histories' formats
@@ -144,8 +221,9 @@ def write_npz(path: Path, table: Table) -> None:
 class OutputFormat:
     """A time-history format: ``name`` (as ``[output] formats`` and ``--format`` spell it), the file
     ``suffix`` (``timeseries.<suffix>``), ``note`` (a word for lists: "MATLAB"), ``holds`` (what
-    the file holds, for the reference), ``write(path, table)``, and whether it is written by
-    default."""
+    the file holds, for the reference), ``write(path, table)``, whether it is written by default,
+    and ``read(path)``, the :class:`Table` back with its units, layouts and fields (None: the file
+    does not keep them; :func:`rpo.runtime.outputs.reading.read_run` reads the first format with one)."""
 
     name: str
     suffix: str
@@ -153,6 +231,7 @@ class OutputFormat:
     write: Callable[[Path, Table], None]
     note: str = ""
     default: bool = False
+    read: Callable[[Path], Table] | None = None
 
     @property
     def file(self) -> str:
@@ -161,21 +240,24 @@ class OutputFormat:
 
 #: The time-history formats, in the order the messages, the help and the docs list them.
 OUTPUT_FORMATS: dict[str, OutputFormat] = {f.name: f for f in (
-    OutputFormat("parquet", "parquet", default=True, write=write_parquet, holds=(
+    OutputFormat("parquet", "parquet", default=True, write=write_parquet, read=read_parquet, holds=(
         "one table: `t` [s], the chosen z columns, then the chosen y columns, float64, zstd-compressed "
         "(byte-stream-split encoding: lossless); each field's metadata holds `unit`, `layout` "
-        "(`z_<ctrl>`/`y_<ctrl>`), `field` and `doc`, the file's metadata `rpo.run` (the run record) and "
-        "`rpo.units` (label -> unit). pandas, polars, pyarrow, DuckDB, R's arrow and MATLAB's "
+        "(`z_<ctrl>`/`y_<ctrl>`), `field` and `doc`, the file's metadata `rpo.run` (the run record), "
+        "`rpo.units` (label -> unit) and `PANDAS_ATTRS` (what `pandas.read_parquet` restores as `df.attrs`: "
+        "`units`, `fields`, `run`). pandas, polars, pyarrow, DuckDB, R's arrow and MATLAB's "
         "`parquetread` open it")),
-    OutputFormat("mat", "mat", note="MATLAB", write=write_mat, holds=(
-        "MATLAB v5 (`scipy.io.savemat`): one column vector per column, named by its label (an invalid "
-        "MATLAB name is rewritten; the cell array `columns` gives the labels in order), a struct `units` "
-        "(name -> unit) and the char array `metadata` (the run record as JSON)")),
+    OutputFormat("mat", "mat", note="MATLAB", write=write_mat, read=read_mat, holds=(
+        "MATLAB v5 (`scipy.io.savemat`): a struct `history` with one N x k array per layout field "
+        "(`history.t` N x 1, `history.r` N x 3, ...: the field's written columns) and the structs "
+        "`history.units` (field -> unit), `history.labels` (field -> cell array of its column labels), "
+        "`history.layouts`, `history.docs`; the char array `metadata` (the run record as JSON)")),
     OutputFormat("csv", "csv", write=write_csv, holds=(
         "the same table as text, header `name [unit]`, every double with 17 significant digits "
         "(reads back bit for bit)")),
-    OutputFormat("npz", "npz", write=write_npz, holds=(
-        "NumPy: `t`, `z`, `y`, `z_labels`, `z_units`, `y_labels`, `y_units`, `metadata`")),
+    OutputFormat("npz", "npz", write=write_npz, read=read_npz, holds=(
+        "NumPy: `t`, `z`, `y`, `z_labels`, `z_units`, `y_labels`, `y_units`, `z_fields`, `y_fields` (each "
+        "column's layout field), `metadata`")),
 )}
 #: The names, in order (what ``[output] formats`` accepts).
 FORMAT_NAMES: tuple[str, ...] = tuple(OUTPUT_FORMATS)

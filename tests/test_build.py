@@ -352,15 +352,17 @@ def test_old_manifest_format_is_refused(tiny):
 
 
 def test_loaded_library_is_checked_against_the_manifest(tiny, monkeypatch):
-    """A manifest that disagrees with the library's signatures is refused at load time."""
+    """A manifest that disagrees with the library's signatures is refused when the function is loaded
+    (compiled on first use), before any call."""
     _, gen, cache = tiny
     monkeypatch.setenv("RPO_CACHE_DIR", str(cache))
     m = json.loads((gen / "manifest.json").read_text())
     m["functions"]["tiny_out"]["inputs"][0]["shape"] = [2, 1]
     m["manifest_hash"] = manifest_hash(m)  # consistent manifest, inconsistent library
     (gen / "manifest.json").write_text(json.dumps(m))
+    model = load_model(gen_dir=gen)
     with pytest.raises(ModelError, match="tiny_out"):
-        load_model(gen_dir=gen)
+        model.function("tiny_out")
 
 
 def test_no_compiler_gives_a_clear_error(tiny, tmp_path, monkeypatch):
@@ -398,7 +400,7 @@ def test_fast_math_library_is_refused(tiny, tmp_path, monkeypatch, flag, error):
     monkeypatch.setenv("CC", str(wrapper))
     monkeypatch.setenv("RPO_CACHE_DIR", str(tmp_path / "cache"))
     with pytest.raises(ModelError, match=error):
-        load_model(gen_dir=gen)
+        load_model(gen_dir=gen).function("tiny_out")
 
 
 def test_casadi_fallback_is_explicit_warned_and_equal(model):
@@ -436,6 +438,8 @@ def test_library_for_some_controllers_compiles_only_what_they_need(tiny, monkeyp
     assert selected_sources(m, ["a"]) == ["law_a.c", "step_a.c", "tiny_out.c", "tiny_rhs.c"]
     lines: list[str] = []
     model = load_model(gen_dir=gen, controllers=["a"], log=lines.append)
+    assert lines == []  # nothing is compiled before a function is asked for
+    model.prepare(model.functions)
     assert "compiling 5 of 5 C files" in lines[0]  # 4 generated + the loop driver
     assert set(model.functions) == {"law_a", "step_a", "tiny_out", "tiny_rhs"}
     with pytest.raises(ModelError, match="step_b is not loaded"):
@@ -444,6 +448,7 @@ def test_library_for_some_controllers_compiles_only_what_they_need(tiny, monkeyp
         load_model(gen_dir=gen, controllers=["z"])
     lines.clear()
     full = load_model(gen_dir=gen, log=lines.append)
+    full.prepare(full.functions)
     assert "compiling 2 of 7 C files" in lines[0] and full.library != model.library
 
 

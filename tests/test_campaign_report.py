@@ -253,6 +253,22 @@ def test_metric_table_matches_numpy(campaign):
     assert row(m, "att_settling_time_s")[2] == "131"  # 133 ok minus 2 never settled
 
 
+def test_angles_are_shown_in_degrees_throughout_the_report(campaign):
+    """The summary holds SI (att_err_final_rad); the report shows angles in deg, renamed so its name
+    says so, and no table shows rad beside deg."""
+    _, data, _, text = campaign
+    assert "Units: SI as in `summary.parquet`, except angles in deg" in text
+    m = section(text, "Metrics")
+    v = np.degrees(data["att_err"][data["ok"]])
+    cells = row(m, "att_err_final_deg")
+    assert cells[1] == "deg" and cells[3] == f"{f4(v.mean())} [" + cells[3].split(" [")[1]
+    assert cells[7:9] == [f4(v.min()), f4(v.max())]
+    assert row(section(text, "Tolerance bounds (Wilks)"), "att_err_final_deg")[1] == "deg"
+    units = [r[1] for line in text.split("\n## ")[1:] for r in body_rows(line) if len(r) > 1]
+    assert "rad" not in units and "rad/s" not in units
+    assert "| att_err_final_rad |" not in text
+
+
 def test_sensitivity_finds_the_monotone_relations(campaign):
     _, data, _, text = campaign
     s = section(text, "Which dispersion matters")

@@ -187,7 +187,9 @@ def test_cli_prints_eigenvalues():
     assert res.returncode == 0, res.stderr
     assert "eigenvalues of A" in res.stdout and "goal" in res.stdout
     assert "chaser+actuators" in res.stdout and "target: w_t_x" in res.stdout
-    res = rpo("linearize", III, "--controller", "c004", "--at", "initial", "--json", timeout=300)
+    # another controller flies the scenario's goal (002's docking point; c004 cannot hold III's, below)
+    res = rpo("linearize", III.with_name("002_scenario.toml"), "--controller", "c004", "--at", "initial", "--json",
+              timeout=300)
     assert res.returncode == 0, res.stderr
     out = json.loads(res.stdout)
     n = len(out["labels"])
@@ -199,6 +201,8 @@ def test_cli_bad_input(tmp_path):
     assert_user_error(rpo("linearize", tmp_path / "missing.toml"), "cannot read the scenario")
     assert_user_error(rpo("linearize", III, "--controller", "nope"), "unknown controller")
     assert_user_error(rpo("linearize", III, "--controller", "baseline"), "--at initial")
+    assert_user_error(rpo("linearize", III, "--controller", "c004", "--at", "initial"),
+                      "c004 cannot fly the scenario's goal")
     bad = tmp_path / "bad.toml"
     bad.write_text(III.read_text().replace("eccentricity = 0.138", "eccentricity = 1.5"))
     assert_user_error(rpo("linearize", bad), "eccentricity")

@@ -176,7 +176,7 @@ def unit_cols():
 def test_per_wheel_use_known_values():
     m = M.compute_metrics(T, {"ctrl_att_err": 0 * T, **unit_cols()}, params=WHEEL_P)
     w1, w2 = m["per_wheel"]
-    assert (w1["unit"], w2["unit"]) == ("1", "2")
+    assert (w1["wheel"], w2["wheel"]) == ("1", "2")  # the key was "unit" (renamed: it is no unit)
     assert w1["torque_peak_N_m"] == pytest.approx(0.1) and w2["torque_peak_N_m"] == pytest.approx(0.01)
     # RMS over [0, 100) s, sample-and-hold: 0.1^2 for 25 s, 0.05^2 for 75 s
     assert w1["torque_rms_N_m"] == pytest.approx(np.sqrt((25 * 0.01 + 75 * 0.0025) / 100), rel=1e-3)
@@ -190,7 +190,7 @@ def test_per_wheel_use_known_values():
 def test_per_thruster_use_known_values():
     m = M.compute_metrics(T, {"ctrl_att_err": 0 * T, **unit_cols()}, params=WHEEL_P)
     t0, t1 = m["per_thruster"]
-    assert t0["unit"] == "00" and t0["firings"] == 50 and t0["on_time_s"] == pytest.approx(50.0, abs=0.02)
+    assert t0["thruster"] == "00" and t0["firings"] == 50 and t0["on_time_s"] == pytest.approx(50.0, abs=0.02)
     assert t1["firings"] == 1 and t1["on_time_s"] == pytest.approx(20.0, abs=0.02)
     flow = 2.0 / (200.0 * 10.0)  # kg/s at full thrust
     assert t0["propellant_kg"] == pytest.approx(50 * flow, rel=1e-3)

@@ -103,12 +103,20 @@ def test_formats_round_trip_bit_for_bit_with_units(model, tmp_path):
     assert run_meta["status"] == "ok" and run_meta["controller"] == "c000"
     assert json.loads(table.schema.metadata[b"rpo.units"])["r_x"] == "m"
 
+    # .mat: one N x k array per layout field in the struct `history` (was: one N x 1 variable per
+    # column, a `units` struct and a `columns` cell array; the format changed on purpose)
     from scipy.io import loadmat
     mat = loadmat(out / "timeseries.mat")
-    for lbl, want in cols.items():
-        assert mat[lbl].shape == (len(want), 1) and mat[lbl][:, 0].tobytes() == want.tobytes(), lbl
-    assert str(mat["units"]["r_x"][0, 0][0]) == "m"
-    assert [str(c[0]) for c in mat["columns"][:, 0]] == list(cols)
+    h = mat["history"][0, 0]
+    labels = {name: [str(x[0]) for x in h["labels"][0, 0][name].ravel()] for name in h["labels"][0, 0].dtype.names}
+    assert [lbl for name in labels for lbl in labels[name]] == list(cols)  # every column, in order
+    for name, lbls in labels.items():
+        block = h[name]
+        assert block.shape == (len(cols["t"]), len(lbls)), name
+        for i, lbl in enumerate(lbls):
+            assert block[:, i].tobytes() == cols[lbl].tobytes(), lbl
+            assert str(h["units"][0, 0][name][0]) == units[lbl], lbl
+    assert labels["r"] == ["r_x", "r_y", "r_z"] and labels["t"] == ["t"]
     assert json.loads(str(mat["metadata"][0]))["status"] == "ok"
 
     header = (out / "timeseries.csv").read_text().splitlines()[0].split(",")
@@ -169,8 +177,9 @@ def test_figures_in_each_format(model, tmp_path, fmt):
     run(model, scenario(tmp_path), out, duration=0.3, figure_format=fmt)
     meta = json.loads((out / "run.json").read_text())
     assert "plot_error" not in meta
-    assert meta["figures"] == [f"{n}.{fmt}" for n in ("attitude", "translation", "actuators", "thrusters",
-                                                      "controller", "constraints", "diagnostics")]
+    assert meta["figures"] == [f"{n}.{fmt}" for n in ("attitude", "translation", "errors", "lvlh", "approach",
+                                                      "actuators", "thrusters", "controller", "constraints",
+                                                      "diagnostics")]
     for f in meta["figures"]:
         assert (out / f).read_bytes()[:len(MAGIC[fmt])] == MAGIC[fmt], f
     assert not list(tmp_path.glob(".*.tmp"))  # the temporary folder was renamed

@@ -111,6 +111,8 @@ from rpo.runtime import load_model
 from rpo.runtime.model import fastcall
 from rpo.runtime.run.simulate import Simulation
 m = load_model(log=print)
+m.prepare(m.functions)  # the whole library (the one planted), not only what the run below calls
+lanes = m.lanes()
 assert fastcall.load() is not None, fastcall.why_not
 sim = Simulation(m)
 z0 = sim.initial_state({"q_c": [0, 0, 0, 1], "q_t": [0, 0, 0, 1], "r": [60, 0, 25], "v": [0, 0, 0]})
@@ -126,6 +128,7 @@ def test_truncated_swapped_and_corrupt_cached_libraries_are_rebuilt_before_loadi
     its side file), the fast-call extension's bytes flipped.  A fresh process detects all three,
     relinks them from the cached objects and runs (a truncated library used to die of SIGBUS)."""
     src = cache_dir()
+    model.prepare(model.functions)  # the whole library, as the check below loads it
     lanes = model.lanes().path
     exts = sorted(src.glob("_rpo_fastcall_*.so"))
     assert model.library.parent == src and lanes.parent == src and exts

@@ -35,11 +35,12 @@ from typing import Any
 import numpy as np
 
 from rpo.runtime.campaign import storage
+from rpo.runtime.campaign.folder import first_difference
 from rpo.runtime.campaign.spec import DERIVED, Campaign, campaign_from_resolved
 from rpo.runtime.errors import CampaignError, RpoError
 from rpo.runtime.model.manifest import Manifest
 from rpo.runtime.outputs.metrics import UNITS, compute_metrics, error_signals, norm_rows
-from rpo.runtime.outputs.verdict import verdict
+from rpo.runtime.outputs.verdict import declared_constraints, verdict, violated_constraints
 from rpo.runtime.run import interrupts
 
 #: Lane blocks per batch by default: enough runs per task to amortise its start, small enough that
@@ -83,14 +84,14 @@ def _campaign(resolved: dict, manifest: Manifest, key: str) -> Campaign:
 
 
 def fly_batch(resolved: dict, key: str, cases: Sequence[int], folder: str,
-              model: Any = None) -> list[dict[str, Any]]:
+              model: Any = None, lanes: bool = True) -> list[dict[str, Any]]:
     """Fly ``cases`` of the campaign ``resolved`` (its hash ``key``) and write their histories into
     ``folder``; return one row per case (JSON-ready).  Never raises for a run: a refused draw is
     ``invalid``, anything else that fails is ``error`` with its message."""
     try:
         model = model if model is not None else worker_model(resolved["controller"])
         camp = _campaign(resolved, model.manifest, key)
-        return _fly(camp, model, list(cases), Path(folder))
+        return _fly(camp, model, list(cases), Path(folder), lanes)
     except Exception as exc:  # the whole task failed: its runs are recorded as errors, resume re-flies them
         return error_rows(resolved, cases, f"{type(exc).__name__}: {exc}", traceback.format_exc(limit=5))
 
@@ -130,7 +131,7 @@ def prepare_case(camp: Campaign, model: Any, case: int,
     return row, draws, pre
 
 
-def _fly(camp: Campaign, model: Any, cases: list[int], folder: Path) -> list[dict[str, Any]]:
+def _fly(camp: Campaign, model: Any, cases: list[int], folder: Path, lanes: bool = True) -> list[dict[str, Any]]:
     rows: dict[int, dict] = {}
     ready: list[tuple[int, Any]] = []
     for case, draws in zip(cases, camp.draws_many(cases), strict=True):
@@ -156,7 +157,7 @@ def _fly(camp: Campaign, model: Any, cases: list[int], folder: Path) -> list[dic
                                       seeds=[pre.inputs.seed for _, pre in group],
                                       params=np.array([pre.sim.p for _, pre in group]),
                                       gains=np.array([pre.sim.k for _, pre in group]),
-                                      record_every=first.inputs.record_every)
+                                      record_every=first.inputs.record_every, lanes=lanes)
         for (case, pre), res in zip(group, results, strict=True):
             row, hist, units = run_row(camp, model, pre.inputs, res)
             rows[case].update(row)
@@ -232,13 +233,14 @@ def run_row(camp: Campaign, model: Any, inputs: Any, res: Any) -> tuple[dict[str
     ver = verdict(met, res.t, cols, inputs.params, res.divergence, model.manifest.faults)
     goals = ver["goals"]
     att, pos = goals["att"]["reached"], goals["pos"]["reached"]
-    # constraints count where the scenario states them ([constraints]: 001's camera cone and
-    # envelope spheres); the verdict evaluates them for every run, and a 000 run has no camera
-    declared = "constraints" in camp.scenario_data
-    violated = declared and any(c["violated"] for c in ver["constraints"].values())
+    # a constraint violated: the verdict's rule (violated_constraints, every run); a failure counts
+    # only those the scenario declares ([constraints]: 001's camera cone and envelope spheres; a 000
+    # run has no camera): docs/campaigns.md, the report says both
+    violated = bool(violated_constraints(ver["constraints"]))
+    declared = bool(violated_constraints(ver["constraints"], declared_constraints(camp.scenario_data)))
     diverged = res.divergence is not None
     outcome = {"att_reached": att, "pos_reached": pos, "diverged": diverged, "constraint_violated": violated,
-               "failed": bool(diverged or violated or att is False or pos is False)}
+               "failed": bool(diverged or declared or att is False or pos is False)}
     metrics = {k: _finite_or_none(met.get(k)) for k in UNITS}
     sel = _selection(camp, model, inputs.controller)
     ukey = (inputs.controller, model.manifest.manifest_hash)
@@ -306,7 +308,8 @@ def fly_cases(camp: Campaign, model: Any, folder: Path, cases: Sequence[int], *,
     (``on_rows`` sees them too).  None if every batch came back; the signal's number if SIGINT or
     SIGTERM stopped it (the rows recorded so far are kept, the batches in flight are dropped)."""
     resolved, key = camp.resolved(), camp.hash
-    lanes = model.lanes() if model.backend == "compiled" else None
+    use_lanes = lanes_worth_it(camp, model, len(cases))
+    lanes = _campaign_lanes(camp, model) if use_lanes else None
     size = batch or camp.settings.batch or BLOCKS_PER_BATCH * (lanes.width if lanes is not None else 8)
     tasks = batches(list(cases), size)
 
@@ -323,14 +326,14 @@ def fly_cases(camp: Campaign, model: Any, folder: Path, cases: Sequence[int], *,
         with interrupts.stop_request() as stop, frozen_heap():
             if dask is None and workers <= 1:
                 for t in tasks:
-                    record(fly_batch(resolved, key, t, str(folder), model=model))
+                    record(fly_batch(resolved, key, t, str(folder), model=model, lanes=use_lanes))
                     if stop.requested():
                         break
             elif dask is None:
                 _warm(camp, model)
-                _pool(resolved, key, tasks, folder, workers, record, stop)
+                _pool(resolved, key, tasks, folder, workers, record, stop, use_lanes)
             else:
-                _dask(resolved, key, tasks, folder, workers, dask, record, stop)
+                _dask(resolved, key, tasks, folder, workers, dask, record, stop, use_lanes)
     finally:
         syncer.close()  # every line on disk before the summary is written or the command returns
     return stop.signum
@@ -349,6 +352,47 @@ def frozen_heap() -> Iterator[None]:
         gc.unfreeze()
 
 
+#: Run-steps (runs x steps) from which a campaign compiles the lane library when it is not cached:
+#: about 14 s of scalar stepping on one core (7 us per step, scenario III), the time compiling the
+#: lane form of the plant's step takes on the 2-core machine.  Shorter campaigns fly the scalar
+#: loop (bit-identical results: tests/test_lanes.py); ``rpo build --lanes`` compiles it ahead.
+LANES_MIN_RUN_STEPS = 2_000_000
+
+
+def lanes_worth_it(camp: Campaign, model: Any, n_runs: int) -> bool:
+    """Whether the campaign flies in lockstep lanes: when the lane library it needs is built, or
+    when ``n_runs`` runs are long enough to pay for compiling it (:data:`LANES_MIN_RUN_STEPS`)."""
+    if model.backend != "compiled":
+        return False
+    controller = camp.scenario_data.get("simulation", {}).get("controller", "baseline")
+    nominal = _nominal_vectors(camp, model)
+    if controller not in model.manifest.controllers or nominal is None:
+        return True
+    step = model.manifest.controller(controller).step
+    if model.lanes_ready([step], nominal[0]):
+        return True
+    try:
+        sim = camp.scenario_data.get("simulation", {})
+        dt = float(nominal[0][model.offsets("p")["dt"]][0])
+        steps = float(sim["duration"]) / dt
+    except (KeyError, TypeError, ValueError, ZeroDivisionError):
+        return True
+    return n_runs * steps >= LANES_MIN_RUN_STEPS
+
+
+def _campaign_lanes(camp: Campaign, model: Any) -> Any:
+    """The lane library of the campaign's step with the undispersed parameters' plant copies (a run
+    whose draws select another copy has it linked when it flies: Simulation.run_batch), built
+    here in the parent so that forked workers find it loaded; None for the CasADi backend."""
+    if model.backend != "compiled":
+        return None
+    controller = camp.scenario_data.get("simulation", {}).get("controller", "baseline")
+    if controller not in model.manifest.controllers:
+        return model.lanes([])
+    nominal = _nominal_vectors(camp, model)
+    return model.lanes([model.manifest.controller(controller).step], None if nominal is None else nominal[0])
+
+
 def _warm(camp: Campaign, model: Any) -> None:
     """What every worker needs, made in the parent before the pool forks it: the imports a batch
     makes on first use (pyarrow's Parquet writer alone is ~0.3 s a process), the undispersed
@@ -360,7 +404,7 @@ def _warm(camp: Campaign, model: Any) -> None:
     _campaign(camp.resolved(), model.manifest, camp.hash)
 
 
-def _pool(resolved, key, tasks, folder, workers, record, stop) -> bool:
+def _pool(resolved, key, tasks, folder, workers, record, stop, lanes: bool = True) -> bool:
     import multiprocessing
     import threading
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
@@ -375,7 +419,7 @@ def _pool(resolved, key, tasks, folder, workers, record, stop) -> bool:
     ctx = multiprocessing.get_context(method)
     pool = ProcessPoolExecutor(max_workers=min(workers, len(tasks)), mp_context=ctx,
                                initializer=_init_worker, initargs=(os.environ.get("RPO_CACHE_DIR"),))
-    pending = {pool.submit(fly_batch, resolved, key, t, str(folder)): t for t in tasks}
+    pending = {pool.submit(fly_batch, resolved, key, t, str(folder), None, lanes): t for t in tasks}
     try:
         while pending:
             done, _ = wait(pending, timeout=0.25, return_when=FIRST_COMPLETED)
@@ -418,7 +462,7 @@ def _shutdown(pool: Any, cancel: bool) -> None:
         p.join(timeout=5)
 
 
-def _dask(resolved, key, tasks, folder, workers, address, record, stop) -> bool:
+def _dask(resolved, key, tasks, folder, workers, address, record, stop, lanes: bool = True) -> bool:
     try:
         from dask.distributed import Client, LocalCluster, as_completed
     except ImportError:
@@ -436,7 +480,8 @@ def _dask(resolved, key, tasks, folder, workers, address, record, stop) -> bool:
         except (OSError, TimeoutError) as exc:
             raise CampaignError(f"--dask {address}: cannot connect to the scheduler ({exc})") from None
     try:
-        futs = {client.submit(fly_batch, resolved, key, t, str(folder), pure=False): t for t in tasks}
+        futs = {client.submit(fly_batch, resolved, key, t, str(folder), None, lanes, pure=False): t
+                for t in tasks}
         ac = as_completed(list(futs))
         for fut in ac:
             record(_result(fut, resolved, futs[fut]))
@@ -544,22 +589,8 @@ def check_resume(folder: Path, model: Any, camp: Campaign | None) -> Campaign:
         raise CampaignError(f"{folder}/{storage.RESOLVED}: its content does not match its recorded hash "
                             "(edited?): refusing to resume")
     if camp is not None and camp.hash != stored.hash:
-        what = diff(stored.resolved(), camp.resolved())
+        what = first_difference(stored.resolved(), camp.resolved())
         raise CampaignError(f"{folder}: the campaign changed since it started: {what}; start a new campaign "
                             "folder (or undo the change)")
     return stored
 
-
-def diff(a: Any, b: Any, path: str = "") -> str:
-    """The first difference between two resolved campaigns, as ``key: then -> now``."""
-    if isinstance(a, dict) and isinstance(b, dict):
-        for k in sorted(set(a) | set(b), key=str):
-            if a.get(k) != b.get(k):
-                return diff(a.get(k), b.get(k), f"{path}.{k}" if path else str(k))
-        return "(no difference)"
-    if isinstance(a, list) and isinstance(b, list) and len(a) == len(b):
-        for i, (x, y) in enumerate(zip(a, b, strict=True)):
-            if x != y:
-                return diff(x, y, f"{path}[{i}]")
-    from rpo.runtime.scenario.messages import show
-    return f"{path}: {show(a)} then, {show(b)} now"

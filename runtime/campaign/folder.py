@@ -9,16 +9,21 @@ import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from rpo.runtime.campaign.storage import history_path, read_histories, read_rows
+from rpo.runtime.campaign.storage import (  # noqa: F401  (the statuses and outcomes: declared once, there)
+    OUTCOMES,
+    STATUSES,
+    history_path,
+    read_histories,
+    read_rows,
+)
 
-STATUSES = ("ok", "diverged", "invalid", "error")
 FLOWN = ("ok", "diverged")
-OUTCOMES = ("att_reached", "pos_reached", "diverged", "constraint_violated", "failed")
 #: The metrics with a tolerance bound and a worst-case list: (column, bound side, worst-case title).
 MAIN_METRICS: tuple[tuple[str, str, str], ...] = (
     ("pos_err_final_m", "upper", "largest final position error"),
@@ -168,3 +173,16 @@ def read_folder(campaign_dir: str | Path) -> CampaignFolder:
     return CampaignFolder(path, resolved, columns, kinds, units, _meta_json(table.schema, b"rpo.campaign"))
 
 
+def first_difference(a: Any, b: Any, path: str = "") -> str:
+    """The first difference between two resolved campaigns, as ``key: then -> now``."""
+    if isinstance(a, dict) and isinstance(b, dict):
+        for k in sorted(set(a) | set(b), key=str):
+            if a.get(k) != b.get(k):
+                return first_difference(a.get(k), b.get(k), f"{path}.{k}" if path else str(k))
+        return "(no difference)"
+    if isinstance(a, list) and isinstance(b, list) and len(a) == len(b):
+        for i, (x, y) in enumerate(zip(a, b, strict=True)):
+            if x != y:
+                return first_difference(x, y, f"{path}[{i}]")
+    from rpo.runtime.scenario.messages import show
+    return f"{path}: {show(a)} then, {show(b)} now"

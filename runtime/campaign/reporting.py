@@ -24,6 +24,12 @@ columns as NumPy arrays.  Conventions of the report (also in ``docs/campaigns.md
   +inf: the bound is a statement on all flown runs, not only on the good ones;
 * the sensitivity table ranks Spearman's rho of each metric (over ``ok`` runs) and of ``failed``
   (over flown runs, 0/1) against every numeric draw; string draws are skipped;
+* ``constraint violated`` counts the runs whose verdict names a violated constraint (the verdict's
+  rule, :func:`rpo.runtime.outputs.verdict.violated_constraints`); ``failed`` counts a violated
+  constraint only where the scenario declares it (``[constraints]``); the report says both rules;
+* units: SI as in the summary, except angles in deg, angular rates in deg/s and wheel speeds in rpm
+  (:func:`rpo.runtime.outputs.jsonunits.shown`; a column's SI suffix becomes the shown one:
+  ``att_err_final_rad`` is shown as ``att_err_final_deg``), so no table shows rad beside deg;
 * everything is deterministic: the bootstrap seed is fixed, no date is written, and the files of
   the figures carry no timestamp.
 """

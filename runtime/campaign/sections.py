@@ -21,6 +21,8 @@ from rpo.runtime.campaign.folder import (
     CampaignFolder,
 )
 from rpo.runtime.campaign.storage import read_histories, read_rows
+from rpo.runtime.outputs.jsonunits import shown
+from rpo.runtime.outputs.verdict import CONSTRAINT_RULE, declared_constraints
 
 # --------------------------------------------------------------------------- formatting
 
@@ -109,15 +111,27 @@ def _wilks_values(c: CampaignFolder, metric: str, side: str, flown: np.ndarray) 
     return v
 
 
+def _shown(c: CampaignFolder, column: str) -> tuple[str, str, float]:
+    """(name, unit, factor from the summary's SI value) of a column as the report shows it: angles in
+    deg, angular rates in deg/s, wheel speeds in rpm (rpo.runtime.outputs.jsonunits.shown), the rest as
+    the summary has it."""
+    return shown(column, c.unit(column))
+
+
 def _label(c: CampaignFolder, column: str) -> str:
-    u = c.unit(column)
-    return f"{column} [{u}]" if u else column
+    name, u, _ = _shown(c, column)
+    return f"{name} [{u}]" if u else name
 
 
 def _draw_label(c: CampaignFolder, column: str) -> str:
-    name = column[len("draw."):] if column.startswith("draw.") else column
-    u = c.unit(column)
+    name, u, _ = _shown(c, column)
+    name = name[len("draw."):] if name.startswith("draw.") else name
     return f"{name} [{u}]" if u else name
+
+
+#: how the report's units are chosen, in words (the header says it)
+UNITS_TEXT = ("Units: SI as in `summary.parquet`, except angles in deg, angular rates in deg/s and wheel speeds "
+              "in rpm (a column's unit suffix says which: `att_err_final_rad` is shown as `att_err_final_deg`).")
 
 
 @dataclass
@@ -183,11 +197,12 @@ def _write_figures(c: CampaignFolder, fig_dir: Path, ok: np.ndarray, flown: np.n
             draws.append((r.rho if r else math.nan, d))
         # the draws that matter most first; undefined rho last; then by name (deterministic)
         draws.sort(key=lambda rd: (math.isnan(rd[0]), -abs(rd[0]) if not math.isnan(rd[0]) else 0.0, rd[1]))
-        panels_s = [(_draw_label(c, d), c.columns[d][flown].astype(float), rho) for rho, d in draws]
+        panels_s = [(_draw_label(c, d), c.columns[d][flown].astype(float) * _shown(c, d)[2], rho) for rho, d in draws]
         name = f"scatter_{metric}.{fmt}"
-        if F.scatter_figure(_label(c, metric), c.columns[metric][flown], panels_s, flown_st, fig_dir / name,
-                            f"{c.name}: {metric} against the dispersed values (Spearman rho over ok runs)"):
-            written.append((name, f"{metric} against each dispersed value"))
+        shown_name, _, k = _shown(c, metric)
+        if F.scatter_figure(_label(c, metric), c.columns[metric][flown] * k, panels_s, flown_st, fig_dir / name,
+                            f"{c.name}: {shown_name} against the dispersed values (Spearman rho over ok runs)"):
+            written.append((name, f"{shown_name} against each dispersed value"))
     # a figure of an earlier write that this one did not draw (its data are gone) would contradict
     # the report: remove it; only our own file names are touched
     ours = {n for n, _ in written}
@@ -278,6 +293,7 @@ def header_lines(x: ReportContext) -> list[str]:
              f"errors: {counts['error']}")
     L.append(f"- statistics: intervals at {conf_pct} confidence; tolerance bounds for {cov_pct} coverage at "
              f"{conf_pct} confidence; percentile intervals by bootstrap ({n_boot} resamples, seed {seed})")
+    L.append(f"- {UNITS_TEXT}")
     missing = sorted(set(range(c.requested)) - {int(x) for x in c.cases})
     if missing:
         L += ["", f"**Incomplete campaign: {len(missing)} of the {c.requested} requested cases have no result "
@@ -317,7 +333,7 @@ def failure_rate_lines(x: ReportContext) -> list[str]:
     L += ["## Failure rates", "",
           f"Over the {n_flown} flown runs (ok + diverged); invalid draws and worker errors over the {n_done} "
           f"done cases. Exact Clopper-Pearson intervals: the two-sided {conf_pct} interval, and the one-sided "
-          f"upper bound (the rate is at most this with {conf_pct} confidence).", ""]
+          f"upper bound (the rate is at most this with {conf_pct} confidence).", "", *_constraint_rule(c), ""]
     events: list[tuple[str, tuple[int, int] | None]] = [
         ("failed", _flag_count(c, "failed", flown)),
         ("attitude not settled", _not_settled(c, "att_settling_time_s", "att_reached", flown)),
@@ -345,6 +361,22 @@ def failure_rate_lines(x: ReportContext) -> list[str]:
     return L
 
 
+def _constraint_rule(c: CampaignFolder) -> list[str]:
+    """What "constraint violated" and "failed" count, in words: the verdict's rule, and which
+    constraints this campaign's scenario declares (from ``resolved.json``)."""
+    scenario = c.resolved.get("scenario")
+    if isinstance(scenario, dict):
+        names = declared_constraints(scenario)
+        declared = (f"this campaign's scenario declares {', '.join(f'`{n}`' for n in names)}" if names else
+                    "this campaign's scenario declares none, so a violated constraint is counted but fails no run")
+    else:
+        declared = "which constraints the scenario declares is not recorded in this folder"
+    return [f"`constraint violated` counts the runs whose verdict names a violated constraint (the rule of "
+            f"`rpo run`'s verdict, docs/verdict.md): {CONSTRAINT_RULE}. `failed` counts the runs that diverged, "
+            f"missed a measured goal, or violated a constraint their scenario declares in `[constraints]`: "
+            f"{declared}."]
+
+
 def wilks_lines(x: ReportContext) -> list[str]:
     L: list[str] = []
     c, flown, n_flown = x.c, x.flown, x.n_flown
@@ -366,9 +398,10 @@ def wilks_lines(x: ReportContext) -> list[str]:
             continue
         b = S.wilks_bound(_wilks_values(c, metric, side, flown), coverage, confidence, order=None,
                           side="lower" if side == "lower" else "upper")
-        value = _f(b.value) if b.ok else f"needs {b.n_needed} runs"
+        name, unit, k = _shown(c, metric)
+        value = _f(b.value * k) if b.ok else f"needs {b.n_needed} runs"
         order_txt = f"{b.order} ({'largest' if side == 'upper' else 'smallest'})" if b.ok else "-"
-        rows.append([metric, c.unit(metric), "upper" if side == "upper" else "lower", str(b.n), order_txt, value,
+        rows.append([name, unit, "upper" if side == "upper" else "lower", str(b.n), order_txt, value,
                      f"{100 * b.achieved:.2f} %"])
     if rows:
         L += _table(["metric", "unit", "bound", "n", "order", f"{cov_pct} / {conf_pct} bound",
@@ -393,10 +426,13 @@ def metric_lines(x: ReportContext) -> list[str]:
         v = v[~np.isnan(v)]
         if v.size == 0:
             continue
+        name, unit, k = _shown(c, metric)
+        if k != 1.0:
+            v = v * k
         mean = S.mean_ci(v, confidence)
         pcs = S.bootstrap_percentiles(v, PERCENTILES, confidence, n_boot, seed)
         cells = [f"{_f(e)} [{_f(lo)}, {_f(hi)}]" for e, lo, hi in (mean, *pcs)]
-        rows.append([metric, c.unit(metric), str(v.size), *cells, _f(float(v.min())), _f(float(v.max()))])
+        rows.append([name, unit, str(v.size), *cells, _f(float(v.min())), _f(float(v.max()))])
     if rows:
         L += _table(["metric", "unit", "n", "mean", "p5", "p50", "p95", "min", "max"], rows)
     else:
@@ -424,8 +460,8 @@ def sensitivity_lines(x: ReportContext) -> tuple[list[str], dict]:
               f"runs) with each numeric dispersed value; the {min(top, len(ranked))} largest |rho| of "
               f"{len(corr)} pairs. With that many pairs some small p-values occur by chance: `*` marks "
               f"p < {_f(alpha_fw)} (Bonferroni, family-wise {100 * (1 - confidence):g} %).", ""]
-        rows = [[x.metric, x.draw[len("draw."):], f"{x.rho:+.3f}", f"{x.p:.3g}" + (" *" if x.p < alpha_fw else ""),
-                 str(x.n)] for x in ranked[:top]]
+        rows = [[_shown(c, x.metric)[0], x.draw[len("draw."):], f"{x.rho:+.3f}",
+                 f"{x.p:.3g}" + (" *" if x.p < alpha_fw else ""), str(x.n)] for x in ranked[:top]]
         L += _table(["metric", "dispersed value", "rho", "p", "n"], rows)
     else:
         L.append("No pair of a varying metric and a varying numeric dispersed value.")
@@ -473,10 +509,11 @@ def worst_case_lines(x: ReportContext) -> list[str]:
             continue
         badness = np.where(np.isnan(v[idx]), math.inf, v[idx])  # not settled first: the worst
         pick = idx[np.lexsort((cases[idx], -badness))][:worst]
-        L += [f"### {title[0].upper()}{title[1:]} (`{metric}`, runs flown to the end)", ""]
-        rows = [[str(int(cases[i])), "not settled" if np.isnan(v[i]) else _f(float(v[i])),
+        name, unit, k = _shown(c, metric)
+        L += [f"### {title[0].upper()}{title[1:]} (`{name}`, runs flown to the end)", ""]
+        rows = [[str(int(cases[i])), "not settled" if np.isnan(v[i]) else _f(float(v[i]) * k),
                  f"`{refly_command(cdir, int(cases[i]))}`"] for i in pick]
-        L += _table(["case", f"value [{c.unit(metric)}]" if c.unit(metric) else "value", "re-fly"], rows)
+        L += _table(["case", f"value [{unit}]" if unit else "value", "re-fly"], rows)
         L.append("")
     if len(L) == n_lists:
         L += ["No flown case to list.", ""]

@@ -50,6 +50,8 @@ SUMMARY = "summary.parquet"
 HISTORIES = "histories"
 CAMPAIGN_COPY = "campaign.toml"
 STATUSES = ("ok", "diverged", "invalid", "error")
+#: The outcome flags of a flown run (``execute.run_row``): ``constraint_violated`` by the verdict's rule
+#: (``rpo.runtime.outputs.verdict.violated_constraints``), ``failed`` counting the declared constraints only.
 OUTCOMES = ("att_reached", "pos_reached", "diverged", "constraint_violated", "failed")
 #: The summary's metric columns: the scalar metrics of rpo.runtime.outputs.metrics, in its order.
 METRICS = tuple(UNITS)

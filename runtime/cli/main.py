@@ -20,6 +20,7 @@ import click
 import numpy as np
 
 from rpo.runtime import frames
+from rpo.runtime.cli.options import _SET, _source
 from rpo.runtime.errors import RpoError
 from rpo.runtime.formats import DEFAULT_FIGURE_FORMAT, FIGURE_FORMAT_NAMES, FORMAT_NAMES, OUTPUT_FORMATS
 from rpo.runtime.model.toolchain import find_compiler, native_target
@@ -91,6 +92,7 @@ def cli() -> None:
       rpo linearize scenarios/000_scenario_III.toml   (closed-loop eigenvalues at the goal)
       rpo report                       (the reproduction report: docs/reproduction.md)
       rpo scenarios                    (the shipped scenarios; NAME --to FILE copies one to edit)
+      rpo view runs/iii                (an interactive page of a run: runs/iii/view.html)
     """
 
 
@@ -118,9 +120,10 @@ def cli() -> None:
 @click.option("--no-plots", is_flag=True, help="Do not write the figures.")
 @click.option("--quiet", "-q", is_flag=True,
               help="Print only errors and the divergence message (the verdict is still in metrics.json, run.json).")
+@_SET
 def run(scenario: str | None, out: str | None, campaign: Path | None, case: int | None, duration: float | None,
         seed: int | None, controller: str | None, plant: str | None, backend: str, formats: tuple[str, ...] | None,
-        figure_format: str | None, no_plots: bool, quiet: bool) -> int:
+        figure_format: str | None, no_plots: bool, quiet: bool, sets: tuple[str, ...]) -> int:
     """Simulate SCENARIO (a TOML file) and write the results into a new folder.
 
     The folder gets timeseries.parquet (and the other --format files), metrics.json, run.json, a
@@ -137,7 +140,7 @@ def run(scenario: str | None, out: str | None, campaign: Path | None, case: int 
         if scenario is not None or campaign is None or case is None:
             raise click.UsageError("give either SCENARIO, or --campaign DIR with --case N")
         given = [n for n, v in (("--duration", duration), ("--seed", seed), ("--controller", controller),
-                                ("--plant", plant)) if v is not None]
+                                ("--plant", plant), ("--set", sets or None)) if v is not None]
         if given:
             raise click.UsageError(f"{', '.join(given)}: not with --campaign (the case would not be the campaign's "
                                    "run; edit the campaign file instead)")
@@ -155,7 +158,7 @@ def run(scenario: str | None, out: str | None, campaign: Path | None, case: int 
         loaded.append(_load_model(backend, quiet, controllers=[controller]))
         return loaded[0]
 
-    source: Any = scenario
+    source: Any = _source(scenario, sets) if scenario is not None else None
     camp = None
     if campaign is not None:
         from rpo.runtime.campaign.replay import case_scenario
@@ -185,13 +188,16 @@ def run(scenario: str | None, out: str | None, campaign: Path | None, case: int 
         _err(f"diverged: {result.divergence.message()}")
         _err(f"results up to t = {result.t[-1]:.6g} s written to {outcome.out_dir}")
         if not quiet:
+            click.echo(f"goal: {outcome.inputs.goal.get('text', '-')}")
             click.echo(outcome.metrics["verdict"]["line"])
         return EXIT_DIVERGED
     if not quiet:
         _summary(result, outcome.model, outcome.inputs, outcome.out_dir, outcome.write_time)
         click.echo("metrics (metrics.json; definitions in rpo.runtime.outputs.metrics):")
         click.echo(format_table(outcome.metrics))
-        # last, so that the run ends with it (rule: rpo.runtime.outputs.verdict, docs/verdict.md)
+        # the goal flown (the scenario's, runtime/scenario/goals.py), then the verdict last, so that the run
+        # ends with it (rule: rpo.runtime.outputs.verdict, docs/verdict.md)
+        click.echo(f"goal: {outcome.inputs.goal.get('text', '-')}")
         click.echo(outcome.metrics["verdict"]["line"])
     return 0
 
@@ -286,7 +292,8 @@ def report(run_list: str, out_base: str, md_path: str, json_path: str, notes_pat
 @click.argument("scenario", type=click.Path(dir_okay=False, path_type=str))
 @click.option("--backend", type=BACKENDS, default="auto", show_default=True,
               help="Model backend used to compute the initial state.")
-def validate(scenario: str, backend: str) -> int:
+@_SET
+def validate(scenario: str, backend: str, sets: tuple[str, ...]) -> int:
     """Check SCENARIO without running it and print what it sets.
 
     Makes every check `rpo run` makes before its first step (the same function: the schema and
@@ -299,7 +306,7 @@ def validate(scenario: str, backend: str) -> int:
     from rpo.runtime.run.preflight import preflight
     from rpo.runtime.scenario import load_scenario
 
-    sc = load_scenario(scenario, read_manifest())
+    sc = load_scenario(_source(scenario, sets), read_manifest())
     model = _load_model(backend, quiet=True)
     pre = preflight(sc, model)  # every check `rpo run` makes before its first step, by the same function
     inputs = pre.inputs
@@ -315,6 +322,11 @@ def validate(scenario: str, backend: str) -> int:
     echo(f"  name        {sc.name}" + (f": {sc.meta.description}" if sc.meta.description else ""))
     echo(f"  run         {inputs.duration:g} s, dt = {inputs.dt:g} s ({n_steps} steps), controller "
          f"{inputs.controller}, seed {inputs.seed}, record every {inputs.record_every}")
+    echo(f"  goal        {inputs.goal['text']}")  # the goal flown (runtime/scenario/goals.py)
+    if not inputs.goal["mapped"]:
+        _err(f"warning: {inputs.controller} flies its own goal gains: rpo has no goal mapping for it")
+    if inputs.goal.get("warning"):
+        _err(f"warning: {inputs.goal['warning']}")
     h_p = (a * (1 - e) - p["r_earth"]) / 1e3
     echo(f"  orbit       a = {a / 1e3:.6g} km, e = {e:g}, perigee altitude {h_p:.6g} km, "
          f"i = {math.degrees(p['orbit_inc']):g} deg, period {2 * math.pi * math.sqrt(a**3 / mu) / 60:.5g} min, "
@@ -373,7 +385,9 @@ def _fmt(v) -> str:
               help="goal: the state the controller regulates to (its q_err, rate_err, pos_err, vel_err zero); "
                    "initial: the scenario's initial state.")
 @click.option("--json", "as_json", is_flag=True, help="Print the linearisation (A, labels, groups, modes) as JSON.")
-def linearize(scenario: str, controller: str | None, plant: str | None, at: str, as_json: bool) -> int:
+@_SET
+def linearize(scenario: str, controller: str | None, plant: str | None, at: str, as_json: bool,
+              sets: tuple[str, ...]) -> int:
     """Eigenvalues of SCENARIO's closed-loop step linearised at its goal (or initial state).
 
     The step's Jacobian is CasADi AD of the generated step_<controller>, in reduced coordinates
@@ -386,8 +400,9 @@ def linearize(scenario: str, controller: str | None, plant: str | None, at: str,
     from rpo.runtime.run.linearize import format_report, linearize_scenario
     from rpo.runtime.scenario import load_scenario
 
-    load_scenario(scenario, read_manifest())  # a bad file fails before anything is compiled
-    res = linearize_scenario(scenario, model=None, controller=controller, plant=plant, at=at, log=_loader(False))
+    source = _source(scenario, sets)
+    load_scenario(source, read_manifest())  # a bad file fails before anything is compiled
+    res = linearize_scenario(source, model=None, controller=controller, plant=plant, at=at, log=_loader(False))
     if as_json:
         out = {"scenario": res.scenario, "at": res.at, "plant": res.plant, **res.lin.to_json(),
                "z": res.lin.z.tolist(), "z_labels": res.lin.coords.z_labels}
@@ -495,26 +510,6 @@ def choices(folder: Path, target: Path | None, check: Path | None) -> int:
 
 
 @cli.command()
-@click.option("--prune", is_flag=True, help="Delete the objects and libraries the current generated/ does not use.")
-@click.option("--dry-run", is_flag=True, help="With --prune: only say what would be deleted.")
-def cache(prune: bool, dry_run: bool) -> int:
-    """The compile cache ($RPO_CACHE_DIR, else ~/.cache/rpo): where it is and how large; --prune."""
-    from rpo.runtime.model.cache import cache_dir
-    from rpo.runtime.model.library import prune_cache
-
-    root = cache_dir()
-    files = [f for f in root.rglob("*") if f.is_file() and not f.name.startswith(".")] if root.is_dir() else []
-    total = sum(f.stat().st_size for f in files)
-    libs = sum(1 for f in files if f.suffix == ".so")
-    click.echo(f"cache            {root}: {len(files) - libs} objects, {libs} libraries, {total / 1e6:.1f} MB")
-    if prune:
-        n, size = prune_cache(dry_run=dry_run)
-        verb = "would delete" if dry_run else "deleted"
-        click.echo(f"pruned           {verb} {n} files ({size / 1e6:.1f} MB) the current generated/ does not use")
-    return 0
-
-
-@cli.command()
 @click.argument("name", required=False)
 @click.option("--to", "to", type=click.Path(path_type=str), default=None,
               help="Copy NAME to this file (or into this folder) for editing; never overwrites a file.")
@@ -582,7 +577,12 @@ def main(argv: list[str] | None = None) -> int:
 
 def _register() -> None:
     from rpo.runtime.cli.campaign import mc
+    from rpo.runtime.cli.compile import build_cmd, cache
+    from rpo.runtime.cli.view import view
     cli.add_command(mc)
+    cli.add_command(build_cmd)
+    cli.add_command(cache)
+    cli.add_command(view)
 
 
 _register()

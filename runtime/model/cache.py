@@ -14,7 +14,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 from rpo.runtime.errors import ModelError
-from rpo.runtime.model.toolchain import CFLAGS, headers_digest
+from rpo.runtime.model.toolchain import CFLAGS, headers_digest, scalar_cflags
 
 #: Bump when the loop driver's calling convention or the library layout changes.
 RUNTIME_ABI = 3
@@ -38,7 +38,8 @@ def object_key(source: bytes, cc_id: str, flags: Iterable[str] = CFLAGS) -> str:
 
 
 def object_path(cache: Path, name: str, source: bytes, cc_id: str) -> Path:
-    return cache / "obj" / f"{Path(name).stem}-{object_key(source, cc_id)[:24]}.o"
+    """The cached scalar object of the C file ``name`` (key: :func:`object_key` with its flags)."""
+    return cache / "obj" / f"{Path(name).stem}-{object_key(source, cc_id, scalar_cflags(name))[:24]}.o"
 
 
 @contextmanager

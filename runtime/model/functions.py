@@ -16,7 +16,9 @@ from rpo.runtime.model.manifest import FunctionSpec
 class _LaneOwner(Protocol):
     """What a function needs of its model: the lane library (``Model.lanes``), without importing the loader."""
 
-    def lanes(self) -> Any: ...
+    def lanes(self, names: Any = None, P: Any = None) -> Any: ...
+
+    def lanes_ready(self, names: Any, P: Any = None) -> bool: ...
 
 _DOUBLE_P = ctypes.POINTER(ctypes.c_double)
 
@@ -230,7 +232,11 @@ class CompiledFunction:
         in_s = (ctypes.c_longlong * len(ins))(*strides)
         out_p = (_DOUBLE_P * len(bufs))(*[b.ctypes.data_as(_DOUBLE_P) for b in bufs])
         out_n = (ctypes.c_longlong * len(bufs))(*self.out_sizes)
-        lanes = self._model.lanes() if self._model is not None else None
+        owner, P = self._model, _rows(ins, self.in_names, self.in_sizes)
+        # the lane form when it is built, or worth building: compiling it takes seconds, which a small
+        # batch would not win back (the scalar loop gives the same bits)
+        want = owner is not None and (N >= BATCH_LANES_MIN_POINTS or owner.lanes_ready([self.name], P))
+        lanes = owner.lanes([self.name], P) if want and owner is not None else None
         if lanes is not None and lanes.has(self.name):
             rc = lanes.batch(ctypes.c_void_p(lanes.pointers[self.name]), ctypes.c_longlong(lanes.work[self.name]),
                              ctypes.c_int(len(ins)), in_p, in_n, in_s, ctypes.c_int(len(bufs)), out_p, out_n,
@@ -252,6 +258,20 @@ class CompiledFunction:
         other = type(self)(self._lib, self.name, self.desc)
         other._model = self._model
         return other
+
+
+#: Points from which a batch compiles the lane form of its function when it is not built yet (the
+#: lane form of a large function compiles in seconds; at about 1 us per point, 2e5 points win that
+#: back); ``rpo build --lanes`` builds every lane form ahead.
+BATCH_LANES_MIN_POINTS = 200_000
+
+
+def _rows(ins: list[np.ndarray], names: list[str], sizes: list[int]) -> np.ndarray | None:
+    """The parameter vectors (input ``p``) of a batch's points, one row each; None without a ``p``."""
+    if "p" not in names:
+        return None
+    i = names.index("p")
+    return np.asarray(ins[i]).reshape(-1, sizes[i])
 
 
 #: the fast-call extension module -> its CompiledFunction class

@@ -3,11 +3,12 @@ linked from cached objects, and pruning the cache."""
 
 from __future__ import annotations
 
+import ctypes
 import hashlib
 import json
 import time
 from collections.abc import Callable, Iterable
-from concurrent.futures import ThreadPoolExecutor, as_completed
+from concurrent.futures import FIRST_COMPLETED, ThreadPoolExecutor, wait
 from pathlib import Path
 
 from rpo.runtime.errors import ModelError
@@ -22,6 +23,7 @@ from rpo.runtime.model.cache import (
 )
 from rpo.runtime.model.lanes import LANES_VERSION, LaneError, lane_source
 from rpo.runtime.model.manifest import Manifest, generated_dir, read_manifest, selected_sources
+from rpo.runtime.model.selection import callees, stub_source
 from rpo.runtime.model.toolchain import (
     LANE_CFLAGS,
     LANE_LOOP_SOURCE,
@@ -35,19 +37,32 @@ from rpo.runtime.model.toolchain import (
     loop_source,
     native_target,
     run_cc,
+    scalar_cflags,
 )
 
+#: the file of the stubs of a partial library (never a generated file's name: generated/ has no "rpo_")
+STUB_SOURCE = "rpo_stubs.c"
 
-def generated_sources(gen_dir: Path, manifest: Manifest,
-                      controllers: Iterable[str] | None = None) -> list[tuple[str, bytes]]:
+#: the longest a compile goes without a progress line (s)
+HEARTBEAT_S = 4.0
+
+def generated_sources(gen_dir: Path, manifest: Manifest, controllers: Iterable[str] | None = None,
+                      functions: Iterable[str] | None = None) -> list[tuple[str, bytes]]:
     """(name, bytes) of every C file the library is linked from: the generated ones, each read once
-    and checked against the manifest's sha256, and the loop driver.
+    and checked against the manifest's sha256, and the loop driver.  ``functions`` (names): only
+    their files, and the stub file (:func:`~rpo.runtime.model.selection.stub_source`) for the
+    callees they leave out.
 
     The object key and the compiler see these same bytes (the compiler reads a private copy), so
     a build.py writing generated/ while a library is built cannot file new code under an old key.
     """
     out = []
-    for name in selected_sources(manifest, controllers):
+    names = selected_sources(manifest, controllers)
+    if functions is not None:
+        functions = set(functions)
+        files = {manifest.functions[f].source for f in functions}
+        names = [n for n in names if n in files]
+    for name in names:
         try:
             data = (gen_dir / name).read_bytes()
         except OSError as exc:
@@ -56,6 +71,10 @@ def generated_sources(gen_dir: Path, manifest: Manifest,
             raise ModelError(f"{gen_dir / name} does not match manifest.json (edited by hand or being "
                              "rewritten): run `python build.py`")
         out.append((name, data))
+    if functions is not None:
+        missing = {c for _n, d in out for c in callees(d.decode())} - functions
+        if missing:
+            out.append((STUB_SOURCE, stub_source(missing, lanes=False)))
     out.append((LOOP_SOURCE, loop_source().read_bytes()))
     return out
 
@@ -63,7 +82,7 @@ def generated_sources(gen_dir: Path, manifest: Manifest,
 def _library_key(sources: list[tuple[str, bytes]], manifest: Manifest, cc_id: str) -> str:
     h = hashlib.sha256()
     for name, data in sources:
-        h.update(name.encode() + b"\0" + object_key(data, cc_id).encode() + b"\0")
+        h.update(name.encode() + b"\0" + object_key(data, cc_id, scalar_cflags(name)).encode() + b"\0")
     h.update(json.dumps({"ldflags": LDFLAGS, "abi": RUNTIME_ABI, "tools": dict(manifest.tools),
                          "manifest": manifest.manifest_hash}, sort_keys=True).encode())
     return h.hexdigest()
@@ -73,9 +92,10 @@ def _library_path(cache: Path, sources: list[tuple[str, bytes]], manifest: Manif
     return cache / f"rpo_model_{_library_key(sources, manifest, cc_id)[:24]}.so"
 
 
-def library_key(gen_dir: Path, manifest: Manifest, cc_id: str, controllers: Iterable[str] | None = None) -> str:
+def library_key(gen_dir: Path, manifest: Manifest, cc_id: str, controllers: Iterable[str] | None = None,
+                functions: Iterable[str] | None = None) -> str:
     """Cache key of the library: every object key, the link flags, the manifest and the tool versions."""
-    return _library_key(generated_sources(gen_dir, manifest, controllers), manifest, cc_id)
+    return _library_key(generated_sources(gen_dir, manifest, controllers, functions), manifest, cc_id)
 
 
 def build_library(gen_dir: Path | None = None, cache: Path | None = None, log: Callable[[str], None] | None = None,
@@ -88,13 +108,15 @@ def build_library(gen_dir: Path | None = None, cache: Path | None = None, log: C
 
 def link_library(gen_dir: Path, manifest: Manifest, cache: Path | None = None,
                  log: Callable[[str], None] | None = None, jobs: int | None = None,
-                 controllers: Iterable[str] | None = None) -> tuple[Path, bool]:
+                 controllers: Iterable[str] | None = None,
+                 functions: Iterable[str] | None = None) -> tuple[Path, bool]:
     """Compile the generated model into the cache if needed; return (library path, compiled?).
 
     ``manifest``: the verified manifest of ``gen_dir`` the caller will use with the library.
     Objects missing from ``<cache>/obj`` are compiled in parallel (``jobs``, default every core),
     with a progress line per file through ``log``; then the library is linked from them.
-    ``controllers``: only the plant and these controllers' functions (default: everything).
+    ``controllers``: only the plant and these controllers' functions (default: everything);
+    ``functions``: only these functions' files (:func:`generated_sources`).
     """
     controllers = None if controllers is None else sorted(set(controllers))
     cc, cc_id = compiler_command()
@@ -104,7 +126,7 @@ def link_library(gen_dir: Path, manifest: Manifest, cache: Path | None = None,
     except OSError as exc:
         raise ModelError(f"cannot create the build cache {cache} ({exc.strerror}): set RPO_CACHE_DIR "
                          "to a writable folder") from exc
-    sources = generated_sources(gen_dir, manifest, controllers)
+    sources = generated_sources(gen_dir, manifest, controllers, functions)
     objects = [(name, data, object_path(cache, name, data, cc_id)) for name, data in sources]
     lib = _library_path(cache, sources, manifest, cc_id)
     return _compile_and_link(cc, objects, lib, cache, log, jobs, None, "the generated model")
@@ -127,11 +149,22 @@ def _compile_and_link(cc: list[str], objects: list[tuple[str, bytes, Path]], lib
         todo.sort(key=lambda item: -len(item[1]))
         with ThreadPoolExecutor(max_workers=n_jobs) as pool:
             futures = {pool.submit(compile_object, cc, name, src, obj, flags): name for name, src, obj in todo}
+            order = list(futures)  # a pool's threads take the files in this order
+            pending = set(futures)
+            i = 0
             try:
-                for i, fut in enumerate(as_completed(futures), 1):
-                    seconds = fut.result()
-                    if log:
-                        log(f"  [{i}/{len(todo)}] {futures[fut]} ({seconds:.1f} s, {len(todo) - i} left)")
+                while pending:
+                    # a line at least every HEARTBEAT_S: one large file takes longer than that on a slow core
+                    finished, pending = wait(pending, timeout=HEARTBEAT_S, return_when=FIRST_COMPLETED)
+                    for fut in finished:
+                        i += 1
+                        seconds = fut.result()
+                        if log:
+                            log(f"  [{i}/{len(todo)}] {futures[fut]} ({seconds:.1f} s, {len(todo) - i} left)")
+                    if log and not finished and pending:
+                        running = [futures[f] for f in order if f in pending][:n_jobs]
+                        log(f"  ... compiling {', '.join(running)} ({len(pending)} left, "
+                            f"{time.perf_counter() - t0:.0f} s so far)")
             except BaseException:  # an error or an interrupt: start no further file (the running ones end)
                 pool.shutdown(wait=True, cancel_futures=True)
                 raise
@@ -143,34 +176,44 @@ def _compile_and_link(cc: list[str], objects: list[tuple[str, bytes, Path]], lib
     return lib, ensure_built(lib, build, what, log)
 
 
-def lane_sources(gen_dir: Path, manifest: Manifest, controllers: Iterable[str] | None = None
-                 ) -> tuple[list[tuple[str, bytes]], dict[str, str]]:
+def lane_sources(gen_dir: Path, manifest: Manifest, controllers: Iterable[str] | None = None,
+                 functions: Iterable[str] | None = None) -> tuple[list[tuple[str, bytes]], dict[str, str]]:
     """The lane forms (runtime/model/lanes.py) of the selected generated files whose every operation has
-    one, and of the composed steps whose callees all have one; plus {file: why not} for the rest."""
+    one, and of the composed steps whose callees all have one; plus {file: why not} for the rest.
+    ``functions``: only these functions' files, and lane stubs for the callees they leave out."""
 
     done: dict[str, tuple[bytes, list[str]]] = {}
     skipped: dict[str, str] = {}
-    for name, data in generated_sources(gen_dir, manifest, controllers)[:-1]:  # the last one is the loop driver
+    left_out: set[str] = set()
+    for name, data in generated_sources(gen_dir, manifest, controllers, functions)[:-1]:  # the last: the driver
+        if name == STUB_SOURCE:  # the scalar stubs: the lane stubs are made below
+            continue
         try:
-            text, callees = lane_source(name, data.decode())
+            text, called = lane_source(name, data.decode())
         except LaneError as exc:
             skipped[name] = str(exc)
             continue
-        done[name] = (text.encode(), callees)
+        done[name] = (text.encode(), called)
     stem_to_file = {Path(n).stem: n for n in done}
-    for name, (_text, callees) in list(done.items()):
-        missing = [c for c in callees if c not in stem_to_file]
+    chosen = None if functions is None else set(functions)
+    for name, (_text, called) in list(done.items()):
+        missing = [c for c in called if c not in stem_to_file and (chosen is None or c in chosen)]
         if missing:
             skipped[name] = f"calls {', '.join(missing)}, which has no lane form"
             del done[name]
+        elif chosen is not None:
+            left_out.update(c for c in called if c not in chosen)
     out = [(f"{Path(n).stem}.lanes.c", text) for n, (text, _c) in sorted(done.items())]
+    if left_out:
+        out.append((f"{Path(STUB_SOURCE).stem}.lanes.c", stub_source(left_out, lanes=True)))
     out.append((LANE_LOOP_SOURCE, (csrc_dir() / LANE_LOOP_SOURCE).read_bytes()))
     return out, skipped
 
 
 def build_lane_library(gen_dir: Path, manifest: Manifest, cache: Path | None = None,
                        log: Callable[[str], None] | None = None, jobs: int | None = None,
-                       controllers: Iterable[str] | None = None) -> tuple[Path, bool, dict[str, str]]:
+                       controllers: Iterable[str] | None = None,
+                       functions: Iterable[str] | None = None) -> tuple[Path, bool, dict[str, str]]:
     """Compile the lane forms of the generated model (``manifest``: the verified manifest of ``gen_dir``)
     for this machine's vector width into the cache if needed; return (library path, compiled?,
     {file: why it has no lane form})."""
@@ -178,18 +221,19 @@ def build_lane_library(gen_dir: Path, manifest: Manifest, cache: Path | None = N
     cc, cc_id = compiler_command()
     cache = cache_dir() if cache is None else Path(cache)
     (cache / "obj").mkdir(parents=True, exist_ok=True)
-    objects, lib, flags, skipped = lane_plan(gen_dir, manifest, controllers, cache, cc, cc_id)
+    objects, lib, flags, skipped = lane_plan(gen_dir, manifest, controllers, cache, cc, cc_id, functions)
     path, compiled = _compile_and_link(cc, objects, lib, cache, log, jobs, flags, "the lane model")
     return path, compiled, skipped
 
 
-def lane_plan(gen_dir: Path, manifest: Manifest, controllers: list[str] | None, cache: Path, cc: list[str], cc_id: str):
+def lane_plan(gen_dir: Path, manifest: Manifest, controllers: list[str] | None, cache: Path, cc: list[str], cc_id: str,
+              functions: Iterable[str] | None = None):
     """(objects, library path, compile flags, skipped) of the lane library of a selection."""
 
     native, target_id = native_target(cc)
     flags = lane_flags(native)
     lane_id = f"{cc_id}\ntarget {target_id}\nlanes {LANES_VERSION}"
-    sources, skipped = lane_sources(gen_dir, manifest, controllers)
+    sources, skipped = lane_sources(gen_dir, manifest, controllers, functions)
     keyflags = [*LANE_CFLAGS, *native]
     objects = [(n, d, cache / "obj" / f"{Path(n).stem}-{object_key(d, lane_id, keyflags)[:24]}.o") for n, d in sources]
     h = hashlib.sha256()
@@ -243,3 +287,53 @@ def prune_cache(gen_dir: Path | None = None, cache: Path | None = None, dry_run:
                     (cache / f".{f.name}.lock").unlink(missing_ok=True)
                     digest_path(f).unlink(missing_ok=True)
     return n, size
+
+
+def open_library(lib_path: Path, sources: Iterable[str]) -> ctypes.CDLL:
+    """Load a linked library and check it: NaN detection, and 64-bit ``casadi_int`` in ``sources``."""
+    try:
+        lib = ctypes.CDLL(str(lib_path))
+    except OSError as exc:
+        raise ModelError(f"cannot load {lib_path} ({exc}): delete it and run again to rebuild") from exc
+    selftest = lib.rpo_selftest_nan
+    selftest.restype = ctypes.c_int
+    selftest.argtypes = [ctypes.c_double]
+    if selftest(float("nan")) != 0 or selftest(float("inf")) != 0 or selftest(1.0) != 1:
+        raise ModelError(f"{lib_path} does not detect NaN/inf (built with -ffast-math or similar via $CC?): "
+                         "divergence would go unnoticed; use a plain C compiler command")
+    for source in sorted(sources):
+        int_size = getattr(lib, f"{Path(source).stem}_casadi_int_size")
+        int_size.restype = ctypes.c_int
+        if int_size() != 8:
+            raise ModelError(f"generated/{source} uses a casadi_int that is not 64-bit: run `python build.py`")
+    return lib
+
+
+class LaneLibrary:
+    """The lane forms of the generated functions, loaded: ``width`` runs per call."""
+
+    def __init__(self, path: Path, skipped: dict[str, str], manifest: Manifest):
+        try:
+            self.lib = ctypes.CDLL(str(path))
+        except OSError as exc:
+            raise ModelError(f"cannot load {path} ({exc}): delete it and run again to rebuild") from exc
+        self.path = path
+        self.skipped = skipped
+        self.width = int(self.lib.rpo_lanes_width())
+        self.pointers: dict[str, int] = {}
+        self.work: dict[str, int] = {}
+        for name, desc in manifest.functions.items():
+            # (a stub of a left-out callee defines <name>_lanes but no <name>_lanes_work)
+            if desc.source in skipped or not hasattr(self.lib, f"{name}_lanes_work"):
+                continue
+            self.pointers[name] = ctypes.cast(getattr(self.lib, f"{name}_lanes"), ctypes.c_void_p).value or 0
+            work = getattr(self.lib, f"{name}_lanes_work")
+            work.restype = ctypes.c_longlong
+            self.work[name] = int(work())
+        self.batch = self.lib.rpo_batch_lanes
+        self.batch.restype = ctypes.c_longlong
+        self.run = self.lib.rpo_run_lanes
+        self.run.restype = ctypes.c_int
+
+    def has(self, name: str) -> bool:
+        return name in self.pointers

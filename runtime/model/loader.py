@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import ctypes
 import gzip
+import sys
 import warnings
 from collections.abc import Callable, Iterable, Mapping
 from pathlib import Path
@@ -35,61 +36,148 @@ from typing import Any
 import numpy as np
 
 from rpo.runtime.errors import ModelError
-from rpo.runtime.model.functions import CasadiFunction, CompiledFunction, function_class
-from rpo.runtime.model.library import build_lane_library, link_library
+from rpo.runtime.model.cache import cache_dir, library_intact
+from rpo.runtime.model.functions import CasadiFunction, function_class
+from rpo.runtime.model.library import LaneLibrary, build_lane_library, lane_plan, link_library, open_library
 from rpo.runtime.model.manifest import Layout, Manifest, generated_dir, read_manifest, selected_sources
+from rpo.runtime.model.selection import needed_functions
+from rpo.runtime.model.toolchain import compiler_command
 
 
 class Model:
     """The generated model: its typed manifest (:class:`~rpo.runtime.model.manifest.Manifest`), layouts and
-    callable functions (compiled or CasADi)."""
+    callable functions (compiled or CasADi).
 
-    def __init__(self, manifest: Manifest, functions: dict, backend: str, library: Path | None = None,
-                 lib: ctypes.CDLL | None = None, gen_dir: Path | None = None,
+    The compiled backend compiles on first use, and only what is called: ``model.plant_rhs`` (or
+    ``model.function("plant_rhs")``) links a library of that function's file; a closed-loop step
+    asked for with its parameters (``model.function("step_c001", p=...)``, as a
+    :class:`~rpo.runtime.run.simulate.Simulation` does) links only the specialised copies of the
+    plant those parameters select (the others are stubs that return an error).  A later call that
+    needs more links a larger library from the same cached objects; functions taken before stay
+    valid (their library stays loaded).
+    """
+
+    def __init__(self, manifest: Manifest, functions: dict | None, backend: str, gen_dir: Path | None = None,
                  controllers: Iterable[str] | None = None, log: Callable[[str], None] | None = None):
         self.manifest = manifest
-        self.functions = functions
         self.backend = backend
-        self.library = library
-        self._lib = lib
         self._gen_dir = gen_dir
         self._controllers = None if controllers is None else sorted(set(controllers))
         self._log = log
         self._lanes: LaneLibrary | None = None
+        self._lane_set: frozenset[str] = frozenset()
+        #: the scalar library linked last, the functions it holds, its CDLL
+        self.library: Path | None = None
+        self._lib: ctypes.CDLL | None = None
+        self._lib_set: frozenset[str] = frozenset()
+        #: name -> (function, the functions of the library it was taken from)
+        self._made: dict[str, tuple[Any, frozenset[str]]] = {}
+        self._texts: dict[str, str] = {}
+        self._selectable = ({d.name for d in manifest.functions.values()
+                             if d.source in set(selected_sources(manifest, controllers))}
+                            if functions is None else set(functions))
+        self.functions: Mapping[str, Any] = _Functions(self)
+        if functions is not None:  # the CasADi backend: every function made at once
+            for name, f in functions.items():
+                self._made[name] = (f, frozenset(functions))
         #: layout name -> (field -> (offset, size), packed defaults, fields without a default, size)
         self._packing: dict[str, tuple[dict[str, tuple[int, int]], np.ndarray, list[str], int]] = {}
         self._slices: dict[str, dict[str, slice]] = {}
         self._orders: dict[str, list[tuple[int, str, int]]] = {}
         self._columns: dict[tuple, Any] = {}
         self._bad_defaults: dict[str, list[str]] = {}
-        for f in functions.values():
-            if isinstance(f, CompiledFunction):
-                f._model = self
 
-    def lanes(self) -> LaneLibrary | None:
-        """The lane library (K runs per call, K = this machine's vector width), built on first use
-        (compiled backend only; None for the CasADi backend)."""
-        if self._lanes is None and self.backend == "compiled":
+    # -- what a call needs, compiled on first use ----------------------------------------------
+
+    def needs(self, names: Iterable[str], P: np.ndarray | None = None) -> frozenset[str]:
+        """The functions a call of ``names`` may reach with the parameter rows ``P`` (None: any)."""
+        names = list(names)
+        for n in names:
+            if n not in self._selectable:
+                self.function(n)  # the error that says why
+        P = None if P is None else np.atleast_2d(np.asarray(P, float))
+        texts = _SourceTexts(self)
+        offsets = {} if P is None else self.offsets("p")
+        return frozenset(needed_functions(self.manifest, texts, names, P, offsets))
+
+    def _ensure(self, need: frozenset[str]) -> None:
+        """Link (or find in the cache) a library holding ``need`` and what is loaded already."""
+        if need <= self._lib_set:
+            return
+        assert self._gen_dir is not None
+        want = self._lib_set | need
+        path, _ = link_library(self._gen_dir, self.manifest, log=self._log, controllers=self._controllers,
+                               functions=want)
+        self._lib = open_library(path, {self.manifest.functions[f].source for f in want - self._lib_set})
+        self.library, self._lib_set = path, want
+
+    def prepare(self, names: Iterable[str], p: np.ndarray | None = None) -> None:
+        """Compile now, in one go, what calls of ``names`` with parameters ``p`` need (names this model
+        does not hold are left out): a run asks for everything it will call before its first call."""
+        if self.backend == "compiled":
+            self._ensure(self.needs([n for n in names if n in self._selectable], p))
+
+    def function(self, name: str, p: np.ndarray | None = None):
+        """The function ``name``, compiled on first use; a clear error if it cannot be loaded.
+
+        ``p``: the parameter vector (or rows of vectors) it will be called with: a closed-loop step
+        then needs only the plant's copies those parameters select (see the class)."""
+        if name not in self._selectable:
+            if name in self.manifest.functions:
+                raise ModelError(f"{name} is not loaded: this model was loaded for some controllers only "
+                                 "(load_model(controllers=[...]))")
+            raise ModelError(f"no generated function {name!r}")
+        need = self.needs([name], p)
+        made = self._made.get(name)
+        if made is not None and need <= made[1]:
+            return made[0]
+        self._ensure(need)
+        from rpo.runtime.model import fastcall
+
+        f = function_class(fastcall.load())(self._lib, name, self.manifest.functions[name])
+        f._model = self
+        self._made[name] = (f, self._lib_set)
+        return f
+
+    def lanes(self, names: Iterable[str] | None = None, P: np.ndarray | None = None) -> LaneLibrary | None:
+        """The lane library (K runs per call, K = this machine's vector width) holding the lane forms of
+        ``names`` as called with the parameter rows ``P`` (default: every function of the model), built
+        on first use (compiled backend only; None for the CasADi backend)."""
+        if self.backend != "compiled":
+            return None
+        need = frozenset(self._selectable) if names is None else self.needs(names, P)
+        if self._lanes is None or not need <= self._lane_set:
             assert self._gen_dir is not None
+            want = need | self._lane_set
+            fns = None if want == frozenset(self._selectable) else want
             path, _compiled, skipped = build_lane_library(self._gen_dir, self.manifest, log=self._log,
-                                                          controllers=self._controllers)
+                                                          controllers=self._controllers, functions=fns)
             self._lanes = LaneLibrary(path, skipped, self.manifest)
+            self._lane_set = want
         return self._lanes
 
-    def __getattr__(self, name):
-        try:
-            return self.__dict__["functions"][name]
-        except KeyError:
-            raise AttributeError(name) from None
+    def lanes_ready(self, names: Iterable[str], P: np.ndarray | None = None) -> bool:
+        """Whether :meth:`lanes` of ``names`` with ``P`` would load without compiling (loaded or cached)."""
+        if self.backend != "compiled":
+            return False
+        need = self.needs(names, P)
+        if self._lanes is not None and need <= self._lane_set:
+            return True
+        assert self._gen_dir is not None
+        cc, cc_id = compiler_command()
+        want = need | self._lane_set
+        fns = None if want == frozenset(self._selectable) else want
+        _objs, path, _flags, _skipped = lane_plan(self._gen_dir, self.manifest, self._controllers, cache_dir(), cc,
+                                                  cc_id, fns)
+        return library_intact(path)
 
-    def function(self, name: str):
-        """The loaded function ``name``; a clear error if the manifest has it but it was not loaded."""
-        if name in self.functions:
-            return self.functions[name]
-        if name in self.manifest.functions:
-            raise ModelError(f"{name} is not loaded: this model was loaded for some controllers only "
-                             "(load_model(controllers=[...]))")
-        raise ModelError(f"no generated function {name!r}")
+    def __getattr__(self, name):
+        if name.startswith("_"):
+            raise AttributeError(name)
+        try:
+            return self.function(name)
+        except ModelError:
+            raise AttributeError(name) from None
 
     @property
     def layouts(self) -> Mapping[str, Layout]:
@@ -204,7 +292,7 @@ class Model:
 
     @property
     def run_function(self):
-        """The C loop driver ``rpo_run`` (compiled backend only)."""
+        """The C loop driver ``rpo_run`` (compiled backend only; None before any library is linked)."""
         if self._lib is None:
             return None
         f = self._lib.rpo_run
@@ -212,58 +300,45 @@ class Model:
         return f
 
 
-class LaneLibrary:
-    """The lane forms of the generated functions, loaded: ``width`` runs per call."""
+class _Functions(Mapping):
+    """``model.functions``: name -> function, each compiled on first access (:meth:`Model.function`)."""
 
-    def __init__(self, path: Path, skipped: dict[str, str], manifest: Manifest):
-        try:
-            self.lib = ctypes.CDLL(str(path))
-        except OSError as exc:
-            raise ModelError(f"cannot load {path} ({exc}): delete it and run again to rebuild") from exc
-        self.path = path
-        self.skipped = skipped
-        self.width = int(self.lib.rpo_lanes_width())
-        self.pointers: dict[str, int] = {}
-        self.work: dict[str, int] = {}
-        for name, desc in manifest.functions.items():
-            if desc.source in skipped or not hasattr(self.lib, f"{name}_lanes"):
-                continue
-            self.pointers[name] = ctypes.cast(getattr(self.lib, f"{name}_lanes"), ctypes.c_void_p).value or 0
-            work = getattr(self.lib, f"{name}_lanes_work")
-            work.restype = ctypes.c_longlong
-            self.work[name] = int(work())
-        self.batch = self.lib.rpo_batch_lanes
-        self.batch.restype = ctypes.c_longlong
-        self.run = self.lib.rpo_run_lanes
-        self.run.restype = ctypes.c_int
+    def __init__(self, model: Model):
+        self._model = model
 
-    def has(self, name: str) -> bool:
-        return name in self.pointers
+    def __getitem__(self, name: str):
+        if name not in self._model._selectable:
+            raise KeyError(name)
+        return self._model.function(name)
+
+    def __iter__(self):
+        return iter(sorted(self._model._selectable))
+
+    def __len__(self) -> int:
+        return len(self._model._selectable)
+
+    def __contains__(self, name: object) -> bool:
+        return name in self._model._selectable
+
+
+class _SourceTexts(dict):
+    """source file -> its C text, read on first use (only composed steps are parsed for callees)."""
+
+    def __init__(self, model: Model):
+        super().__init__()
+        self._model = model
+
+    def __missing__(self, source: str) -> str:
+        texts = self._model._texts
+        if source not in texts:
+            assert self._model._gen_dir is not None
+            texts[source] = (self._model._gen_dir / source).read_text(encoding="utf-8")
+        return texts[source]
 
 
 def _load_compiled(gen_dir: Path, manifest: Manifest, log=None, controllers: Iterable[str] | None = None) -> Model:
-    lib_path, _ = link_library(gen_dir, manifest, log=log, controllers=controllers)
-    sources = set(selected_sources(manifest, controllers))
-    try:
-        lib = ctypes.CDLL(str(lib_path))
-    except OSError as exc:
-        raise ModelError(f"cannot load {lib_path} ({exc}): delete it and run again to rebuild") from exc
-    selftest = lib.rpo_selftest_nan
-    selftest.restype = ctypes.c_int
-    selftest.argtypes = [ctypes.c_double]
-    if selftest(float("nan")) != 0 or selftest(float("inf")) != 0 or selftest(1.0) != 1:
-        raise ModelError(f"{lib_path} does not detect NaN/inf (built with -ffast-math or similar via $CC?): "
-                         "divergence would go unnoticed; use a plain C compiler command")
-    for source in sorted(sources):
-        int_size = getattr(lib, f"{Path(source).stem}_casadi_int_size")
-        int_size.restype = ctypes.c_int
-        if int_size() != 8:
-            raise ModelError(f"generated/{source} uses a casadi_int that is not 64-bit: run `python build.py`")
-    from rpo.runtime.model import fastcall
-
-    cls = function_class(fastcall.load())
-    funcs = {name: cls(lib, name, desc) for name, desc in manifest.functions.items() if desc.source in sources}
-    return Model(manifest, funcs, "compiled", lib_path, lib, gen_dir=gen_dir, controllers=controllers, log=log)
+    compiler_command()  # no compiler: the error that says what to install, now rather than at the first call
+    return Model(manifest, None, "compiled", gen_dir=gen_dir, controllers=controllers, log=log)
 
 
 def _load_casadi(gen_dir: Path, manifest: Manifest) -> Model:
@@ -275,10 +350,16 @@ def _load_casadi(gen_dir: Path, manifest: Manifest) -> Model:
     for name, desc in manifest.functions.items():
         with gzip.open(gen_dir / f"{name}.casadi.gz", "rt") as fh:
             funcs[name] = CasadiFunction(ca.Function.deserialize(fh.read()), desc)
-    return Model(manifest, funcs, "casadi")
+    return Model(manifest, funcs, "casadi", gen_dir=gen_dir)
 
 
-def load_model(backend: str = "auto", gen_dir: Path | None = None, log: Callable[[str], None] | None = None,
+def stderr_log(line: str) -> None:
+    """The default progress log of a compile: one line to stderr, flushed at once."""
+    print(line, file=sys.stderr, flush=True)
+
+
+def load_model(backend: str = "auto", gen_dir: Path | None = None,
+               log: Callable[[str], None] | None | bool = True,
                controllers: Iterable[str] | None = None) -> Model:
     """Load the model: ``"compiled"`` (C), ``"casadi"`` (VM fallback, warned) or ``"auto"``.
 
@@ -286,8 +367,11 @@ def load_model(backend: str = "auto", gen_dir: Path | None = None, log: Callable
     what to install or how to choose the CasADi fallback explicitly (never a silent slowdown).
     ``controllers``: load only the plant and these controllers (what a run needs; the first run
     after an install then compiles a fraction of the model); default: every controller.
-    ``log`` receives the compile progress (which file, how many left).
+    Nothing is compiled here: each function is compiled on its first call (see :class:`Model`).
+    ``log`` receives the compile progress (which file, how many left; a line at least every 4 s):
+    True (default) prints it to stderr, False or None is silent.
     """
+    log = stderr_log if log is True else (log or None)
     gen_dir = generated_dir() if gen_dir is None else Path(gen_dir)
     manifest = read_manifest(gen_dir)
     if backend in ("auto", "compiled"):

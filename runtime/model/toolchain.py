@@ -62,8 +62,27 @@ def headers_digest() -> str:
     return h.hexdigest()
 
 
-def scalar_flags() -> list[str]:
-    return [*CFLAGS, "-I", str(csrc_dir()), "-include", SCALAR_MATH]
+#: Scalar files compiled at another level than CFLAGS' -O2 (file -> level), chosen by measurement
+#: (``benchmarks/bench_first_use.py --opt``): the plant's RK4 steps are 0.45-0.75 MB of straight-line
+#: code whose -O2 compile takes about twice the -O1 one and the most of a first run's wait, for
+#: a step that is a few percent slower at -O1.  IEEE semantics hold at every level (no
+#: -ffast-math, -ffp-contract=off): the results are bit-identical whatever the level.
+SCALAR_OPT: dict[str, str] = {
+    "plant_advance.c": "-O1",
+    "plant_advance_kepler.c": "-O1",
+    "plant_advance_kepler_nodist.c": "-O1",
+    "plant_jac.c": "-O1",
+}
+
+
+def scalar_cflags(name: str) -> tuple[str, ...]:
+    """The flags of the scalar object of the C file ``name`` (its optimisation level from SCALAR_OPT)."""
+    level = SCALAR_OPT.get(name)
+    return CFLAGS if level is None else (level, *CFLAGS[1:])
+
+
+def scalar_flags(name: str = "") -> list[str]:
+    return [*scalar_cflags(name), "-I", str(csrc_dir()), "-include", SCALAR_MATH]
 
 
 def find_compiler() -> list[str] | None:
@@ -127,7 +146,7 @@ def compile_object(cc: list[str], name: str, source: bytes, obj: Path, flags: li
     with os.fdopen(fd, "wb") as fh:
         fh.write(source)
     try:
-        run_cc([*cc, *(flags if flags is not None else scalar_flags()), "-c", src, "-o", tmp],
+        run_cc([*cc, *(flags if flags is not None else scalar_flags(name)), "-c", src, "-o", tmp],
                 f"compiling {name}", cc)
         os.replace(tmp, obj)
     finally:

@@ -2,7 +2,8 @@
 
 ``compute_metrics(t, columns, thresholds)`` takes the recorded time ``t`` [s] and a mapping from
 column label (``r_x``, ``ctrl_att_err``, ``env_F_applied_y``...) to a 1-D array of the same
-length, and returns a flat, JSON-ready dict.  Keys carry their unit (``_s``, ``_m``, ``_rad``...).
+length, and returns a flat, JSON-ready dict.  Keys carry their unit (``_s``, ``_m``, ``_rad``...;
+``units`` gives each scalar's: the JSON rule of :mod:`rpo.runtime.outputs.jsonunits`).
 A metric whose input columns are absent is ``None``, with the reason in ``unavailable[key]``;
 ``sources[quantity]`` names the columns each error was computed from.  Rows where a signal is
 not finite are ignored (e.g. the outputs of a diverged step).
@@ -41,7 +42,8 @@ Definitions (``t_end`` = last time with finite data; ``T = t_end - t[0]``):
   ``|u| <= chatter_deadband`` x the group's max |u| are skipped, so noise around zero does not count).
   Both depend on the recording step (``record_every``): they are per recorded sample.
 
-Per-unit actuator use (``per_wheel``, ``per_thruster``: one entry per unit, from the columns of
+Per-unit actuator use (``per_wheel``, ``per_thruster``: one entry per unit, named by ``wheel`` /
+``thruster`` (``"1"``, ``"07"``), from the columns of
 what the units delivered, ``wheel_applied_<i>`` [N m], ``env_wheel_speed_<i>`` [rad/s] and
 ``thr_on_<j>`` [-], the thrust level in [0, 1]; time fractions and integrals weight sample i by
 ``t_{i+1} - t_i`` as above, so they are exact when ``record_every = 1``):
@@ -349,7 +351,7 @@ def unit_use(t: ArrayLike, columns: Mapping[str, Any], params: Mapping[str, Any]
             sp_ = speeds.get(u)
             a = np.abs(tq)
             e: dict[str, Any] = {
-                "unit": u,
+                "wheel": u,
                 "torque_peak_N_m": float(np.nanmax(a)) if np.isfinite(a).any() else None,
                 "torque_rms_N_m": float(np.sqrt(np.sum(w * fin(tq) ** 2) / span)) if span > 0 else None,
                 "speed_peak_rad_s": (float(np.nanmax(np.abs(sp_))) if sp_ is not None and np.isfinite(sp_).any()
@@ -377,7 +379,7 @@ def unit_use(t: ArrayLike, columns: Mapping[str, Any], params: Mapping[str, Any]
             rising = firing & (w > 0) & ~np.concatenate([[False], firing[:-1]])
             starts = int(np.count_nonzero(rising))
             thrusters.append({
-                "unit": u,
+                "thruster": u,
                 "on_time_s": float(np.sum(w * firing)),
                 "firings": starts,
                 "propellant_kg": None if None in (F, isp, g0) else used[u] * F / (isp * g0),  # type: ignore[operator]
@@ -581,14 +583,14 @@ def format_table(m: dict) -> str:
     rpm = 60 / (2 * np.pi)
     pct = lambda v: "-" if v is None else f"{100 * v:.3g} %"  # noqa: E731
     for e in m.get("per_wheel") or []:
-        rows.append((f"wheel {e['unit']}", f"torque peak {f(e['torque_peak_N_m'])} N m, RMS {f(e['torque_rms_N_m'])} "
+        rows.append((f"wheel {e['wheel']}", f"torque peak {f(e['torque_peak_N_m'])} N m, RMS {f(e['torque_rms_N_m'])} "
                      f"N m; speed peak {f(e['speed_peak_rad_s'], rpm)} rpm; at the torque limit "
                      f"{pct(e['torque_limit_fraction'])}, at the speed limit {pct(e['speed_limit_fraction'])}"))
     if m.get("per_thruster"):
         thr = m["per_thruster"]
         rows.append(("thrusters", f"{sum(e['firings'] for e in thr)} firings, {f(sum(e['on_time_s'] for e in thr))} s "
                      "on in all; per unit on-time s/firings/propellant share: "
-                     + ", ".join(f"{e['unit']} {f(e['on_time_s'], fmt='.3g')}/{e['firings']}/"
+                     + ", ".join(f"{e['thruster']} {f(e['on_time_s'], fmt='.3g')}/{e['firings']}/"
                                  f"{pct(e['propellant_share'])}" for e in thr)))
     lines = [f"  {k:<15s} {v}" for k, v in rows]
     missing = [q for q in ERROR_QUANTITIES if f"{q}_err_final_{_SUFFIX[q]}" in m["unavailable"]]

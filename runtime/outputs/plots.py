@@ -1,22 +1,33 @@
 """Figures of one run (matplotlib, Agg; no pyplot, so no global backend state is touched).
 
 The figures are drawn from a :class:`~rpo.runtime.outputs.plotdata.PlotData` (the time, the columns the
-figures use at the rate of the in-memory record, the layouts and a few run facts), so they can be
-rendered in another process (:mod:`rpo.runtime.outputs.writers` does, while it writes the data files).  Every figure
-is a column of panels over time; titles, axis labels and legends use words and units ("wheel
-speed [rpm]"), not layout ids.  Long series are drawn through a min/max envelope per horizontal
-pixel (:func:`envelope`), which looks the same as every point and keeps vector files small.
+figures use at the rate of the in-memory record, the layouts and a few run facts: the parameters
+of :data:`~rpo.runtime.outputs.plotdata.PLOT_PARAMS`, the metrics' thresholds and settling times),
+so they can be rendered in another process (:mod:`rpo.runtime.outputs.writers` does, while it writes
+the data files).  Each figure is built as a :class:`~matplotlib.figure.Figure` by a function of
+:data:`FIGURES` (``build(name, data)``; None: nothing to draw), then saved by :func:`render`.
 
-* ``attitude``     angle of the chaser to the target's interface frame [deg], the error quaternion
-  q_e (000 eq. 22, scalar last) and the rate error w_e (000 eq. 17) [deg/s];
-* ``translation``  relative position r in LVLH [m], the distance (and to the goal), the relative
-  velocity v [m/s];
-* ``actuators``    wheel speeds relative to the body [rpm] and wheel torques after the delay
-  [N m] with their limits (dotted), the torque and force applied to the chaser (body axes);
+Every error the verdict judges is the metrics' own series
+(:func:`rpo.runtime.outputs.plotdata.judged_errors`), drawn with its threshold and its settling time
+(the verdict's "reached at").  Figures (``<name>.<format>``):
+
+* ``attitude``     the attitude error the verdict judges [deg] (threshold, settling time), its
+  error quaternion and the rate error [deg/s] (the same sources as the metrics: the controller's
+  ``ctrl_*`` errors, else 000's interface-frame errors);
+* ``translation``  relative position r in LVLH [m] with the goal (dotted, when known), the
+  distance |r| with the goal distance and the keep-out radius, the position error the verdict
+  judges (threshold, settling time), the relative velocity v [m/s];
+* ``errors``       every error on a logarithmic scale (:mod:`rpo.runtime.outputs.views`);
+* ``lvlh``         the LVLH projections: in-plane (V-bar/R-bar), cross-track (views);
+* ``approach``     the 3D approach with the keep-out sphere and the camera cone (views);
+* ``actuators``    the actuators the plant has: ideal force and torque with their limits, or the
+  wheel speeds [rpm], torques [N m] and momenta [N m s] against their limits and capacity, and the
+  torque and force applied to the chaser (body axes);
 * ``thrusters``    firing raster (fraction of time each of the 16 thrusters is on, per time bin),
-  the commanded duty (PWPF input) the same way, and the propellant used [kg];
+  the commanded duty (PWPF input) the same way, and the propellant used [kg]; not written for a
+  plant with ideal actuators (it has no thrusters);
 * ``controller``   the controller's standard errors (attitude, error quaternion, position,
-  rate, velocity: those it logs) and its commands (wheel torque, thruster torque, force);
+  rate, velocity: those it logs; the judged ones with threshold and settling time) and commands;
 * ``constraints``  001's field-of-view and collision margins (> 0 = satisfied);
 * ``diagnostics``  every controller-specific diagnostic ``ctrl_*`` (sliding surfaces, adaptive or
   ESO estimates...), one panel each, titled by its manifest description.
@@ -33,126 +44,40 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from matplotlib.figure import Figure
-from matplotlib.ticker import MaxNLocator
 
-from rpo.runtime.formats import DEFAULT_FIGURE_FORMAT, FIGURE_FORMATS, figure_format_of, unknown_figure_format
-from rpo.runtime.outputs.metrics import quat_angle
-from rpo.runtime.outputs.plotdata import STANDARD_DIAG, PlotData
+from rpo.runtime.formats import DEFAULT_FIGURE_FORMAT, FIGURE_FORMATS, unknown_figure_format
+from rpo.runtime.outputs import geometry as geo
+from rpo.runtime.outputs import views
+from rpo.runtime.outputs.figkit import (
+    AXES_COLORS,
+    MARGIN,
+    RAD2DEG,
+    RADS2RPM,
+    SETTLED_STYLE,
+    THRESHOLD_STYLE,
+    components,
+    envelope,
+    figure,
+    finish,
+    judged_panel,
+    legend,
+    limits,
+    lines,
+    norm,
+    save,
+)
+from rpo.runtime.outputs.plotdata import STANDARD_DIAG, PlotData, judged_errors
 
 if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
     from rpo.runtime.model.manifest import LayoutField
     from rpo.runtime.run.result import RunResult
 
-RAD2DEG = 180.0 / np.pi
-RADS2RPM = 60.0 / (2.0 * np.pi)
 #: Time bins of the thruster rasters (a 10 ms pulse in a 300 s run stays visible as a grey level).
 RASTER_BINS = 600
-#: Envelope bins per line: about one per horizontal pixel of a 9 inch figure at DPI.
-ENVELOPE_BINS = 1000
-DPI = 110
-AXES_COLORS = ("tab:blue", "tab:orange", "tab:green", "tab:red")
 XYZ = ("x", "y", "z")
-
-
-# --------------------------------------------------------------------------- drawing helpers
-
-
-def envelope(t: np.ndarray, x: np.ndarray, n_bins: int = ENVELOPE_BINS) -> tuple[np.ndarray, np.ndarray]:
-    """``(t, x)`` reduced to the first, minimum, maximum and last sample of each of ``n_bins``
-    consecutive bins, in time order: the drawn line covers the same pixels as the full series."""
-    n = len(t)
-    k = n // n_bins
-    if k < 4:
-        return t, x
-    m = n_bins * k
-    b = x[:m].reshape(n_bins, k)
-    lo = np.where(np.isnan(b), np.inf, b).argmin(axis=1)
-    hi = np.where(np.isnan(b), -np.inf, b).argmax(axis=1)
-    base = np.arange(n_bins) * k
-    idx = np.concatenate([base, base + lo, base + hi, base + k - 1, np.arange(m, n)])
-    idx = np.unique(idx)
-    return t[idx], x[idx]
-
-
-def _lines(ax, t, data, labels: Sequence[str], ylabel: str, colors: Sequence[str] | None = None) -> None:
-    n = data.shape[1]
-    for i in range(n):  # x, y, z, w in the usual colours; longer fields (estimates) in the tab10 cycle
-        color = colors[i] if colors else (AXES_COLORS[i] if n <= 4 else f"C{i % 10}")
-        ax.plot(*envelope(t, data[:, i]), lw=1.0, color=color, label=labels[i])
-    ax.set_ylabel(ylabel, fontsize=9)
-    ax.tick_params(labelsize=8)
-    ax.yaxis.set_major_locator(MaxNLocator(4))  # every tick is five artists: fewer is faster
-    if n > 1 or labels[0]:
-        ax.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8, frameon=False,
-                  ncol=1 if n <= 8 else 2)
-
-
-def _norm(ax, t, data, label: str) -> None:
-    ax.plot(*envelope(t, np.linalg.norm(data, axis=1)), lw=1.2, color="k", label=label)
-
-
-def _limits(ax, value: float | None) -> None:
-    if value:
-        for s in (1, -1):
-            ax.axhline(s * value, color="red", ls=":", lw=1.0)
-
-
-def _components(f: LayoutField) -> list[str]:
-    """Legend entries of a field: its component names (``x``, ``alpha_xx1``, ``wheel 1``...)."""
-    if f.size == 1:
-        return [""]
-    out = []
-    for lbl in f.labels:
-        c = lbl[len(f.name) + 1:] if lbl.startswith(f.name + "_") else lbl
-        what = "wheel" if "wheel" in f.name else "thruster" if f.name.startswith("thr_") else "#"
-        out.append((f"{what} {int(c)}" if what != "#" else f"#{int(c)}") if c.isdigit() else c)
-    return out
-
-
-#: Fixed margins [inch] (no layout engine: constrained layout cost half of the drawing time).
-MARGIN = {"left": 0.85, "right": 1.75, "bottom": 0.55, "top": 0.75, "hspace": 0.45}
-
-
-def _figure(n_panels: int, height: float = 2.0, ncols: int = 1, titled: bool = False) -> tuple[Figure, list]:
-    """A figure of ``n_panels`` panels over time in ``ncols`` columns (filled down each column),
-    with room right of each panel for its legend."""
-    rows = -(-n_panels // ncols)
-    gap = MARGIN["hspace"] + (0.25 if titled else 0.0)
-    width = 9.0 if ncols == 1 else 15.0
-    h = MARGIN["top"] + MARGIN["bottom"] + (0.3 if titled else 0.0) + height * rows + gap * (rows - 1)
-    fig = Figure(figsize=(width, h))
-    axes = fig.subplots(rows, ncols, sharex=True, squeeze=False)
-    axes[0, 0].xaxis.set_major_locator(MaxNLocator(6))  # shared by every panel
-    ax_w = (width - MARGIN["left"] - ncols * MARGIN["right"] - (ncols - 1) * MARGIN["left"]) / ncols
-    fig.subplots_adjust(left=MARGIN["left"] / width, right=1 - MARGIN["right"] / width,
-                        bottom=MARGIN["bottom"] / h, top=1 - (MARGIN["top"] + (0.3 if titled else 0.0)) / h,
-                        hspace=gap / height, wspace=(MARGIN["right"] + MARGIN["left"]) / ax_w)
-    flat = list(axes.T.ravel())
-    for ax in flat[n_panels:]:
-        ax.set_visible(False)
-    return fig, flat[:n_panels]
-
-
-def _finish(fig: Figure, axes, d: PlotData, title: str, path: Path) -> None:
-    for ax in axes:
-        ax.grid(True, alpha=0.3)
-        if d.divergence is not None:
-            ax.axvline(d.divergence[0], color="red", lw=1.0, ls="--")
-        for t_f, _label in d.faults:
-            ax.axvline(t_f, color="darkorange", lw=1.0, ls=":")
-    bottom = {ax.get_subplotspec().colspan.start: ax for ax in axes}  # the lowest panel of each column
-    for ax in bottom.values():
-        ax.set_xlabel("time [s]")
-        ax.xaxis.set_tick_params(labelbottom=True)
-    if d.faults:
-        shown = "; ".join(f"{label} at {t_f:g} s" for t_f, label in d.faults[:4])
-        title = f"{title}\nfaults (dotted): {shown}{' ...' if len(d.faults) > 4 else ''}"
-    if d.divergence is not None:
-        title = f"{title}\nDIVERGED at t = {d.divergence[0]:.6g} s ({d.divergence[1]})"
-    fig.suptitle(f"{d.title}: {title}", fontsize=11, y=1 - 0.12 / fig.get_figheight(), va="top")
-    fmt = figure_format_of(path)  # its quick options (PNG: a fast zlib level)
-    extra: dict[str, Any] = fmt.quick_options() if fmt is not None else {}
-    fig.savefig(path, dpi=DPI, **extra)
+LVLH_AXES = ("x (radial, R-bar)", "y (along-track, V-bar)", "z (normal, cross-track)")
 
 
 # --------------------------------------------------------------------------- the figures
@@ -160,77 +85,130 @@ def _finish(fig: Figure, axes, d: PlotData, title: str, path: Path) -> None:
 Panel = tuple[str, str, float]  # (field, axis label with unit, scale)
 
 
-def _field_panels(d: PlotData, path: Path, title: str, panels: Sequence[Panel], ncols: int = 1,
-                  limits: dict[str, float | None] | None = None) -> bool:
-    """One panel per logged field; False (nothing written) if none.  Absent ones are named."""
+def _field_panels(d: PlotData, title: str, panels: Sequence[Panel], ncols: int = 1,
+                  limit: dict[str, tuple[float | None, str]] | None = None,
+                  decorate: dict[str, Callable[[Axes], None]] | None = None) -> Figure | None:
+    """One panel per logged field; None (nothing to draw) if none.  Absent ones are named.
+    ``limit``: a field's +- limit (dotted) and its label; ``decorate``: more drawing on a field's panel."""
     present = [p for p in panels if d.has(p[0])]
     if not present:
-        return False
+        return None
     absent = [p[1].split(" [")[0] for p in panels if not d.has(p[0])]
     if absent:
         title = f"{title}\n(not logged by this controller: {', '.join(absent)})"
-    fig, axes = _figure(len(present), ncols=ncols, titled=bool(absent))
+    fig, axes = figure(len(present), ncols=ncols, titled=bool(absent))
     for ax, (name, ylabel, scale) in zip(axes, present, strict=True):
         f = d.field(name)
         assert f is not None
-        _lines(ax, d.t, d.get(name) * scale, _components(f), ylabel)
-        if limits and name in limits:
-            _limits(ax, limits[name])
+        lines(ax, d.t, d.get(name) * scale, components(f), ylabel)
+        if limit and name in limit:
+            limits(ax, *limit[name])
+            legend(ax)
         if name in ("env_beta_fov", "env_beta_ca"):
             ax.axhline(0.0, color="red", ls=":", lw=1.0)
-    _finish(fig, axes, d, title, path)
-    return True
+        if decorate and name in decorate:
+            decorate[name](ax)
+    return finish(fig, axes, d, title)
 
 
-def plot_attitude(d: PlotData, path: Path) -> bool:
-    if not (d.has("meas_q_e") and d.has("meas_w_e")):
-        return False
-    t, q_e, w_e = d.t, d.get("meas_q_e"), d.get("meas_w_e") * RAD2DEG
-    fig, (ax1, ax2, ax3) = _figure(3)
-    ok = np.all(np.isfinite(q_e), axis=1)  # the last row has no output (NaN)
-    angle = np.full(len(t), np.nan)
-    angle[ok] = quat_angle(q_e[ok]) * RAD2DEG
-    ax1.plot(*envelope(t, angle), lw=1.2, color="k")
-    ax1.set_ylabel("angle to interface frame [deg]", fontsize=9)
-    ax1.set_ylim(bottom=0)
-    _lines(ax2, t, q_e, ["x", "y", "z", "w (scalar)"], "error quaternion q_e [-]")
-    _lines(ax3, t, w_e, XYZ, "rate error w_e, chaser axes [deg/s]")
-    _norm(ax3, t, w_e, "|w_e|")
-    ax3.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8, frameon=False)
-    _finish(fig, (ax1, ax2, ax3), d, "attitude relative to the target's interface frame", path)
-    return True
+def _source_of_q(d: PlotData) -> str:
+    return "ctrl_q_err" if d.has("ctrl_q_err") else "meas_q_e, 000 interface frame"
 
 
-def plot_translation(d: PlotData, path: Path) -> bool:
+def plot_attitude(d: PlotData) -> Figure | None:
+    judged, comp = judged_errors(d)
+    if "att" not in judged:
+        return None
+    rows = ["att"] + (["q"] if "q" in comp else []) + (["rate"] if "rate" in comp else [])
+    fig, axes = figure(len(rows), titled=True)
+    for ax, row in zip(axes, rows, strict=True):
+        if row == "att":
+            judged_panel(ax, d.t, judged["att"])
+        elif row == "q":
+            lines(ax, d.t, comp["q"], ["x", "y", "z", "w (scalar)"], f"error quaternion [-]\n({_source_of_q(d)})")
+        else:
+            lines(ax, d.t, comp["rate"], XYZ, f"rate error [deg/s]\n({judged['rate'].source})")
+            norm(ax, d.t, comp["rate"], "|rate error|")
+            legend(ax)
+    return finish(fig, axes, d, "attitude error as the verdict judges it (log scale; threshold dashed, "
+                                "reached dash-dotted)")
+
+
+def pose(d: PlotData) -> dict[str, Any]:
+    """``r``, both attitudes in LVLH (``C_Lc``, ``C_Lt``: body axes as columns) and the goal in LVLH
+    (None where unknown), with how the LVLH frame and the goal were found."""
+    r = d.get("r")
+    C_IL, how = geo.lvlh_frame(d.t, d.columns, d.params)
+    C_Lc = geo.attitude_in_lvlh(d.columns, "q_c", C_IL)
+    C_Lt = geo.attitude_in_lvlh(d.columns, "q_t", C_IL)
+    f = d.field("ctrl_pos_err")
+    goal, goal_how = geo.goal_lvlh(d.columns, r, f.doc if f is not None else None, d.goal, C_Lc, C_Lt)
+    return {"r": r, "C_Lc": C_Lc, "C_Lt": C_Lt, "goal": goal, "goal_how": goal_how, "frame_how": how}
+
+
+def plot_translation(d: PlotData) -> Figure | None:
     if not (d.has("r") and d.has("v")):
-        return False
-    t, r, v, goal = d.t, d.get("r"), d.get("v"), d.goal
-    fig, (ax1, ax2, ax3) = _figure(3)
-    _lines(ax1, t, r, ["x (radial)", "y (along-track)", "z (normal)"], "position, LVLH [m]")
-    _norm(ax2, t, r, "|r|")
-    if goal is not None and np.any(goal != 0):
-        for i in range(3):
-            ax1.axhline(goal[i], color=AXES_COLORS[i], ls=":", lw=1.0)
-        ax2.plot(*envelope(t, np.linalg.norm(r - goal, axis=1)), color="tab:purple", lw=1.2, label="|r - r_goal|")
-    ax2.set_ylabel("distance [m]", fontsize=9)
-    ax2.set_ylim(bottom=0)
-    ax2.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8, frameon=False)
-    _lines(ax3, t, v, ["x (radial)", "y (along-track)", "z (normal)"], "velocity, LVLH [m/s]")
-    _norm(ax3, t, v, "|v|")
-    ax3.legend(loc="upper left", bbox_to_anchor=(1.0, 1.0), fontsize=8, frameon=False)
-    _finish(fig, (ax1, ax2, ax3), d, "relative position and velocity (goal dotted)", path)
-    return True
+        return None
+    t, r, v = d.t, d.get("r"), d.get("v")
+    where = pose(d)
+    goal = where["goal"]
+    judged, _ = judged_errors(d)
+    rows = ["r", "dist"] + (["pos"] if "pos" in judged else []) + ["v"]
+    fig, axes = figure(len(rows), titled=True)
+    for ax, row in zip(axes, rows, strict=True):
+        if row == "r":
+            lines(ax, t, r, LVLH_AXES, "position, LVLH [m]")
+            if goal is not None:
+                for i in range(3):
+                    ax.plot(*envelope(t, goal[:, i]), color=AXES_COLORS[i], ls=":", lw=1.2,
+                            label="goal" if i == 0 else None)
+                legend(ax)
+        elif row == "dist":
+            norm(ax, t, r, "|r|")
+            if goal is not None:
+                ax.plot(*envelope(t, np.linalg.norm(goal, axis=1)), color="tab:purple", ls=":", lw=1.2,
+                        label="|goal|")
+            keep_out = geo.keep_out_radius(d.params)
+            if keep_out is not None:
+                ax.axhline(keep_out, color="red", ls=":", lw=1.0, label=f"keep-out radius {keep_out:.3g} m")
+            ax.set_ylabel("distance [m]", fontsize=9)
+            ax.set_ylim(bottom=0)
+            legend(ax)
+        elif row == "pos":
+            judged_panel(ax, t, judged["pos"])
+        else:
+            lines(ax, t, v, LVLH_AXES, "velocity, LVLH [m/s]")
+            norm(ax, t, v, "|v|")
+            legend(ax)
+    what = "relative position and velocity" + (f" (goal dotted: {where['goal_how']})" if goal is not None else "")
+    return finish(fig, axes, d, what)
 
 
-def plot_actuators(d: PlotData, path: Path) -> bool:
+def _wheel_capacity(d: PlotData) -> float | None:
+    """A wheel's momentum at its speed limit [N m s]: wheel_inertia x wheel_speed_max."""
+    i_w, s_max = d.param("wheel_inertia"), d.param("wheel_speed_max")
+    return None if i_w is None or s_max is None else i_w * s_max
+
+
+def plot_actuators(d: PlotData) -> Figure | None:
+    f_max, t_max = d.param("force_max"), d.param("torque_max")
+    if d.ideal_actuators:  # no wheel, no thruster: what the ideal actuators applied, against their limits
+        return _field_panels(d, "actuators: ideal force and torque, per body axis (limits dotted)", [
+            ("env_tau_applied", "torque applied, body [N m]", 1.0),
+            ("env_F_applied", "force applied, body [N]", 1.0)],
+            limit={"env_tau_applied": (t_max, "torque limit"), "env_F_applied": (f_max, "force limit")})
     torque = "wheel_applied" if d.has("wheel_applied") else "wheel_cmd"
-    speed_max, torque_max = d.limits.get("wheel_speed_max"), d.limits.get("wheel_torque_max")
-    return _field_panels(d, path, "actuators (limits dotted)", [
+    speed_max, torque_max = d.param("wheel_speed_max"), d.param("wheel_torque_max")
+    capacity = _wheel_capacity(d)
+    return _field_panels(d, "actuators: reaction wheels and the applied torque and force (limits dotted)", [
         ("env_wheel_speed", "wheel speed rel. body [rpm]", RADS2RPM),
         (torque, "wheel torque, after the delay [N m]", 1.0),
+        ("h_w", "wheel momentum [N m s]", 1.0),
         ("env_tau_applied", "torque applied, body [N m]", 1.0),
         ("env_F_applied", "force applied, body [N]", 1.0)],
-        limits={"env_wheel_speed": None if speed_max is None else speed_max * RADS2RPM, torque: torque_max})
+        limit={"env_wheel_speed": (None if speed_max is None else speed_max * RADS2RPM, "speed limit"),
+               torque: (torque_max, "torque limit"),
+               "h_w": (capacity, "capacity I_w x speed limit")})
 
 
 def _binned(t: np.ndarray, data: np.ndarray, n_bins: int = RASTER_BINS):
@@ -247,9 +225,9 @@ def _binned(t: np.ndarray, data: np.ndarray, n_bins: int = RASTER_BINS):
     return (sums / counts).T, (float(t[0]), float(t[-1] + dt))
 
 
-def plot_thrusters(d: PlotData, path: Path) -> bool:
-    if not (d.has("thr_on") and d.has("thr_duty") and d.has("m_prop")):
-        return False
+def plot_thrusters(d: PlotData) -> Figure | None:
+    if d.ideal_actuators or not (d.has("thr_on") and d.has("thr_duty") and d.has("m_prop")):
+        return None
     t, on = d.t, d.get("thr_on")
     fig = Figure(figsize=(9, 8))
     ax1, ax2, ax3 = fig.subplots(3, 1, sharex=True, height_ratios=(2, 2, 1.2))
@@ -272,21 +250,38 @@ def plot_thrusters(d: PlotData, path: Path) -> bool:
     ax3.text(0.01, 0.95, f"total on-time {total_on.sum():.4g} s (busiest: thruster #{int(np.argmax(total_on))}, "
              f"{total_on.max():.4g} s); used {np.nanmax(m_prop):.4g} kg",
              transform=ax3.transAxes, va="top", fontsize=8)
-    _finish(fig, (ax1, ax2, ax3), d, "thrusters", path)
-    return True
+    return finish(fig, (ax1, ax2, ax3), d, "thrusters")
 
 
-def plot_controller(d: PlotData, path: Path) -> bool:
-    return _field_panels(d, path, "controller errors (to its desired state) and commands", [
+def _mark(ax: Axes, j: Any) -> None:
+    """The verdict's threshold and settling time of the error ``j`` on a controller panel."""
+    ax.axhline(j.threshold, label=f"threshold {j.threshold:.4g} {j.unit}", **THRESHOLD_STYLE)
+    if j.settling is not None:
+        ax.axvline(j.settling, label=f"reached at {j.settling:.4g} s", **SETTLED_STYLE)
+    legend(ax)
+
+
+def plot_controller(d: PlotData) -> Figure | None:
+    judged, _ = judged_errors(d)
+    decorate: dict[str, Callable[[Axes], None]] = {}
+    att, pos = judged.get("att"), judged.get("pos")
+    if att is not None and att.source == "ctrl_att_err":
+        decorate["ctrl_att_err"] = lambda ax: _mark(ax, att)
+    if pos is not None and pos.source == "|ctrl_pos_err|":
+        def pos_panel(ax: Axes) -> None:
+            ax.plot(*envelope(d.t, pos.signal), lw=1.2, color="k", label="|pos error| (judged)")
+            _mark(ax, pos)
+        decorate["ctrl_pos_err"] = pos_panel
+    return _field_panels(d, "controller errors (to its desired state; the verdict's thresholds dashed) and commands", [
         ("ctrl_att_err", "attitude error [deg]", RAD2DEG), ("ctrl_q_err", "error quaternion [-]", 1.0),
         ("ctrl_pos_err", "position error [m]", 1.0), ("ctrl_rate_err", "rate error [deg/s]", RAD2DEG),
         ("ctrl_vel_err", "velocity error [m/s]", 1.0),
         ("cmd_tau_w", "wheel torque command [N m]", 1.0), ("cmd_tau_thr", "thruster torque command [N m]", 1.0),
-        ("cmd_F", "force command [N]", 1.0)], ncols=2)
+        ("cmd_F", "force command [N]", 1.0)], ncols=2, decorate=decorate)
 
 
-def plot_constraints(d: PlotData, path: Path) -> bool:
-    return _field_panels(d, path, "constraint margins (> 0 satisfied; 001 eqs. 41, 47)", [
+def plot_constraints(d: PlotData) -> Figure | None:
+    return _field_panels(d, "constraint margins (> 0 satisfied; 001 eqs. 41, 47)", [
         ("env_beta_fov", "field-of-view margin beta_FOV [m]", 1.0),
         ("env_beta_ca", "collision margin beta_CA [m^2]", 1.0)])
 
@@ -296,27 +291,40 @@ def diag_fields(d: PlotData) -> list[LayoutField]:
     return [f for f in d.y_layout if f.name.startswith("ctrl_") and f.name not in STANDARD_DIAG and d.has(f.name)]
 
 
-def plot_diagnostics(d: PlotData, path: Path) -> bool:
+def plot_diagnostics(d: PlotData) -> Figure | None:
     fields = diag_fields(d)
     if not fields:
-        return False
+        return None
     ncols = 1 if len(fields) <= 3 else 2
-    fig, axes = _figure(len(fields), height=1.8, ncols=ncols, titled=True)
+    fig, axes = figure(len(fields), height=1.8, ncols=ncols, titled=True)
     for ax, f in zip(axes, fields, strict=True):
         unit = f.unit or "-"
-        _lines(ax, d.t, d.get(f.name), _components(f), f"{f.name[len('ctrl_'):]} [{unit}]")
+        lines(ax, d.t, d.get(f.name), components(f), f"{f.name[len('ctrl_'):]} [{unit}]")
         # a text, not set_title: a title makes matplotlib measure every axis again (a third of the time)
         ax.text(0.0, 1.03, f.doc or f.name, transform=ax.transAxes, fontsize=9, va="bottom")
-    _finish(fig, axes, d, f"{d.controller} diagnostics", path)
-    return True
+    return finish(fig, axes, d, f"{d.controller} diagnostics")
+
+
+def plot_lvlh(d: PlotData) -> Figure | None:
+    return views.lvlh_figure(d, pose(d)) if d.has("r") else None
+
+
+def plot_approach(d: PlotData) -> Figure | None:
+    return views.approach_figure(d, pose(d)) if d.has("r") else None
 
 
 #: The figures in drawing order: (file stem, function).  Stems are part of the output contract.
-FIGURES: dict[str, Callable[[PlotData, Path], bool]] = {
-    "attitude": plot_attitude, "translation": plot_translation, "actuators": plot_actuators,
+FIGURES: dict[str, Callable[[PlotData], Figure | None]] = {
+    "attitude": plot_attitude, "translation": plot_translation, "errors": views.errors_figure,
+    "lvlh": plot_lvlh, "approach": plot_approach, "actuators": plot_actuators,
     "thrusters": plot_thrusters, "controller": plot_controller, "constraints": plot_constraints,
     "diagnostics": plot_diagnostics,
 }
+
+
+def build(name: str, d: PlotData) -> Figure | None:
+    """The figure ``name`` of ``d`` as a matplotlib Figure (not saved); None if it has nothing to draw."""
+    return FIGURES[name](d)
 
 
 def render(d: PlotData, out_dir: str | Path, fmt: str = DEFAULT_FIGURE_FORMAT,
@@ -328,15 +336,19 @@ def render(d: PlotData, out_dir: str | Path, fmt: str = DEFAULT_FIGURE_FORMAT,
     out = Path(out_dir)
     written = []
     for name in names or list(FIGURES):
-        if FIGURES[name](d, out / f"{name}.{fmt}"):
+        fig = build(name, d)
+        if fig is not None:
+            save(fig, out / f"{name}.{fmt}")
             written.append(f"{name}.{fmt}")
     return written
 
 
 def make_plots(result: RunResult, model: Any, out_dir: str | Path, params: dict | None = None,
-               gains: dict | None = None, title: str = "", fmt: str = DEFAULT_FIGURE_FORMAT) -> list[str]:
+               gains: dict | None = None, title: str = "", fmt: str = DEFAULT_FIGURE_FORMAT,
+               metrics: dict | None = None) -> list[str]:
     """Write the figures of ``result`` into ``out_dir`` in this process; returns the file names.
 
-    ``params`` (p fields, SI) gives the wheel limits; ``gains`` the goal position ``r_goal``.
+    ``params`` (p fields, SI) gives the actuators, their limits and the constraints; ``gains`` the
+    goal position ``r_goal``; ``metrics`` the thresholds and settling times the verdict used.
     """
-    return render(PlotData.from_result(result, model, params, gains, title), out_dir, fmt)
+    return render(PlotData.from_result(result, model, params, gains, title, metrics), out_dir, fmt)

@@ -27,8 +27,10 @@ Measured reasons (each a fraction of the run ``[t_0, t_end]``, sample i held ove
   - ``ideal_force`` (position), ``ideal_torque`` (attitude): the ideal actuators applied less than
     commanded on some axis (``|cmd - env_*_applied| > 1e-6 x limit``; the command torque is
     ``cmd_tau_w + cmd_tau_thr``);
-* a constraint violated: ``env_beta_fov < 0`` (camera cone) or ``env_beta_ca < 0`` (envelope
-  spheres), 001's constraints, evaluated for every run;
+* a constraint violated (:func:`violated_constraints`, the one rule the verdict and a campaign's
+  ``constraint_violated`` use: :data:`CONSTRAINT_RULE`): ``env_beta_fov < 0`` (camera cone) or
+  ``env_beta_ca < 0`` (envelope spheres) at some recorded sample, 001's constraints, evaluated for
+  every run whether or not its scenario declares them (``[constraints]``: :func:`declared_constraints`);
 * a divergence (the run stopped early).
 
 **The main reason** of a goal not reached is the first that applies of:
@@ -45,11 +47,16 @@ Measured reasons (each a fraction of the run ``[t_0, t_end]``, sample i held ove
 
 Saturation is checked before constraints because it is the physical limit that stops a law from
 doing what it asks; a constraint violation says where the path went, not why the goal was missed.
+
+Units (``docs/verdict.md``, the JSON rule of :mod:`rpo.runtime.outputs.jsonunits`): SI, a key's unit
+in its name (``time_s``, ``min_t_s``, ``final_deg``; ``fraction`` and ``*_fraction`` are fractions of
+the run) or, where it differs from entry to entry, in the ``units`` object beside it (a goal's
+``final``: rad or m; a constraint's ``min``: m or m^2).
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Iterable, Mapping
 from typing import Any
 
 import numpy as np
@@ -85,6 +92,28 @@ FAMILY_TEXT = {
 }
 CONSTRAINTS = {"env_beta_fov": ("beta_fov", "camera field of view", "m"),
                "env_beta_ca": ("beta_ca", "collision envelope", "m^2")}
+#: the rule of "a constraint violated", in words (the campaign report quotes it)
+CONSTRAINT_RULE = ("a constraint is violated when its margin (beta_fov [m], the camera cone; beta_ca [m^2], the "
+                   "envelope spheres) is below 0 at some recorded sample; both are evaluated for every run, "
+                   "whether or not its scenario declares them in [constraints]")
+#: the SI unit of each goal's error (``final``) and the factor of the degrees the text shows
+GOAL_UNITS = {"att": "rad", "pos": "m"}
+DEG = 180.0 / np.pi
+
+
+def violated_constraints(con: Mapping[str, Mapping[str, Any]], only: Iterable[str] | None = None) -> list[str]:
+    """The names of the constraints violated (``con``: :func:`constraints` or a verdict's
+    ``constraints``), by :data:`CONSTRAINT_RULE`, in :data:`CONSTRAINTS` order; ``only``: among these
+    names.  The verdict's line and main reason and a campaign's ``constraint_violated`` all count
+    by this function."""
+    keep = None if only is None else set(only)
+    return [n for n, c in con.items() if c.get("violated") and (keep is None or n in keep)]
+
+
+def declared_constraints(scenario_data: Mapping[str, Any]) -> tuple[str, ...]:
+    """The constraints a scenario (its TOML data) declares: every one when it has a ``[constraints]``
+    table (001's camera cone and envelope spheres come together), else none."""
+    return tuple(name for name, _, _ in CONSTRAINTS.values()) if "constraints" in scenario_data else ()
 
 
 def _units(columns: Mapping[str, Any], labels: tuple[str, ...], prefix: str) -> np.ndarray | None:
@@ -195,9 +224,9 @@ def _constraints(t: np.ndarray, columns: Mapping[str, Any], w: np.ndarray, span:
         else:
             continue
         violated = bool(bad.any())
-        out[name] = {"what": what, "unit": unit, "violated_fraction": held_fraction(w, span, bad),
+        out[name] = {"what": what, "violated_fraction": held_fraction(w, span, bad),
                      "violated": violated, "first_violated_t_s": float(t[np.argmax(bad)]) if violated else None,
-                     "min": float(x[i]), "min_t_s": float(t[i])}
+                     "min": float(x[i]), "min_t_s": float(t[i]), "units": {"min": unit}}
     return out
 
 
@@ -220,17 +249,18 @@ def verdict(metrics: Mapping[str, Any], t: ArrayLike, columns: Mapping[str, Any]
     sat = _saturation(columns, params, w, span)
     con = _constraints(t, columns, w, span)
     th = metrics.get("thresholds", {})
-    deg = 180.0 / np.pi
     limits = {"att": f"< {th.get('att_deg', 1.0):g} deg", "pos": f"< {th.get('pos_m', 0.5):g} m"}
     goals: dict[str, dict] = {}
     parts: list[str] = []
     for q, name in GOALS.items():
         unit_key = "att_err_final_rad" if q == "att" else "pos_err_final_m"
         final = metrics.get(unit_key)
-        final_text = "-" if final is None else (f"{final * deg:.4g} deg" if q == "att" else f"{final:.4g} m")
+        final_text = "-" if final is None else (f"{final * DEG:.4g} deg" if q == "att" else f"{final:.4g} m")
         settle = metrics.get(f"{q}_settling_time_s")
         g: dict[str, Any] = {"goal": f"{name} error {limits[q]}", "reached": None, "time_s": None,
-                             "final": final, "reason": None, "reason_kind": None}
+                             "final": final, "reason": None, "reason_kind": None, "units": {"final": GOAL_UNITS[q]}}
+        if q == "att":  # the degrees the line shows, beside the SI value
+            g["final_deg"] = None if final is None else final * DEG
         goals[q] = g
         if final is None:
             g["reason"] = "not measured: the controller logs no such error"
@@ -244,11 +274,11 @@ def verdict(metrics: Mapping[str, Any], t: ArrayLike, columns: Mapping[str, Any]
         kind, reason = _main_reason(q, sat, con, divergence, final_text)
         g.update(reason=reason, reason_kind=kind)
         parts.append(f"{name} NOT reached ({limits[q]}; final {final_text}): {reason}")
-    violated = [c for c in con.values() if c["violated"]]
+    violated = violated_constraints(con)
     if violated:
         parts.append("constraints violated: " + ", ".join(
-            f"{n} < 0 for {_pct(c['violated_fraction'] or 0.0)} of the run (min {c['min']:.4g} {c['unit']} at "
-            f"{c['min_t_s']:.4g} s)" for n, c in con.items() if c["violated"]))
+            f"{n} < 0 for {_pct(con[n]['violated_fraction'] or 0.0)} of the run (min {con[n]['min']:.4g} "
+            f"{con[n]['units']['min']} at {con[n]['min_t_s']:.4g} s)" for n in violated))
     elif con:
         parts.append("constraints held")
     active = [] if faults is None else active_faults(faults, params or {}, float(t[-1]) if t.size else 0.0)
@@ -264,7 +294,16 @@ def verdict(metrics: Mapping[str, Any], t: ArrayLike, columns: Mapping[str, Any]
     return {"status": status, "goals": goals, "saturation": sat, "constraints": con,
             "faults": [{"time_s": t_f, "fault": label} for t_f, label in active],
             "divergence": None if divergence is None else divergence.message(),
-            "saturation_min": SATURATION_MIN, "line": f"verdict: {status}: " + "; ".join(parts)}
+            "saturation_min": SATURATION_MIN, "units": {"saturation_min": "-"},
+            "line": f"verdict: {status}: " + "; ".join(parts)}
+
+
+def name_goal(v: Mapping[str, Any], goal: Mapping[str, Any] | None) -> dict[str, Any]:
+    """The verdict ``v`` naming the goal its errors are measured from (a copy with ``goal``, the
+    text of the run's ``RunInputs.goal``, rpo.runtime.scenario.goals; run.json).  The controller's
+    errors are to its goal gains, which are that goal's (or, for a controller rpo has no goal
+    mapping for, its own: the text says so)."""
+    return {**v, "goal": goal["text"]} if goal and goal.get("text") else dict(v)
 
 
 def _main_reason(q: str, sat: dict[str, dict], con: dict[str, dict], divergence: Any,
@@ -280,7 +319,7 @@ def _main_reason(q: str, sat: dict[str, dict], con: dict[str, dict], divergence:
         frac, name = next((c for c in over if c[1] == "wheel_speed"), over[0])
         others = [f"{FAMILY_TEXT[n]} {_pct(f)}" for f, n in over if n != name]
         return name, f"{FAMILY_TEXT[name]} {_pct(frac)} of the run" + (f" (also {'; '.join(others)})" if others else "")
-    bad = [(c["violated_fraction"] or 0.0, n) for n, c in con.items() if c["violated"]]
+    bad = [(con[n]["violated_fraction"] or 0.0, n) for n in violated_constraints(con)]
     if bad:
         frac, n = max(bad)
         c = con[n]

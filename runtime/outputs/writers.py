@@ -8,7 +8,9 @@ removed.
 Contents (:class:`OutputSpec` chooses the columns, the rows, the formats and the figures):
 
 * ``timeseries.<suffix>``, one file per chosen format (Parquet by default): ``t`` [s], the chosen z
-  columns, then the chosen y columns, float64, with their units and the run record.  The formats,
+  columns, then the chosen y columns, float64, with their units and the run record (Parquet: also
+  the pandas ``df.attrs`` of :func:`rpo.runtime.run.result.frame_attrs`, which ``pd.read_parquet``
+  restores; MATLAB: one N x k array per layout field).  The formats,
   their files, what each holds and its writer are declared once, in
   :data:`rpo.runtime.formats.OUTPUT_FORMATS` (``docs/scenarios.md`` lists them).  ``y`` at row i
   is the output over the step starting at ``t[i]``: the final row has none (NaN).  Written rows
@@ -16,7 +18,8 @@ Contents (:class:`OutputSpec` chooses the columns, the rows, the formats and the
   final row;
 * ``scenario.toml``   the scenario as read (when given);
 * ``metrics.json``    the metrics of :mod:`rpo.runtime.outputs.metrics` (computed by the caller from the
-  full in-memory record, not from the written rows);
+  full in-memory record, not from the written rows);  in both JSON files every number has its unit
+  beside it, by the rule of :mod:`rpo.runtime.outputs.jsonunits`;
 * ``run.json``        status (``ok``/``diverged`` with the divergence message, step, time and
   state label), steps, wall time, backend, seed, controller, model source hash, versions, what
   was written (``output``) and the figure files;
@@ -64,8 +67,11 @@ from rpo.runtime.formats import (
     unknown_format,
 )
 from rpo.runtime.outputs import figure_workers
+from rpo.runtime.outputs.jsonunits import annotate_metrics, annotate_run
 from rpo.runtime.outputs.plotdata import FIGURE_FIELDS, FIGURE_ORDER, PlotData
+from rpo.runtime.outputs.verdict import name_goal
 from rpo.runtime.run import interrupts
+from rpo.runtime.run.result import frame_attrs
 from rpo.runtime.scenario.channels import Selection, select
 
 if TYPE_CHECKING:
@@ -227,7 +233,7 @@ def run_record(result: RunResult, model: Model, scenario_path: str | Path | None
         "created_utc": datetime.now(UTC).strftime("%Y-%m-%dT%H:%M:%SZ"),
     }
     rec.update(extra_meta or {})
-    return _jsonable(rec)
+    return _jsonable(annotate_run(rec, result, model))  # every number with its unit (jsonunits)
 
 
 # --------------------------------------------------------------------------- the table written
@@ -295,6 +301,11 @@ def write_run(result: RunResult, out_dir: str | Path, model: Model, scenario_pat
     """
     spec = output or OutputSpec()
     out = check_out_dir(out_dir)  # again: the folder may have changed while the run simulated
+    goal = ((extra_meta or {}).get("inputs") or {}).get("goal")  # the goal flown: run.json and its verdict name it
+    if goal:
+        extra_meta = {**(extra_meta or {}), "goal": goal}
+        if isinstance(extra_meta.get("verdict"), dict):
+            extra_meta["verdict"] = name_goal(extra_meta["verdict"], goal)
     # an existing (empty, writable) folder is filled in place, so it keeps its permissions, owner
     # and identity; an absent one is made from a temporary sibling by one rename
     in_place = out.is_dir()
@@ -311,7 +322,7 @@ def write_run(result: RunResult, out_dir: str | Path, model: Model, scenario_pat
     clock = time.perf_counter()
     try:
         if plots and spec.figures:  # drawn by the workers while the data are written
-            data = PlotData.from_result(result, model, params, gains, title)
+            data = PlotData.from_result(result, model, params, gains, title, metrics)
             drawing = figure_workers.draw([(data.subset(name), str(tmp), spec.figure_format, name)
                                            for name in FIGURE_FIELDS])
 
@@ -320,13 +331,15 @@ def write_run(result: RunResult, out_dir: str | Path, model: Model, scenario_pat
         if scenario_text is not None:
             (tmp / "scenario.toml").write_text(scenario_text, encoding="utf-8")
         if metrics is not None:
-            (tmp / "metrics.json").write_text(json.dumps(_jsonable(metrics), indent=2, allow_nan=False) + "\n",
-                                              encoding="utf-8")
+            (tmp / "metrics.json").write_text(json.dumps(_jsonable(annotate_metrics(metrics, result)), indent=2,
+                                                         allow_nan=False) + "\n", encoding="utf-8")
         cols, sel = columns(result, model, spec)
         meta = run_record(result, model, scenario_path, extra_meta)
         meta["output"] = {**spec.to_json(), "rows_written": len(cols[0].data), "columns_written": len(cols),
                           "files": [OUTPUT_FORMATS[f].file for f in spec.formats]}
-        table = Table(cols, json.dumps(meta, sort_keys=False, allow_nan=False), len(sel.z))
+        attrs = frame_attrs([c.label for c in cols], [c.unit for c in cols], [c.field for c in cols], meta)
+        table = Table(cols, json.dumps(meta, sort_keys=False, allow_nan=False), len(sel.z),
+                      json.dumps(attrs, allow_nan=False))
         for fmt in spec.formats:
             OUTPUT_FORMATS[fmt].write(tmp / OUTPUT_FORMATS[fmt].file, table)
 

@@ -365,7 +365,7 @@ class ScenarioLinearization:
     meta: dict = field(default_factory=dict)
 
 
-def linearize_scenario(path: str | Path, model: Model | None = None, controller: str | None = None,
+def linearize_scenario(path: Any, model: Model | None = None, controller: str | None = None,
                        plant: str | None = None, at: str = "goal", t: float = 0.0,
                        log=None) -> ScenarioLinearization:
     """Linearise the closed loop of a scenario at its goal (default) or its initial state, at time t

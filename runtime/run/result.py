@@ -12,6 +12,26 @@ import numpy as np
 from rpo.runtime.errors import ModelError
 from rpo.runtime.model.manifest import LayoutField
 
+#: The run record's entries a DataFrame's ``attrs["run"]`` keeps: small, because pandas copies
+#: ``attrs`` into every frame and column derived from it (the whole record is ``run.json``).
+RUN_ATTRS = ("scenario", "controller", "seed", "status", "dt", "t_end", "steps_done", "steps_requested",
+             "record_every", "backend", "model_source_hash", "rpo_version", "created_utc")
+
+
+def frame_attrs(labels: Sequence[str], units: Sequence[str], fields: Sequence[str],
+                run: Mapping[str, Any]) -> dict[str, Any]:
+    """The ``DataFrame.attrs`` of a run's table (JSON-ready), the same for :meth:`RunResult.to_pandas`
+    and the Parquet file (``pandas.read_parquet`` restores them): ``units`` (column -> unit),
+    ``fields`` (layout field -> its columns, in order: ``"r": ["r_x", "r_y", "r_z"]``) and ``run``
+    (the entries :data:`RUN_ATTRS` of the run record ``run``, with a ``units`` object for its times,
+    the JSON rule of :mod:`rpo.runtime.outputs.jsonunits`)."""
+    by_field: dict[str, list[str]] = {}
+    for label, name in zip(labels, fields, strict=True):
+        by_field.setdefault(name or label, []).append(label)
+    rec = {k: run[k] for k in RUN_ATTRS if run.get(k) is not None}
+    rec["units"] = {k: "s" for k in ("dt", "t_end") if k in rec}
+    return {"units": dict(zip(labels, units, strict=True)), "fields": by_field, "run": rec}
+
 
 @dataclass
 class Divergence:
@@ -47,7 +67,8 @@ class RunResult:
 
     Named access: ``res["r"]`` is the (N, 3) array of the layout field ``r`` (state or outputs),
     ``res["r_x"]`` one column, ``res["t"]`` the time; ``res.unit("r")`` its unit (``"m"``);
-    ``res.fields`` the field names; ``res.to_pandas()`` a DataFrame (needs pandas).
+    ``res.fields`` the field names; ``res.to_pandas()`` a DataFrame (needs pandas) with the units in
+    ``df.attrs["units"]``.  :func:`rpo.runtime.outputs.reading.read_run` reads one back from a results folder.
     """
 
     t: np.ndarray
@@ -118,17 +139,31 @@ class RunResult:
             return self.y_units[self.y_labels.index(name)]
         raise KeyError(f"{name!r} is neither a field nor a column of this run")
 
+    def frame_attrs(self) -> dict[str, Any]:
+        """What :meth:`to_pandas` puts in ``df.attrs``: :func:`frame_attrs` of every column."""
+        field_of = {lbl: name for name, labels in self.field_labels.items() for lbl in labels}
+        labels = ["t", *self.z_labels, *self.y_labels]
+        status = "diverged" if self.divergence is not None else "interrupted" if self.meta.get("interrupted") else "ok"
+        run = {"status": status, "dt": float(self.dt), "t_end": float(self.t[-1]) if len(self.t) else 0.0,
+               "steps_done": int(self.steps_done), "steps_requested": int(self.steps_requested), **self.meta}
+        return frame_attrs(labels, ["s", *self.z_units, *self.y_units], [field_of.get(lbl, lbl) for lbl in labels],
+                           run)
+
     def to_pandas(self) -> Any:
-        """A ``pandas.DataFrame``: column ``t`` [s], then every state and output column by label;
-        ``df.attrs["units"]`` maps each column to its unit.  pandas is imported here (optional:
-        ``pip install pandas``)."""
+        """A ``pandas.DataFrame``: column ``t`` [s], then every state and output column by label, float64.
+
+        ``df.attrs`` (:func:`frame_attrs`): ``units`` (column -> unit: ``df.attrs["units"]["r_x"]``
+        is ``"m"``), ``fields`` (layout field -> its columns) and ``run`` (the run's controller, seed,
+        status, step [s]...).  pandas has no per-column metadata: a column taken from the frame
+        (``df["r_x"]``) carries the frame's ``attrs``.  The same ``attrs`` as ``pd.read_parquet`` of
+        the run's ``timeseries.parquet``.  pandas is imported here (optional: ``pip install pandas``)."""
         try:
             import pandas as pd
         except ImportError:
-            raise ModelError("RunResult.to_pandas needs pandas: pip install pandas") from None
+            raise ModelError("RunResult.to_pandas needs pandas (optional, not installed with rpo): "
+                             "pip install pandas") from None
         data = {"t": self.t, **{lbl: self.z[:, i] for i, lbl in enumerate(self.z_labels)},
                 **{lbl: self.y[:, i] for i, lbl in enumerate(self.y_labels)}}
         df = pd.DataFrame(data)
-        df.attrs["units"] = {"t": "s", **dict(zip(self.z_labels, self.z_units, strict=True)),
-                             **dict(zip(self.y_labels, self.y_units, strict=True))}
+        df.attrs.update(self.frame_attrs())
         return df

@@ -63,7 +63,8 @@ class Simulation:
         self.k = model.vector(entry.gains, gains)
         self.z_layout = entry.z_layout
         self.y_layout = entry.y_layout
-        self.step_fn = model.function(entry.step).clone()
+        self.step_fn = model.function(entry.step, p=self.p).clone()
+        self._step_covers = self.model.needs([entry.step], self.p)
         self.nz = model.layout_size(self.z_layout)
         self.ny = model.layout_size(self.y_layout)
         self.nw = model.layout_size("w")
@@ -77,6 +78,14 @@ class Simulation:
             if name not in offs:
                 raise ModelError(f"bounds: unknown state field {name!r}")
             self.bound[offs[name]] = b
+
+    def _cover(self, P: np.ndarray) -> None:
+        """Make the step function one whose library holds the plant copies the parameters ``P`` select
+        (a Simulation whose p was changed, or a batch's per-case p, may need another copy)."""
+        need = self.model.needs([self.step_fn.name], P)
+        if not need <= self._step_covers:
+            self.step_fn = self.model.function(self.step_fn.name, p=np.vstack([np.atleast_2d(P), self.p])).clone()
+            self._step_covers = self.model.needs([self.step_fn.name], np.vstack([np.atleast_2d(P), self.p]))
 
     def _check_delay(self, p: np.ndarray) -> None:
         delay = float(p[self.model.offsets("p")["wheel_delay"]][0])
@@ -157,6 +166,7 @@ class Simulation:
         reached is the final row, ``steps_done`` < ``steps_requested``).
         """
         n_total, record_every, chunk = self._check_run_args(z0, duration, t0, record_every, chunk)
+        self._cover(self.p)
         seed = noise.check_seed(seed)
         key = noise.key(seed)
         nz, ny = self.nz, self.ny
@@ -225,7 +235,7 @@ class Simulation:
 
     def run_batch(self, Z0: np.ndarray, duration: float, seeds, params=None, gains=None, t0: float = 0.0,
                   record_every: int = 1, chunk: int = 4096,
-                  progress: Callable[[int, int], None] | None = None) -> list[RunResult]:
+                  progress: Callable[[int, int], None] | None = None, lanes: bool = True) -> list[RunResult]:
         """Run N cases in lockstep, K at a time (K = :attr:`lanes`, the machine's vector width).
 
         ``Z0`` (N, nz) initial states; ``seeds`` N random-torque seeds; ``params`` / ``gains``:
@@ -235,7 +245,8 @@ class Simulation:
         this simulation's ``dt``.  Returns one :class:`RunResult` per case, each bit-identical to
         ``run(Z0[i], duration, seeds[i], ...)`` with that case's parameters and gains; a case that
         diverges stops (its result says where) and the others go on.  ``progress(done, total)``
-        counts run-steps.
+        counts run-steps.  ``lanes=False``: the scalar loop, one case after the other (the same
+        results; for a batch too short to pay for compiling the lane library).
         """
         Z0 = np.atleast_2d(np.asarray(Z0, float))
         if Z0.ndim != 2 or Z0.shape[1] != self.nz:
@@ -254,20 +265,20 @@ class Simulation:
                                  f"together with dt = {self.dt:g} s")
             self._check_delay(P[i])
         n_total, record_every, chunk = self._check_run_args(Z0, duration, t0, record_every, chunk)
-        lanes = self.model.lanes() if self.model.backend == "compiled" else None
         name = self.step_fn.name
-        if lanes is None or not lanes.has(name):
+        lane_lib = self.model.lanes([name], P) if self.model.backend == "compiled" and lanes else None
+        if lane_lib is None or not lane_lib.has(name):
             # no lane form (CasADi backend, or an operation rpo_math.h lacks): the scalar runs, same results
             return [Simulation._with(self, P[i], G[i]).run(Z0[i], duration, seed=seeds[i], t0=t0,
                                                             record_every=record_every, chunk=chunk)
                     for i in range(n_runs)]
-        K = lanes.width
+        K = lane_lib.width
         results: list[RunResult | None] = [None] * n_runs
         wall0 = time.perf_counter()
         for b in range(0, n_runs, K):
             idx = list(range(b, min(b + K, n_runs)))
             pad = idx + [idx[-1]] * (K - len(idx))
-            block = self._run_block(lanes, Z0[pad], [seeds[i] for i in pad], P[pad], G[pad], len(idx), n_total,
+            block = self._run_block(lane_lib, Z0[pad], [seeds[i] for i in pad], P[pad], G[pad], len(idx), n_total,
                                     t0, record_every, chunk,
                                     None if progress is None else (lambda d, _b=b: progress(_b * n_total + d,
                                                                                             n_runs * n_total)))

@@ -16,7 +16,12 @@ key exist:
   ``angular_velocity_deg_s``, body axes, relative to ECI or, with
   ``angular_velocity_relative_to = "attitude_frame"``, to that frame; chaser ``wheel_speed_rpm``
   relative to the body or ``wheel_momentum`` N m s); ``[relative]`` ``position`` [m] and
-  ``velocity`` [m/s] in LVLH (*required*); ``[controller.<name>]`` gains by the names of the
+  ``velocity`` [m/s] in LVLH (*required*); ``[goal]`` (:mod:`.goals`): the pose to reach and hold,
+  ``position`` [m] of the chaser relative to the target in ``frame`` (``"target"``: the target's
+  axes; ``"lvlh"``), ``attitude`` [x, y, z, w] of the chaser relative to the target, optional
+  ``camera_at_target`` and ``contact`` (each *required* but the last two; without the table, the
+  goal gains of the scenario's own controller state the goal; ``rpo run --controller`` keeps it);
+  ``[controller.<name>]`` gains by the names of the
   manifest layout ``k_<name>``; ``[reproduction]`` (:mod:`.reproduction`); ``[output]``
   (what a run writes: ``channels``, ``every`` or ``rate_hz``, ``formats``, ``figures``,
   ``figure_format``; :class:`~.schema.OutputSection`, docs/scenarios.md).
@@ -31,8 +36,9 @@ line naming the file, the dotted key, the offending value and the allowed range,
 
 Modules: :mod:`.loader` (TOML and ``extends``), :mod:`.params` (the manifest's parameter
 entries), :mod:`.sections` (the value types and static sections), :mod:`.schema` (the scenario and
-its schema per manifest, validation), :mod:`.checks` (the checks across keys), :mod:`.initial_state`
-(to the inputs of a run), :mod:`.messages` (error text), :mod:`.reproduction` (the report's table),
+its schema per manifest, validation), :mod:`.checks` (the checks across keys), :mod:`.goals` (the
+goal and each controller's goal coordinates), :mod:`.initial_state` (to the inputs of a run),
+:mod:`.messages` (error text), :mod:`.reproduction` (the report's table),
 :mod:`.preflight`, :mod:`.ranges`,
 :mod:`.shipped` (the scenarios shipped with rpo, read through importlib.resources).
 

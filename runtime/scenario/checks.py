@@ -2,7 +2,7 @@
 manifest's defaults, controllers and functions or several keys at once (the perigee above the surface,
 whole steps, the wheel delay within the delay line, the record's size, the ``[output]`` rows and
 channels, the rates a step must resolve, ideal actuators with their limits, the Schmitt trigger
-levels, the faults and the gains tables).
+levels, the faults, the gains tables and the goal: :func:`check_goal`).
 
 :func:`cross_checks` runs once the sections are valid (:meth:`~.schema.Scenario._cross_checks`);
 each refusal is a :func:`~.messages.field_error` on the key to change.
@@ -16,6 +16,7 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from rpo.runtime.model.manifest import Interval
+from rpo.runtime.scenario import goals
 from rpo.runtime.scenario.faults import FaultConflict, actuator_families, fault_params, fault_value_unit
 from rpo.runtime.scenario.messages import field_error, unknown_key
 from rpo.runtime.scenario.params import finite
@@ -40,8 +41,10 @@ class _ParamValues:
         return float(v[0]) if v.size == 1 else v
 
 
-def cross_checks(sc: Scenario, schema: ScenarioSchema) -> None:
-    """Every cross-field check of a scenario whose sections are valid, against ``schema``'s manifest."""
+def cross_checks(sc: Scenario, schema: ScenarioSchema, source: str = "scenario", goal_from: str | None = None,
+                 carried: goals.Goal | None = None) -> goals.GoalFlown:
+    """Every cross-field check of a scenario whose sections are valid, against ``schema``'s manifest;
+    returns the goal flown (:func:`check_goal`: ``source``, ``goal_from``, ``carried``)."""
     manifest = schema.manifest
     check_controller(sc, schema)
 
@@ -106,6 +109,73 @@ def cross_checks(sc: Scenario, schema: ScenarioSchema) -> None:
         a, b = off.rsplit(".", 1)[-1], on.rsplit(".", 1)[-1]
         raise field_error(where, sc.get(where),
                           f"must satisfy 0 < {a} < {b} ({a} = {p['pwpf_uoff']:g}, {b} = {p['pwpf_uon']:g})")
+    return check_goal(sc, schema, p, source, goal_from, carried)
+
+
+def check_goal(sc: Scenario, schema: ScenarioSchema, p: _ParamValues, source: str, goal_from: str | None,
+               carried: goals.Goal | None = None) -> goals.GoalFlown:
+    """The scenario's goal (its ``[goal]`` table, else the goal gains of its controller, defaults
+    included), with the camera on the target where ``camera_at_target`` asks it and outside the
+    keep-out sphere unless ``contact`` (a goal stated by gains, as before ``[goal]`` existed, is
+    flagged there, not refused), and the goal gains of the controller flown for it
+    (:func:`~.goals.fly`; a gain its table sets must restate the goal).  ``goal_from`` names where
+    the goal is stated when not in this table (``rpo run --controller``: the file's); ``carried``:
+    the goal of the scenario overridden (:meth:`~.schema.Scenario.with_overrides`), when its
+    ``[goal]`` table was made from a goal stated by gains."""
+    ctrl = sc.simulation.controller
+    table = sc.controller.get(ctrl, {})
+    defaults = schema.manifest.layouts[schema.manifest.controllers[ctrl].gains].defaults
+
+    def own(name: str) -> Any:  # the controller's own gain: its table's, else its default
+        return table[name] if name in table else defaults[name]
+
+    design = goals.DESIGNS.get(ctrl)
+    if sc.goal is not None:
+        g = sc.goal
+        goal: goals.Goal | None = carried or goals.Goal(
+            position=(g.position[0], g.position[1], g.position[2]), frame=g.frame,
+            attitude=(g.attitude[0], g.attitude[1], g.attitude[2], g.attitude[3]), contact=g.contact,
+            camera_at_target=g.camera_at_target, source=goal_from or f"{source} [goal]")
+    elif design is not None:
+        names = ", ".join(n if n in table else f"{n} (default)" for n in design.gains)
+        goal = goals.derive(ctrl, own, goal_from or f"{source} [controller.{ctrl}] {names}")
+    else:
+        return goals.GoalFlown(ctrl, None, {}, mapped=False)
+    assert goal is not None
+    radii = [schema.param(n).key for n in ("chaser_radius", "target_radius")]
+    keep_out = p["chaser_radius"] + p["target_radius"]
+    dist = float(np.linalg.norm(goal.position))
+    inside = "" if goal.contact or dist >= keep_out else \
+        f"inside the keep-out sphere: |r| = {dist:.4g} m < {' + '.join(radii)} = {keep_out:.4g} m"
+    if inside and goal.stated:
+        raise field_error("goal.position", list(goal.position), f"the goal is {inside}; give a goal outside it, or "
+                                                                "contact = true for a docking or capture goal")
+    if goal.camera_at_target:
+        if goal.frame != "target":
+            raise field_error("goal.camera_at_target", True, 'needs frame = "target" (with a position fixed in LVLH, '
+                                                             "where the camera points turns with the target)")
+        angle = goals.camera_angle(goal.position, goal.attitude)
+        if angle is None or angle > goals.CAMERA_TOL:
+            off = "undefined at the target's centre" if angle is None else f"{np.degrees(angle):.4g} deg off"
+            raise field_error("goal.attitude", list(goal.attitude),
+                              f"camera_at_target = true: the camera (body +z) must point at the target's centre at "
+                              f"the goal (within {np.degrees(goals.CAMERA_TOL):.2g} deg); it is {off}")
+    warning = inside and f"the goal is {inside}"
+    if sc.goal is None and design is not None:  # stated by this controller's own goal gains: flown as they are
+        return goals.GoalFlown(ctrl, goal, {n: np.ravel(np.asarray(own(n), float)) for n in design.gains},
+                               mapped=True, warning=warning)
+    try:
+        mapped = goals.fly(goal, ctrl, own)
+    except goals.GoalRefusal as exc:
+        raise field_error("simulation.controller", ctrl,
+                          f"{ctrl} cannot fly the scenario's goal ({goal.text()}): {exc}") from None
+    for name, v in mapped.items():
+        if name in table and not goals.same_gain(name, table[name], v):
+            raise field_error(f"controller.{ctrl}.{name}", table[name],
+                              f"differs from the scenario's goal ({goal.text()}): a scenario states its goal once; "
+                              "remove this gain or make it equal")
+    return goals.GoalFlown(ctrl, goal, {n: np.ravel(np.asarray(own(n) if n in table else v, float))
+                                        for n, v in mapped.items()}, mapped=design is not None, warning=warning)
 
 
 def check_faults(sc: Scenario, schema: ScenarioSchema) -> None:

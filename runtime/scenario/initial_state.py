@@ -26,7 +26,9 @@ if TYPE_CHECKING:
 class RunInputs:
     """Everything a run needs, in SI: ``params`` (all p fields), ``gains``, the initial ``plant``
     state for :meth:`Simulation.initial_state` (attitudes relative to ECI, rates relative to ECI
-    in body axes, r and v in LVLH, the target's ECI state r_T, v_T), and the run settings."""
+    in body axes, r and v in LVLH, the target's ECI state r_T, v_T), the run settings, and ``goal``:
+    the goal flown (:meth:`~rpo.runtime.scenario.goals.GoalFlown.record`: its ``text``, where the
+    scenario states it, the controller's goal gains for it)."""
 
     params: dict[str, np.ndarray]
     gains: dict[str, np.ndarray]
@@ -37,6 +39,7 @@ class RunInputs:
     record_every: int
     dt: float
     frame_info: dict[str, Any] = field(default_factory=dict)
+    goal: dict[str, Any] = field(default_factory=dict)
 
     def to_json(self) -> dict[str, Any]:
         """JSON-ready copy (arrays as lists, 1-element arrays as numbers)."""
@@ -66,6 +69,9 @@ def packed_run_inputs(sc: Scenario, model: Model) -> tuple[RunInputs, np.ndarray
     gains = sc.gains()
     try:
         p = model.vector("p", params)
+        # what the run will call, compiled together (one compile on every core, not one per call)
+        ctrl = model.manifest.controllers.get(sc.simulation.controller)
+        model.prepare(["target_orbit", "env_outputs", "measure", *((ctrl.step, ctrl.xc0 or "") if ctrl else ())], p)
         orbit = model.functions["target_orbit"](0.0, p)
     except KeyError as exc:
         raise ModelError(f"the generated model has no function {exc}: run `python build.py`") from exc
@@ -103,7 +109,7 @@ def packed_run_inputs(sc: Scenario, model: Model) -> tuple[RunInputs, np.ndarray
     inputs = RunInputs(params={k: v.copy() for k, v in params.items()}, gains=gains, plant=plant,
                        duration=float(sim.duration), seed=int(sim.seed), controller=sim.controller,
                        record_every=int(sim.record_every), dt=float(params["dt"][0]),
-                       frame_info={"q_IL0": q_IL, "n0": n})
+                       frame_info={"q_IL0": q_IL, "n0": n}, goal=sc.goal_flown.record())
     return inputs, p
 
 

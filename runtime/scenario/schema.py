@@ -3,8 +3,8 @@
 Written here (and in :mod:`.sections`) are the keys that are not model parameters: ``[meta]``, the
 run settings of ``[simulation]`` (duration, seed, controller, record_every), ``orbit.perigee_altitude``
 (an alternative to the semi-major axis), the initial state of ``[chaser]``, ``[target]`` and
-``[relative]``, the gains tables ``[controller.<name>]`` (checked against the manifest's gains
-layouts), ``[reproduction]`` and ``[output]`` (its channels checked against the layouts of the
+``[relative]``, ``[goal]`` (:mod:`.goals`), the gains tables ``[controller.<name>]`` (checked against
+the manifest's gains layouts), ``[reproduction]`` and ``[output]`` (its channels checked against the layouts of the
 controller flown).  Every other key is a parameter of layout ``p`` whose key, kind, unit, scale and
 bounds the manifest records (:mod:`.params`): a :class:`ScenarioSchema`, made once per typed manifest
 (:meth:`ScenarioSchema.of`, kept with the manifest), adds them to these sections or makes new sections
@@ -38,11 +38,13 @@ from rpo.runtime.formats import DEFAULT_FIGURE_FORMAT, DEFAULT_FORMATS, FIGURE_F
 from rpo.runtime.model.manifest import Manifest
 from rpo.runtime.scenario.checks import cross_checks
 from rpo.runtime.scenario.faults import Fault, fault_params, faults_field
+from rpo.runtime.scenario.goals import Goal, GoalFlown
 from rpo.runtime.scenario.messages import field_error, first_error
 from rpo.runtime.scenario.params import ScenarioParam
 from rpo.runtime.scenario.reproduction import Reproduction
 from rpo.runtime.scenario.sections import (
     Chaser,
+    GoalSection,
     Meta,
     Orbit,
     Relative,
@@ -115,6 +117,7 @@ class Scenario(_Section):
     chaser: Chaser
     target: Target
     relative: Relative
+    goal: GoalSection | None = None
     controller: dict[str, dict[str, Any]] = Field(default_factory=dict)
     reproduction: Reproduction | None = None
     output: OutputSection = Field(default_factory=OutputSection)
@@ -125,6 +128,7 @@ class Scenario(_Section):
     _data: dict = PrivateAttr(default_factory=dict)
     _text: str | None = PrivateAttr(default=None)
     _overrides: dict[str, Any] | None = PrivateAttr(default=None)
+    _goal_flown: GoalFlown | None = PrivateAttr(default=None)
 
     # -- lookups -----------------------------------------------------------------------------
 
@@ -196,7 +200,18 @@ class Scenario(_Section):
         return p
 
     def gains(self) -> dict[str, np.ndarray]:
-        """Gains of the selected controller (defaults overridden by ``[controller.<name>]``)."""
+        """Gains of the selected controller: its defaults, its goal gains for the scenario's goal
+        (:attr:`goal_flown`), then ``[controller.<name>]``."""
+        g = self.own_gains()
+        table = self.controller.get(self.simulation.controller, {})
+        for k, v in self.goal_flown.gains.items():
+            if k not in table:
+                g[k] = v.copy()
+        return g
+
+    def own_gains(self) -> dict[str, np.ndarray]:
+        """The selected controller's defaults overridden by ``[controller.<name>]`` (its own goal
+        gains: what states the goal of a scenario without ``[goal]``)."""
         ctrl = self.simulation.controller
         g = {k: v.copy() for k, v in self._gain_defaults().items()}
         for k, v in self.controller.get(ctrl, {}).items():
@@ -209,7 +224,17 @@ class Scenario(_Section):
         table = self.controller.get(self.simulation.controller, {})
         if name in table:
             return _gain_array(table[name])
+        flown = self._goal_flown.gains if self._goal_flown is not None else {}
+        if name in flown:
+            return flown[name]
         return self._gain_defaults().get(name)
+
+    @property
+    def goal_flown(self) -> GoalFlown:
+        """The scenario's goal and the goal gains of the controller flown for it (:mod:`.goals`)."""
+        if self._goal_flown is None:
+            raise TypeError("a Scenario is made by validate_scenario(data, source, manifest) or load_scenario")
+        return self._goal_flown
 
     def _gain_defaults(self) -> Mapping[str, np.ndarray]:
         manifest = self.manifest
@@ -223,7 +248,9 @@ class Scenario(_Section):
         if not isinstance(schema, ScenarioSchema):
             raise TypeError("validate a scenario with validate_scenario(data, source, manifest)")
         self._schema = schema
-        cross_checks(self, schema)
+        ctx = info.context or {}
+        self._goal_flown = cross_checks(self, schema, ctx.get("source", "scenario"), ctx.get("goal_from"),
+                                        ctx.get("carried"))
         return self
 
     # -- to a run ----------------------------------------------------------------------------
@@ -245,7 +272,9 @@ class Scenario(_Section):
                        controller: str | None = None, plant: str | None = None,
                        gains: dict[str, Any] | None = None, faults: list[dict[str, Any]] | None = None) -> Scenario:
         """A re-validated copy with ``simulation.duration`` / ``seed`` / ``controller`` replaced,
-        ``gains`` (name -> value) merged into the selected controller's gains table and, with
+        the scenario's goal kept (another ``controller`` flies it, :mod:`.goals`: a scenario without
+        ``[goal]`` gets its own controller's goal as one), ``gains`` (name -> value) merged into
+        the selected controller's gains table and, with
         ``plant="full"``, the paper's plant replaced by the manifest's preset ``full``: every p
         field with a ``presets.full`` value is set to it (removed from the scenario where that
         value is the manifest default); ``faults`` (entries as in ``[[faults]]``) are added to the
@@ -261,7 +290,19 @@ class Scenario(_Section):
             sim["duration"] = duration
         if seed is not None:
             sim["seed"] = seed
+        goal = self.goal_flown.goal  # the scenario's, whoever flies it; named where the file states it
+        goal_from = None if goal is None else goal.source
+        carried = None  # a goal stated by gains stays one when another controller flies it
         if controller is not None:
+            if controller != self.simulation.controller and "goal" not in data:
+                if goal is not None:
+                    data["goal"] = goal.table()
+                    carried = goal if not goal.stated else None
+                elif controller in self.manifest.controllers:
+                    raise ScenarioError(
+                        f"{self._source}: simulation.controller = {controller!r}: cannot fly the scenario's goal: "
+                        f"rpo cannot tell it (its controller {self.simulation.controller} has no goal description in "
+                        "runtime/scenario/goals.py); state it in a [goal] table")
             sim["controller"] = controller
         if gains:
             ctrl = sim.get("controller", self.simulation.controller)
@@ -274,7 +315,10 @@ class Scenario(_Section):
                 table[k] = float(arr[0]) if sizes.get(k, arr.size) == 1 and arr.size == 1 else arr.tolist()
         if plant not in (None, "paper"):
             apply_preset(data, self.manifest, plant)
-        sc = validate_scenario(data, f"{self._source} (with command-line overrides)", self.manifest)
+        if carried is None and goal is not None and not goal.stated and "goal" in data:
+            carried = goal  # already carried by an earlier override
+        sc = validate_scenario(data, f"{self._source} (with command-line overrides)", self.manifest,
+                               goal_from=goal_from, carried=carried)
         sc._text = self._text
         return sc
 
@@ -329,12 +373,16 @@ class ScenarioSchema:
             raise KeyError(f"the manifest's layout p has no field {name} with a scenario key: run `python build.py`") \
                 from None
 
-    def validate(self, data: dict, source: str, *, own: bool = False) -> Scenario:
+    def validate(self, data: dict, source: str, *, own: bool = False, goal_from: str | None = None,
+                 carried: Goal | None = None) -> Scenario:
         """Validate a parsed scenario table; raises :class:`ScenarioError` with a one-line message.
-        ``own``: the caller hands ``data`` over (it will not change it), so it is kept without a copy."""
+        ``own``: the caller hands ``data`` over (it will not change it), so it is kept without a copy;
+        ``goal_from``: where the scenario's goal is stated, if not in ``data`` itself; ``carried``:
+        the goal stated by gains that ``data``'s ``[goal]`` was made from (:meth:`Scenario.with_overrides`)."""
         cls = self.model
+        ctx = {"schema": self, "source": source, "goal_from": goal_from, "carried": carried}
         try:
-            sc = cls.model_validate(data, context={"schema": self})
+            sc = cls.model_validate(data, context=ctx)
         except ValidationError as exc:
             raise ScenarioError(first_error(exc.errors(include_url=False), source, cls)) from None
         sc._source = source
@@ -352,11 +400,12 @@ def scenario_model(manifest: Manifest) -> type[Scenario]:
     return ScenarioSchema.of(manifest).model
 
 
-def validate_scenario(data: dict, source: str, manifest: Manifest, *, own: bool = False) -> Scenario:
+def validate_scenario(data: dict, source: str, manifest: Manifest, *, own: bool = False,
+                      goal_from: str | None = None, carried: Goal | None = None) -> Scenario:
     """Validate a parsed scenario table against ``manifest``; raises :class:`ScenarioError` with a
     one-line message.  ``own``: the caller hands ``data`` over (it will not change it), so it is kept
-    without a copy."""
-    return ScenarioSchema.of(manifest).validate(data, source, own=own)
+    without a copy; ``goal_from``, ``carried``: as for :meth:`ScenarioSchema.validate` (:mod:`.goals`)."""
+    return ScenarioSchema.of(manifest).validate(data, source, own=own, goal_from=goal_from, carried=carried)
 
 
 def apply_preset(data: dict, manifest: Manifest, preset: str) -> None:

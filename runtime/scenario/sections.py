@@ -3,9 +3,10 @@
 Value types: a lower bound on a key that is not a manifest parameter (:func:`_range`), 3- and
 4-vectors, unit quaternions (:data:`QUAT_TOL`), physical inertia tensors, and :func:`param_type`, the
 pydantic type of a manifest parameter's scenario value (its kind and bounds, :mod:`.params`).
-Sections: ``[meta]``, the run settings of ``[simulation]``, ``orbit.perigee_altitude`` and the initial
-state of ``[chaser]``, ``[target]`` and ``[relative]``.  ``[output]`` is in :mod:`.schema`; the
-sections of the parameters are made from the manifest there (:class:`~.schema.ScenarioSchema`).
+Sections: ``[meta]``, the run settings of ``[simulation]``, ``orbit.perigee_altitude``, the initial
+state of ``[chaser]``, ``[target]`` and ``[relative]``, and ``[goal]`` (:mod:`.goals`).  ``[output]``
+is in :mod:`.schema`; the sections of the parameters are made from the manifest there
+(:class:`~.schema.ScenarioSchema`).
 """
 
 from __future__ import annotations
@@ -26,6 +27,7 @@ from pydantic import (
 )
 from pydantic_core import PydanticCustomError
 
+from rpo.runtime.scenario.goals import GOAL_FRAMES, POSITION_LIMIT
 from rpo.runtime.scenario.messages import field_error
 from rpo.runtime.scenario.params import ScenarioParam
 from rpo.runtime.scenario.units import DEG
@@ -216,3 +218,26 @@ class Relative(_Section):
     position: Vec3
     velocity: Vec3
 
+
+
+def _goal_position(v: list[float]) -> list[float]:
+    if not all(abs(x) <= POSITION_LIMIT for x in v):
+        raise PydanticCustomError("range", f"each component must be in [-{POSITION_LIMIT:g}, {POSITION_LIMIT:g}] m "
+                                           "(the controllers' goal positions)")
+    return v
+
+
+class GoalSection(_Section):
+    """``[goal]``: the pose the chaser is to reach and hold relative to the target (:mod:`.goals`).
+
+    ``position`` [m]: the chaser's centre relative to the target's, in ``frame`` (``"target"``: the
+    target's body axes; ``"lvlh"``: the target's LVLH frame); ``attitude``: the chaser's attitude
+    relative to the target's body, [x, y, z, w]; ``camera_at_target``: require the camera (body +z)
+    to point at the target there; ``contact``: a docking or capture goal, which may be inside the
+    keep-out sphere (``[constraints]`` chaser_radius + target_radius)."""
+
+    position: Annotated[Vec3, AfterValidator(_goal_position)]
+    frame: Literal[tuple(GOAL_FRAMES)]  # type: ignore[valid-type]
+    attitude: Quaternion
+    camera_at_target: bool = False
+    contact: bool = False
