@@ -295,7 +295,8 @@ def test_committed_report_is_its_json_rendered():
 
     twin, notes = _committed()
     assert (DOCS / "reproduction.md").read_text() == rerender(twin, notes), \
-        "docs/reproduction.md is not docs/reproduction.json rendered: run `rpo report`"
+        "docs/reproduction.md is not docs/reproduction.json rendered: run `rpo report` (after editing only the " \
+        "notes: `python -c \"from rpo.runtime.jobs.reproduction import rerender_files; rerender_files()\"`)"
 
 
 def test_notes_state_no_outcome():

@@ -235,3 +235,13 @@ def rerender(twin: dict[str, Any], notes: Notes) -> str:
                        metrics=r["metrics"], controller_used=r["controller"], roundoff=r.get("roundoff"))
             for r in twin["runs"]]
     return render_markdown(twin["tables"], runs, notes, {k: twin[k] for k in INFO_KEYS})
+
+
+def rerender_files(json_path: Path = Path("docs/reproduction.json"),
+                   notes_path: Path = Path("docs/reproduction_notes.toml"),
+                   md_path: Path = Path("docs/reproduction.md")) -> None:
+    """Rewrite the markdown report from its JSON twin and the notes, without running anything: after
+    editing the notes only (``python -c "from rpo.runtime.jobs.reproduction import rerender_files;
+    rerender_files()"`` from the repository's root)."""
+    twin = json.loads(Path(json_path).read_text(encoding="utf-8"))
+    _atomic_write(Path(md_path), rerender(twin, _load_toml(Path(notes_path), Notes, "notes file")))
