@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -118,6 +119,9 @@ def test_report_markdown_rows(report):
     assert "| I | paper | baseline | ok |" in md
     assert "| I | paper | c999 | not run (controller c999 not generated yet) |" in md
     assert "Intro text." in md and "a hand-written note." in md
+    assert "## Round-off sensitivity" in md and "## Summary" in md
+    row = next(line for line in md.splitlines() if line.startswith("| III | attitude settles |"))
+    assert row.split("|")[6].strip() == "0/16, -"          # perturbed copies reaching it: paper, full
     assert "iii-paper" in res.stdout
 
 
@@ -132,6 +136,9 @@ def test_report_json_twin_and_run_folders(report):
     meta = json.loads((Path(ok["folder"]) / "run.json").read_text())
     assert meta["overrides"]["gains"] == {"kp_att": [0.3]}
     assert runs["iii-missing-controller"]["status"] == "not run"
+    # every run that flew was flown again from perturbed initial states (16 copies by default)
+    assert ok["roundoff"]["copies"] == 16 and ok["roundoff"]["att_settled"] == 0  # 1 s is far too short
+    assert runs["iii-missing-controller"]["roundoff"] is None
     assert twin["tables"]["papers"]["000"]["claims"][0]["published_value"] == 60.0
     # a second invocation writes a fresh folder and keeps the first
     res = rpo(*args, "--only", "cmp-I-baseline-paper", cwd=tmp)
@@ -264,3 +271,105 @@ def test_a_new_scenario_file_adds_its_runs(tmp_path, model):
         base.replace('[reproduction]\npaper = "000"\n', '[reproduction]\npaper = "000"\ntitle = "twice"\n'))
     with pytest.raises(RpoError, match="reproduction.title: paper 000's title is given in"):
         discover(tmp_path, ["c000"])
+
+
+# --------------------------------------------------------------------------- outcomes from data, round-off
+
+DOCS = ROOT / "docs"
+#: words that state an outcome: only generated text (runtime/jobs/reproduction_prose.py) may use them
+OUTCOME_WORDS = re.compile(r"\b(reach\w*|settl\w*|converg\w*|later than|earlier than|slower|faster|yes|reproduc\w*|"
+                           r"diverg\w*|fail\w*|meets?|succeed\w*)\b", re.IGNORECASE)
+
+
+def _committed():
+    from rpo.runtime.jobs.reproduction import Notes, _load_toml
+
+    twin = json.loads((DOCS / "reproduction.json").read_text())
+    return twin, _load_toml(DOCS / "reproduction_notes.toml", Notes, "notes file")
+
+
+def test_committed_report_is_its_json_rendered():
+    """docs/reproduction.md is exactly what its JSON twin and the notes render to: every number and
+    every outcome sentence comes from the data (re-run `rpo report` after editing either)."""
+    from rpo.runtime.jobs.reproduction import rerender
+
+    twin, notes = _committed()
+    assert (DOCS / "reproduction.md").read_text() == rerender(twin, notes), \
+        "docs/reproduction.md is not docs/reproduction.json rendered: run `rpo report` (after editing only the " \
+        "notes: `python -c \"from rpo.runtime.jobs.reproduction import rerender_files; rerender_files()\"`)"
+
+
+def test_notes_state_no_outcome():
+    """The hand-written notes explain; the sentences that say reached, settled, converged, later than
+    published... are generated from the runs (code spans, e.g. file names, are not text)."""
+    _twin, notes = _committed()
+    for where, text in (("intro", notes.intro), ("comparison", notes.comparison), ("faults", notes.faults),
+                        *((f"paper.{k}", v) for k, v in notes.paper.items())):
+        words = [m.group(0) for m in OUTCOME_WORDS.finditer(re.sub(r"`[^`]*`", "", text))]
+        assert not words, f"docs/reproduction_notes.toml {where} states an outcome by hand: {words}"
+
+
+def test_committed_outcomes_follow_the_verdict_rule():
+    """Every goal the report calls reached (a settling time, "yes") is reached by the verdict's rule in
+    that run's own metrics: its settling time exists and its final error is below the threshold; every
+    run that flew has its perturbed copies."""
+    from rpo.runtime.jobs.reproduction_roundoff import outcome, reached
+
+    twin, _ = _committed()
+    runs = {r["label"]: r for r in twin["runs"]}
+    for r in twin["runs"]:
+        m = r["metrics"]
+        if r["status"] not in ("ok", "diverged"):
+            continue
+        assert r["roundoff"] and r["roundoff"]["copies"] >= 1, r["label"]
+        for q, final_key, scale in (("att", "att_err_final_rad", 180 / math.pi), ("pos", "pos_err_final_m", 1.0)):
+            if m[final_key] is None:
+                continue
+            th = m["thresholds"]["att_deg" if q == "att" else "pos_m"]
+            assert reached(m, q) == m["verdict"]["goals"][q]["reached"], (r["label"], q)
+            if reached(m, q):
+                assert m[final_key] * scale < th, (r["label"], q)
+    for row in twin["tables"]["comparison"]:
+        if row["outcome"] is None:
+            continue
+        m = runs[row["run"]]["metrics"]
+        assert row["converged"] == ("yes" if outcome(m, None, "both")["reached"] else "no"), row["run"]
+        assert row["outcome"]["reached"] == m["converged"], row["run"]
+    for paper in twin["tables"]["papers"].values():
+        for row in paper["claims"]:
+            for plant, d in row["plants"].items():
+                if d["outcome"] is None:
+                    continue
+                m = runs[d["run"]]["metrics"]
+                assert d["outcome"]["reached"] == reached(m, row["goal"]), (d["run"], plant)
+                assert (row[f"ours_{plant}"] == "not settled") == (not d["outcome"]["reached"]), (d["run"], plant)
+
+
+def test_perturbed_states_are_seeded_and_at_round_off_level():
+    from rpo.runtime.jobs.reproduction_roundoff import REL, outcome, perturbed, summarize
+
+    z0 = np.array([1.0, -2.5e6, 0.0, 3e-4])
+    a, b = perturbed(z0, 16), perturbed(z0, 16)
+    assert np.array_equal(a, b) and a.shape == (16, 4)          # the same copies on every invocation
+    rel = np.abs(a[:, [0, 1, 3]] / z0[[0, 1, 3]] - 1)
+    assert (rel > 0).any() and rel.max() < 10 * REL               # a few units in the last place
+    assert (a[:, 2] == 0).all()                                   # an exact zero stays zero
+    s = summarize([{"att": True, "pos": True, "diverged": False}] * 3 + [{"att": False, "pos": True,
+                                                                          "diverged": True}], 4)
+    assert (s["att_settled"], s["pos_settled"], s["converged"], s["diverged"]) == (3, 4, 3, 1)
+    m = {"att_err_final_rad": 0.001, "att_settling_time_s": 10.0, "pos_err_final_m": 0.1, "pos_settling_time_s": 5.0}
+    assert outcome(m, s, "att") == {"reached": True, "k": 3, "n": 4, "depends": True}
+    assert outcome(m, s, "pos")["depends"] is False
+    assert outcome(m, None, "both") == {"reached": True, "k": None, "n": None, "depends": False}
+
+
+def test_unperturbed_copies_repeat_the_run(model, tmp_path):
+    """Copies with a zero perturbation are the run itself (the lockstep lanes give the run's bits), so
+    a disagreement of perturbed copies is the perturbation's doing."""
+    from rpo.runtime.jobs.reproduction_roundoff import fly_copies
+    from rpo.runtime.jobs.runner import execute_run
+
+    o = execute_run(SCEN / "004_scenario.toml", tmp_path / "run", model, duration=120.0, plots=False)
+    assert o.metrics["converged"]
+    s = fly_copies(o, model, 3, rel=0.0)
+    assert (s["att_settled"], s["pos_settled"], s["converged"], s["diverged"]) == (3, 3, 3, 0)

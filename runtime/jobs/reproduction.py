@@ -44,8 +44,15 @@ Inputs are data, not code:
 * free text per paper, ``docs/reproduction_notes.toml``: ``intro``, ``comparison`` and a table
   ``[paper]`` with one string per paper id, written by hand and copied into the report.
 
+Round-off: every run that flies is flown again ``copies`` times (default 16) from initial states
+perturbed at round-off level, and the report gives, per goal, how many of the copies reach it
+(:mod:`.reproduction_roundoff`): an outcome that some copies share and others do not depends on
+round-off, and the report says so.
+
 Outputs: one folder per run under ``<out>/<UTC time>/`` (a fresh folder per invocation), the
 markdown report (default ``docs/reproduction.md``) and its JSON twin (``docs/reproduction.json``).
+The markdown is a function of the JSON twin and the notes alone (:func:`rerender`): every number
+and every outcome it states comes from the twin, the notes add only explanations.
 Every run goes through :func:`rpo.runtime.jobs.runner.execute_run`, the path of ``rpo run``.  A run
 whose controller is not in the generated model, or whose scenario file does not exist, is listed
 as "not run" with the reason; a run that fails is listed with its error; neither stops the report.
@@ -62,6 +69,7 @@ from pathlib import Path
 from typing import Any
 
 from rpo.runtime.errors import RpoError, ScenarioError
+from rpo.runtime.jobs.reproduction_roundoff import COPIES, fly_copies
 from rpo.runtime.jobs.reproduction_runs import (  # noqa: F401  (re-exported: the report's API)
     FAULT_CASES,
     FAULT_SCENARIOS,
@@ -100,9 +108,11 @@ def scenario_controller(src: ScenarioSource) -> str:
     return str((src.data.get("simulation") or {}).get("controller", "baseline"))
 
 
-def execute(runs: list[PlannedRun], model: Any, out: Path, *, plots: bool = True,
+def execute(runs: list[PlannedRun], model: Any, out: Path, *, plots: bool = True, copies: int = 0,
             on_run: Callable[[PlannedRun], None] | None = None) -> None:
-    """Run each planned run through :func:`rpo.runtime.jobs.runner.execute_run` into ``out/<label>``."""
+    """Run each planned run through :func:`rpo.runtime.jobs.runner.execute_run` into ``out/<label>``,
+    and each run that flew ``copies`` more times from perturbed initial states
+    (:func:`~.reproduction_roundoff.fly_copies`, into ``r.roundoff``)."""
     from rpo.runtime.jobs.runner import execute_run
 
     available = set(model.manifest.controllers)
@@ -132,6 +142,8 @@ def execute(runs: list[PlannedRun], model: Any, out: Path, *, plots: bool = True
             r.status = "diverged" if o.diverged else "ok"
             if o.result.divergence is not None:
                 r.reason = o.result.divergence.message()
+            if copies > 0:
+                r.roundoff = fly_copies(o, model, copies)
         except RpoError as exc:  # a scenario the run refuses up front (e.g. step 0 not integrable) is "refused"
             r.status, r.reason = ("refused" if isinstance(exc, ScenarioError) else "error"), str(exc)
         except Exception as exc:  # noqa: BLE001 - one broken run must not lose the others' results
@@ -170,11 +182,12 @@ def load_runs(source: Path, controllers: Iterable[str]) -> tuple[RunList, Path, 
 
 
 def make_report(run_list_path: Path, model: Any, *, out_base: Path, md_path: Path, json_path: Path,
-                notes_path: Path | None, plots: bool = True, only: list[str] | None = None,
+                notes_path: Path | None, plots: bool = True, only: list[str] | None = None, copies: int = COPIES,
                 on_run: Callable[[PlannedRun], None] | None = None,
                 on_plan: Callable[[list[PlannedRun]], None] | None = None) -> dict[str, Any]:
     """Plan, run and render; returns the JSON twin (also written to ``json_path``).  ``run_list_path``
-    is a folder of scenario files (their runs are discovered) or a TOML run list."""
+    is a folder of scenario files (their runs are discovered) or a TOML run list; ``copies``: the
+    perturbed copies of each run (0: none)."""
     from rpo.runtime.outputs.writers import _jsonable
 
     run_list_path = Path(run_list_path)
@@ -193,17 +206,42 @@ def make_report(run_list_path: Path, model: Any, *, out_base: Path, md_path: Pat
     if on_plan:
         on_plan(runs)
     out = fresh_folder(Path(out_base))
-    execute(runs, model, out, plots=plots, on_run=on_run)
+    execute(runs, model, out, plots=plots, copies=copies, on_run=on_run)
     tables = build_tables(runs, run_list)
     info = {"created_utc": datetime.now(UTC).strftime("%Y-%m-%dT%H:%M:%SZ"),
             "model_source_hash": model.manifest.source_hash, "runs_dir": str(out),
             "run_list": str(run_list_path), "origin": origin, "notes": str(notes_path) if notes_path else "-"}
-    md = render_markdown(tables, runs, notes, info)
     twin = {**info, "tables": tables,
             "runs": [{"label": r.label, "scenario": str(r.scenario), "controller": r.controller_used or r.controller,
                       "plant": r.plant, "paper": r.paper, "case": r.case, "status": r.status, "reason": r.reason,
-                      "folder": r.folder, "metrics": r.metrics} for r in runs]}
+                      "folder": r.folder, "metrics": r.metrics, "roundoff": r.roundoff} for r in runs]}
     twin = _jsonable(twin)
+    md = rerender(twin, notes)  # the markdown from the twin alone, as the test of the committed copy renders it
     _atomic_write(Path(md_path), md)
     _atomic_write(Path(json_path), json.dumps(twin, indent=2, allow_nan=False) + "\n")
     return twin
+
+
+#: the twin's fields that the markdown shows (its header)
+INFO_KEYS = ("created_utc", "model_source_hash", "runs_dir", "run_list", "origin", "notes")
+
+
+def rerender(twin: dict[str, Any], notes: Notes) -> str:
+    """The markdown report of a JSON twin (``docs/reproduction.json``) and the notes: what
+    :func:`make_report` writes, so the committed report can be checked against its data."""
+    runs = [PlannedRun(label=r["label"], scenario=Path(r["scenario"]), controller=r["controller"], plant=r["plant"],
+                       paper=r["paper"], case=r["case"], duration=None, seed=None, gains=None, thresholds=None,
+                       error_times=[], status=r["status"], reason=r["reason"], folder=r["folder"],
+                       metrics=r["metrics"], controller_used=r["controller"], roundoff=r.get("roundoff"))
+            for r in twin["runs"]]
+    return render_markdown(twin["tables"], runs, notes, {k: twin[k] for k in INFO_KEYS})
+
+
+def rerender_files(json_path: Path = Path("docs/reproduction.json"),
+                   notes_path: Path = Path("docs/reproduction_notes.toml"),
+                   md_path: Path = Path("docs/reproduction.md")) -> None:
+    """Rewrite the markdown report from its JSON twin and the notes, without running anything: after
+    editing the notes only (``python -c "from rpo.runtime.jobs.reproduction import rerender_files;
+    rerender_files()"`` from the repository's root)."""
+    twin = json.loads(Path(json_path).read_text(encoding="utf-8"))
+    _atomic_write(Path(md_path), rerender(twin, _load_toml(Path(notes_path), Notes, "notes file")))

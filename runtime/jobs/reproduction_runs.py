@@ -175,6 +175,8 @@ class PlannedRun:
     controller_used: str | None = None
     extra: dict = field(default_factory=dict)
     faults: list[dict] | None = None  # [[faults]] entries added to the scenario's (the fault study)
+    #: the run's perturbed copies (:mod:`.reproduction_roundoff`): how many reached each goal
+    roundoff: dict | None = None
 
     def key(self) -> str:
         return json.dumps([str(self.scenario), self.controller, self.plant, self.duration, self.seed, self.gains,
