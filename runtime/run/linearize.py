@@ -54,6 +54,7 @@ from rpo.runtime.run.coordinates import (  # noqa: F401  (re-exported: the maps 
     retract,
     retract_tangent,
 )
+from rpo.runtime.run.stability import stability_summary, summary_lines
 
 #: The diagnostics that define the goal (vector part of q_err, then the rest), all zero there.
 GOAL_ERRORS = ("q_err", "rate_err", "pos_err", "vel_err")
@@ -222,7 +223,7 @@ class Linearization:
         return {"controller": self.controller, "t": self.t, "dt": self.dt, "labels": self.labels,
                 "units": self.units, "groups": {g: [s.start, s.stop] for g, s in self.groups.items()},
                 "A": self.A.tolist(), "modes": [m.to_json() for m in self.modes()],
-                "seconds": self.seconds}
+                "summary": stability_summary(self.modes()), "seconds": self.seconds}
 
 
 def linearize(model: Model, controller: str, z: np.ndarray, t: float, p: np.ndarray, k: np.ndarray,
@@ -485,6 +486,7 @@ def format_report(res: ScenarioLinearization) -> str:
         zeta = "" if m.zeta is None else f"{m.zeta:.3f}"
         lines.append(f"  {i:>3d} {abs(m.lam):>12.9f} {lam:>28s} {ss:>24s} {tau:>10s} {zeta:>6s} {count:>3d}  "
                      f"{m.block}: {m.state}")
+    lines += summary_lines(stability_summary(modes))
     return "\n".join(lines)
 
 
