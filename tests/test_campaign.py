@@ -417,11 +417,30 @@ def test_resume_refuses_a_changed_campaign_or_model(model, tmp_path):
     res = _rpo("mc", "resume", folder)
     assert res.returncode == 2 and "dispersions[0].params.std[2]: 1.5 then, 2.5 now" in res.stderr, res.stderr
     path.write_text(text)
-    resolved = json.loads((folder / storage.RESOLVED).read_text())
+    original = json.loads((folder / storage.RESOLVED).read_text())
+    fp = original["model_fingerprint"]
+    step = f"step_{original['controller']}.c"
+    assert step in fp["files"] and "plant_advance.c" in fp["files"] and "plant_jac.c" not in fp["files"]
+    # a rebuild that changed nothing its runs reach (another controller, say): the manifest's hash
+    # differs, the fingerprint does not: resumed
+    resolved = {**original, "model_hash": "0" * 64}
+    (folder / storage.RESOLVED).write_text(json.dumps(resolved))
+    res = _rpo("mc", "resume", folder)
+    assert res.returncode == 0, res.stderr
+    # a file its runs reach changed: refused naming it
+    resolved = json.loads(json.dumps(original))
+    resolved["model_fingerprint"]["files"][step] = "0" * 64
+    (folder / storage.RESOLVED).write_text(json.dumps(resolved))
+    res = _rpo("mc", "resume", folder)
+    assert res.returncode == 2 and "the model changed" in res.stderr and f"generated/{step} changed" in res.stderr
+    res = _rpo("run", "--campaign", folder, "--case", 1)
+    assert res.returncode == 2 and f"generated/{step} changed" in res.stderr, res.stderr
+    # a folder of an older rpo (no fingerprint): the whole manifest's hash decides
+    resolved = {k: v for k, v in original.items() if k != "model_fingerprint"}
     resolved["model_hash"] = "0" * 64
     (folder / storage.RESOLVED).write_text(json.dumps(resolved))
     res = _rpo("mc", "resume", folder)
-    assert res.returncode == 2 and "the model changed" in res.stderr, res.stderr
+    assert res.returncode == 2 and "the model changed" in res.stderr and "no per-file fingerprint" in res.stderr
 
 
 def test_diverging_and_invalid_draws_are_recorded_and_the_campaign_goes_on(model, tmp_path):
@@ -551,6 +570,12 @@ def test_one_case_flown_alone_is_the_campaigns_run(model, tmp_path):
     assert a.column("r_x").to_pylist() == b.column("r_x").to_pylist()
     bad = _rpo("run", "--campaign", folder, "--case", 12)
     assert bad.returncode == 2 and "--case 12: must be in [0, 11]" in bad.stderr
+    # without its history file, the re-fly compares status and metrics, and says so
+    for h in (folder / storage.HISTORIES).iterdir():
+        h.unlink()
+    res = _rpo("run", "--campaign", folder, "--case", 3, "--no-plots", "--out", tmp_path / "again")
+    assert res.returncode == 0, res.stderr
+    assert "bit for bit (status and metrics; its history file is missing" in res.stdout
 
 
 def test_report_of_a_campaign_folder(cw_folder):

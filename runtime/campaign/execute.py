@@ -35,6 +35,7 @@ from typing import Any
 import numpy as np
 
 from rpo.runtime.campaign import storage
+from rpo.runtime.campaign.fingerprint import fingerprint, model_changes
 from rpo.runtime.campaign.folder import first_difference
 from rpo.runtime.campaign.spec import DERIVED, Campaign, campaign_from_resolved
 from rpo.runtime.errors import CampaignError, RpoError
@@ -515,8 +516,10 @@ def start_folder(camp: Campaign, model: Any, out: str | Path, command: str = "")
     (folder / storage.HISTORIES).mkdir(exist_ok=True)
     storage._atomic_write(folder / storage.CAMPAIGN_COPY, camp.text.encode())
     resolved = camp.resolved()
+    controller = resolved.get("controller", "baseline")
     storage.write_json(folder / storage.RESOLVED, {**resolved, "hash": camp.hash,
                                                    "model_hash": model.manifest.manifest_hash,
+                                                   "model_fingerprint": fingerprint(model, controller),
                                                    "command": command})
     return folder
 
@@ -579,10 +582,9 @@ def check_resume(folder: Path, model: Any, camp: Campaign | None) -> Campaign:
     """The campaign of ``folder`` if it can be resumed with this model (and, when given, the
     campaign as read again from its file): refused naming what changed."""
     resolved = storage.read_resolved(folder)
-    recorded = resolved.get("model_hash")
-    if recorded != model.manifest.manifest_hash:
-        raise CampaignError(f"{folder}: the model changed since the campaign started (generated/manifest.json "
-                            f"hash {str(recorded)[:12]} then, {model.manifest.manifest_hash[:12]} now): its "
+    changed = model_changes(resolved, model)
+    if changed:
+        raise CampaignError(f"{folder}: the model changed since the campaign started ({changed}): its "
                             "runs would not be comparable; start a new campaign folder")
     stored = campaign_from_resolved(resolved, model.manifest)
     if stored.hash != resolved.get("hash"):

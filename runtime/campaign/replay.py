@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 
 from rpo.runtime.campaign import storage
+from rpo.runtime.campaign.fingerprint import model_changes
 from rpo.runtime.campaign.spec import Campaign, campaign_from_resolved
 from rpo.runtime.errors import CampaignError, ScenarioError
 
@@ -72,10 +73,10 @@ def case_scenario(folder: Path, case: int, model: Any, full_logging: bool = True
     from rpo.runtime.scenario import validate_scenario
 
     resolved = storage.read_resolved(folder)
-    if resolved.get("model_hash") != model.manifest.manifest_hash:
-        raise CampaignError(f"{folder}: the model changed since the campaign ran (generated/manifest.json hash "
-                            f"{str(resolved.get('model_hash'))[:12]} then, {model.manifest.manifest_hash[:12]} "
-                            f"now): case {case} would not be the campaign's run")
+    changed = model_changes(resolved, model)
+    if changed:
+        raise CampaignError(f"{folder}: the model changed since the campaign ran ({changed}): case {case} would "
+                            "not be the campaign's run")
     camp = campaign_from_resolved(resolved, model.manifest)
     if not 0 <= case < camp.runs:
         raise CampaignError(f"--case {case}: must be in [0, {camp.runs - 1}] (the campaign has {camp.runs} runs)")
@@ -105,9 +106,17 @@ def _subsample(res: Any, every: int) -> Any:
                      divergence=res.divergence, meta=res.meta, field_labels=res.field_labels)
 
 
+def compared(folder: Path, case: int) -> str:
+    """What :func:`compare` compares for ``case``: the history only when its file is there and whole."""
+    rows = storage.read_rows(folder)
+    if case in rows and storage.history_ok(storage.history_path(folder, case, rows[case])):
+        return "status, metrics, history"
+    return "status and metrics; its history file is missing or damaged, so the history was not compared"
+
+
 def compare(folder: Path, camp: Campaign, model: Any, case: int, result: Any, inputs: Any) -> list[str]:
     """What differs between the case flown alone and the campaign's record of it (empty: the same
-    bits: status, every metric, every history value)."""
+    bits: status, every metric, every history value when the history file is there: :func:`compared`)."""
     from rpo.runtime.campaign.execute import run_row
 
     rows = storage.read_rows(folder)

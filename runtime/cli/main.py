@@ -183,7 +183,8 @@ def run(scenario: str | None, out: str | None, campaign: Path | None, case: int 
             _err(f"error: case {case} flown alone differs from the campaign's record: {'; '.join(diffs[:5])}")
             return 1
         if not quiet:
-            click.echo(f"case {case} of {campaign}: the campaign's run, bit for bit (status, metrics, history)")
+            from rpo.runtime.campaign.replay import compared
+            click.echo(f"case {case} of {campaign}: the campaign's run, bit for bit ({compared(campaign, case)})")
     if result.divergence is not None:
         _err(f"diverged: {result.divergence.message()}")
         _err(f"results up to t = {result.t[-1]:.6g} s written to {outcome.out_dir}")
