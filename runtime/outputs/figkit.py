@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from matplotlib.figure import Figure
-from matplotlib.ticker import MaxNLocator
+from matplotlib.ticker import LogLocator, MaxNLocator, NullLocator
 
 from rpo.runtime.formats import figure_format_of
 from rpo.runtime.outputs.plotdata import Judged, PlotData
@@ -174,6 +174,10 @@ def judged_panel(ax: Axes, t: np.ndarray, j: Judged, log: bool = True, color: st
     ax.tick_params(labelsize=8)
     if log:
         ax.set_yscale("log")
+        # at most 6 labelled decades and no minor ticks: an error falls over ten decades, where eight
+        # minor ticks a decade are noise, and every tick is an artist drawn (a third of a figure's time)
+        ax.yaxis.set_major_locator(LogLocator(numticks=6))
+        ax.yaxis.set_minor_locator(NullLocator())
         finite = j.signal[np.isfinite(j.signal) & (j.signal > 0)]
         if finite.size:
             lo = min(float(finite.min()), j.threshold or np.inf)
