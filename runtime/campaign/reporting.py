@@ -49,6 +49,7 @@ from rpo.runtime.campaign.sections import (
     figure_lines,
     header_lines,
     metric_lines,
+    requirement_lines,
     sensitivity_lines,
     status_lines,
     wilks_lines,
@@ -75,7 +76,8 @@ def write_report(campaign_dir: str | Path, out: str | Path | None = None, covera
     out_dir.mkdir(parents=True, exist_ok=True)
     x = ReportContext(c, c.path.resolve(), coverage, confidence, n_boot, seed, top, worst)
     L = [f"# Monte Carlo campaign: {c.name}", ""]
-    L += header_lines(x) + status_lines(x) + failure_rate_lines(x) + wilks_lines(x) + metric_lines(x)
+    L += header_lines(x) + status_lines(x) + requirement_lines(x) + failure_rate_lines(x) + wilks_lines(x)
+    L += metric_lines(x)
     sensitivity, by_pair = sensitivity_lines(x)
     L += sensitivity + worst_case_lines(x)
     if figures:

@@ -109,6 +109,7 @@ def _fly(camp: Any, model: Any, folder: Path, workers: int | None, dask: str | N
         click.echo(f"done: {len(rows)} of {camp.runs} runs in {out.wall_s:.1f} s: {c['ok']} ok, {c['diverged']} "
                    f"diverged, {c['invalid']} invalid draws, {c['error']} errors; {failed} of {flown} flown runs "
                    "failed (diverged, a goal not reached or a constraint violated)")
+        _verdict_lines(camp, out.sequential, rows)
         click.echo(f"summary: {folder / storage.SUMMARY}; statistics: rpo mc report {shlex.quote(str(folder))}")
     if c["error"]:
         first = next(r for r in rows.values() if r["status"] == "error")
@@ -116,6 +117,24 @@ def _fly(camp: Any, model: Any, folder: Path, workers: int | None, dask: str | N
              f"`rpo mc resume {folder}` flies them again")
         return EXIT_RUN_ERRORS
     return 0
+
+
+def _verdict_lines(camp: Any, seq: dict | None, rows: dict) -> None:
+    """One line per requirement (PASS / FAIL / UNDECIDED, k/n, bounds), after the sequential stop's."""
+    from rpo.runtime.campaign.requirements import judge_rows
+
+    if not camp.requirements:
+        return
+    looks = camp.looks if camp.settings.sequential else 1
+    if seq:
+        click.echo(f"sequential: look {seq['look']} of {seq['looks']} after {seq['runs_judged']} runs: "
+                   + ("every requirement decided, stopped" if seq["decided"] else "not every requirement decided"))
+    for v in judge_rows(camp.requirements, rows, looks):
+        more = "" if v.verdict != "UNDECIDED" else (
+            f", {v.runs_still_needed} more runs without failure to pass" if v.runs_still_needed is not None else "")
+        click.echo(f"requirement {v.requirement.name} ({v.requirement.text}, p >= {v.requirement.probability:g} at "
+                   f"{100 * v.confidence_used:g} %): {v.verdict}, met {v.met}/{v.n}, bounds "
+                   f"[{v.lower:.6f}, {v.upper:.6f}]{more}")
 
 
 @click.group()
@@ -127,6 +146,7 @@ def mc() -> None:
       rpo mc resume runs/mc          (after an interruption: flies the missing runs)
       rpo mc report runs/mc          (report.md and figures)
       rpo run --campaign runs/mc --case 17   (one run again, every step recorded)
+      rpo mc plan scenarios/campaigns/000_III_mc.toml   (the runs its requirements need)
     """
 
 
@@ -209,4 +229,54 @@ def report_cmd(folder: Path, coverage: float, confidence: float, no_figures: boo
     read_resolved(folder)  # a clear error for a folder that is not a campaign
     path = write_report(folder, coverage=coverage, confidence=confidence, figures=not no_figures)
     click.echo(f"wrote {path}")
+    return 0
+
+
+#: Failures allowed in the columns of `rpo mc plan`.
+PLAN_FAILURES = (0, 1, 2)
+
+
+@mc.command("plan")
+@click.argument("campaign_file", type=click.Path(dir_okay=False, path_type=str))
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object instead of the table.")
+@_SET
+def plan_cmd(campaign_file: str, as_json: bool, sets: tuple[str, ...]) -> int:
+    """The runs each requirement of CAMPAIGN_FILE needs for a PASS, before flying: with no failure,
+    and with 1 and 2 failures allowed (one-sided Clopper-Pearson, docs/campaigns.md); the most over
+    the requirements; for a sequential campaign the same at the confidence of each look."""
+    import json
+
+    from rpo.runtime.campaign.requirements import runs_needed
+    from rpo.runtime.campaign.spec import load_campaign
+    from rpo.runtime.model.manifest import read_manifest
+
+    camp = load_campaign(_source(campaign_file, sets), read_manifest())
+    if not camp.requirements:
+        raise CampaignError(f"{campaign_file}: no [requirements.<name>] table to plan for (add one with metric, "
+                            "max or min, probability, confidence: docs/campaigns.md)")
+    looks = camp.looks if camp.settings.sequential else 1
+    plan = []
+    for r in camp.requirements:
+        conf = 1.0 - (1.0 - r.confidence) / looks
+        plan.append({"name": r.name, "metric": r.metric, "kind": r.kind, "bound": r.bound,
+                     "probability": r.probability, "confidence": r.confidence, "confidence_per_look": conf,
+                     "runs": {str(k): runs_needed(r.probability, conf, k) for k in PLAN_FAILURES}})
+    most = {str(k): max(p["runs"][str(k)] for p in plan) for k in PLAN_FAILURES}
+    out = {"campaign": camp.name, "runs": camp.runs, "looks": looks, "requirements": plan, "most": most}
+    if as_json:
+        click.echo(json.dumps(out, sort_keys=True))
+        return 0
+    click.echo(f"{camp.name}: runs for a PASS of each requirement (k failures allowed among them)"
+               + (f"; sequential, {looks} looks: each look at confidence 1 - (1 - c) / {looks}" if looks > 1 else ""))
+    head = ["requirement", "bound", "p", "confidence", *[f"k={k}" for k in PLAN_FAILURES]]
+    body = [[p["name"], f"{p['metric']} {'<=' if p['kind'] == 'max' else '>='} {p['bound']:g}", f"{p['probability']:g}",
+             f"{p['confidence_per_look']:g}", *[str(p["runs"][str(k)]) for k in PLAN_FAILURES]] for p in plan]
+    body.append(["most", "", "", "", *[str(most[str(k)]) for k in PLAN_FAILURES]])
+    widths = [max(len(str(row[i])) for row in [head, *body]) for i in range(len(head))]
+    for row in [head, *body]:
+        click.echo("  ".join(str(v).ljust(w) for v, w in zip(row, widths, strict=True)).rstrip())
+    note = f"the campaign asks for {camp.runs} runs"
+    if camp.runs < most["0"]:
+        note += f": too few for a PASS of every requirement even with no failure (needs {most['0']})"
+    click.echo(note)
     return 0
