@@ -51,6 +51,7 @@ from rpo.runtime.campaign.sections import (
     metric_lines,
     requirement_lines,
     sensitivity_lines,
+    sobol_lines,
     status_lines,
     wilks_lines,
     worst_case_lines,
@@ -79,7 +80,7 @@ def write_report(campaign_dir: str | Path, out: str | Path | None = None, covera
     L += header_lines(x) + status_lines(x) + requirement_lines(x) + failure_rate_lines(x) + wilks_lines(x)
     L += metric_lines(x)
     sensitivity, by_pair = sensitivity_lines(x)
-    L += sensitivity + worst_case_lines(x)
+    L += sensitivity + sobol_lines(x) + worst_case_lines(x)
     if figures:
         L += figure_lines(x, out_dir, by_pair, fmt)
     text = "\n".join(L).rstrip("\n") + "\n"

@@ -7,7 +7,7 @@
     [campaign]
     name = "000 III dispersed"     # default: the file's stem
     runs = 1000                    # >= 1
-    sampling = "random"            # random | lhs | sobol (rpo.runtime.campaign.sampling)
+    sampling = "random"            # random | lhs | sobol | sobol-indices (rpo.runtime.campaign.sampling)
     seed = 1                       # the root of every draw and of the runs' noise seeds
     rate_hz = 1.0                  # the runs' record (metrics, histories); or record_every (steps)
     channels = ["q_c", "r", ...]   # the histories' columns (default CHANNELS); err_att_rad,
@@ -433,6 +433,7 @@ def campaign_from_table(data: dict, source: str, text: str, manifest: Manifest, 
             raise CampaignError(f"{source}: {where} = {show(shown)}: {exc.message}") from None
     requirements = [] if req_table is None else parse_requirements(req_table, source)
     _check_sequential(settings, requirements, source)
+    _check_saltelli(settings, dispersions, source)
     name = settings.name or Path(source).stem
     camp = Campaign(name=name, source=str(source), text=text, settings=settings, scenario_data=data,
                     dispersions=dispersions, manifest=manifest, overrides=overrides, requirements=requirements)
@@ -454,6 +455,20 @@ def _check_sequential(settings: CampaignSection, requirements: list[Requirement]
     if settings.sampling not in ("random", "sobol"):
         raise CampaignError(f"{source}: campaign.sampling = {settings.sampling!r}: a sequential campaign needs "
                             "\"random\" or \"sobol\" (designs whose first n runs are a campaign of n runs)")
+
+
+def _check_saltelli(settings: CampaignSection, dispersions: list[Dispersion], source: str) -> None:
+    """A Saltelli design flies whole blocks of (dispersions + 2) runs, at least 2 of them."""
+    if settings.sampling != "sobol-indices":
+        return
+    size = len(dispersions) + 2
+    if not dispersions:
+        raise CampaignError(f"{source}: campaign.sampling = \"sobol-indices\": needs at least one [dispersions.<key>]")
+    if settings.runs % size or settings.runs < 2 * size:
+        blocks = max(2, round(settings.runs / size))
+        raise CampaignError(f"{source}: campaign.runs = {settings.runs}: a sobol-indices design of {len(dispersions)} "
+                            f"dispersions flies blocks of {size} runs: give a multiple of {size}, at least {2 * size} "
+                            f"(e.g. {blocks * size}; best a power of 2 times {size}, e.g. {1024 * size})")
 
 
 def _check_channels(camp: Campaign, manifest: Manifest, source: str) -> None:
