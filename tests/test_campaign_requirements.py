@@ -6,7 +6,7 @@ from __future__ import annotations
 
 import json
 import math
-from functools import lru_cache
+from functools import cache
 
 import numpy as np
 import pyarrow.parquet as pq
@@ -266,7 +266,7 @@ confidence = 0.95
 # --------------------------------------------------------------------------- sequential mode
 
 
-@lru_cache(maxsize=None)
+@cache
 def _verdict(p: float, c: float, n: int, k: int, looks: int) -> str:
     return decide(Requirement("r", "t_end_s", "min", 0.0, p, c), n, k, looks).verdict
 
@@ -319,7 +319,8 @@ def test_sequential_campaign_stops_and_its_summary_is_a_shorter_campaign(model, 
     out = run_campaign(seq, model, folder, workers=1)
     # 0.9 at 95 % / 4 looks needs 42 runs with no failure: looks at 20, 40, 60 -> stops at 60
     assert runs_needed(0.9, 1 - 0.05 / 4) == 42
-    assert out.sequential["decided"] and out.sequential["look"] == 3 and out.sequential["runs_judged"] == 60
+    assert out.decided and out.look == 3 and out.looks == 4 and out.runs_judged == 60 and out.flown_now == 60
+    assert out.verdicts[0]["verdict"] == "PASS" and out.missing == list(range(60, 80))
     assert sorted(storage.read_rows(folder)) == list(range(60))
     assert read_summary_verdicts(folder)["verdicts"][0]["verdict"] == "PASS"
     plain = loads_campaign(campaign_text(REQ, "runs = 60\nseed = 3\nrate_hz = 0.1"), "plain.toml", model.manifest)

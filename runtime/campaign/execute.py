@@ -37,8 +37,7 @@ import numpy as np
 from rpo.runtime.campaign import storage
 from rpo.runtime.campaign.fingerprint import fingerprint, model_changes
 from rpo.runtime.campaign.folder import first_difference
-from rpo.runtime.campaign.requirements import add_to_summary
-from rpo.runtime.campaign.sequential import fly_in_looks
+from rpo.runtime.campaign.requirements import write_summary
 from rpo.runtime.campaign.spec import DERIVED, Campaign, campaign_from_resolved
 from rpo.runtime.errors import CampaignError, RpoError
 from rpo.runtime.model.manifest import Manifest
@@ -63,8 +62,6 @@ class CampaignOutcome:
     #: the signal that stopped it (SIGINT, SIGTERM), None when every batch came back
     interrupted: int | None = None
     missing: list[int] = field(default_factory=list)
-    #: a sequential campaign's looks and verdicts (rpo.runtime.campaign.sequential), else None
-    sequential: dict[str, Any] | None = None
 
 
 # --------------------------------------------------------------------------- the worker side
@@ -532,11 +529,7 @@ def run_campaign(camp: Campaign, model: Any, folder: Path, *, cases: Iterable[in
                  workers: int | None = None, dask: str | None = None, batch: int | None = None,
                  on_rows: Callable[[list[dict]], None] | None = None) -> CampaignOutcome:
     """Fly the campaign's ``cases`` (default: every case not yet done, or done with status
-    ``error``) into ``folder`` (made by :func:`start_folder`), then write ``summary.parquet``.  A
-    sequential campaign (``[campaign] sequential``) flies in looks and stops once decided."""
-    if cases is None and camp.settings.sequential:
-        return fly_in_looks(camp.requirements, camp.runs, camp.looks, folder, lambda some: run_campaign(
-            camp, model, folder, cases=some, workers=workers, dask=dask, batch=batch, on_rows=on_rows))
+    ``error``) into ``folder`` (made by :func:`start_folder`), then write ``summary.parquet``."""
     t0 = time.perf_counter()
     storage.remove_temporaries(folder)
     done = storage.read_rows(folder, repair=True)
@@ -558,9 +551,7 @@ def run_campaign(camp: Campaign, model: Any, folder: Path, *, cases: Iterable[in
     _check_histories(folder, rows)
     if stopped is None:  # every batch came back: a history file no row names is a killed batch's
         storage.remove_orphans(folder, rows)
-    resolved = storage.read_resolved(folder)
-    storage.write_summary(folder, resolved, rows)
-    add_to_summary(folder, resolved, rows)  # the requirements' verdicts in its metadata
+    write_summary(folder, storage.read_resolved(folder), rows)  # storage's, with the requirements' verdicts
     missing = [c for c in range(camp.runs) if c not in rows]
     return CampaignOutcome(folder=folder, runs=camp.runs, flown_now=len(todo), counts=counts(rows),
                            wall_s=time.perf_counter() - t0, interrupted=stopped, missing=missing)

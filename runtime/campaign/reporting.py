@@ -43,15 +43,14 @@ from rpo.runtime.campaign.folder import (  # noqa: F401  (summary_table, case_hi
     read_folder,
     summary_table,
 )
+from rpo.runtime.campaign.qualification import requirement_lines, sobol_lines
 from rpo.runtime.campaign.sections import (
     ReportContext,
     failure_rate_lines,
     figure_lines,
     header_lines,
     metric_lines,
-    requirement_lines,
     sensitivity_lines,
-    sobol_lines,
     status_lines,
     wilks_lines,
     worst_case_lines,

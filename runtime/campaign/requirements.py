@@ -282,25 +282,25 @@ def summary_metadata(resolved: Mapping[str, Any], rows: Mapping[int, Mapping[str
     return {"looks": looks, "verdicts": [v.to_json() for v in judge_rows(reqs, rows, looks)]}
 
 
-def add_to_summary(folder: Path, resolved: Mapping[str, Any], rows: Mapping[int, Mapping[str, Any]]) -> None:
-    """Add the verdicts (:func:`summary_metadata`) to ``folder/summary.parquet``'s schema metadata,
-    beside ``rpo.units`` and ``rpo.campaign`` (rewritten atomically; nothing for a campaign without
-    requirements, whose summary stays byte for byte what it was)."""
+def write_summary(folder: Path, resolved: Mapping[str, Any], rows: Mapping[int, Mapping[str, Any]]) -> None:
+    """:func:`~.storage.write_summary`, then the verdicts (:func:`summary_metadata`) added to the
+    schema metadata of ``folder/summary.parquet`` beside ``rpo.units`` and ``rpo.campaign`` (rewritten
+    atomically; a campaign without requirements keeps the bytes storage writes)."""
     import pyarrow as pa
     import pyarrow.parquet as pq
 
-    from rpo.runtime.campaign.storage import SUMMARY, _atomic_write
+    from rpo.runtime.campaign import storage
 
+    path = storage.write_summary(folder, resolved, rows)
     meta = summary_metadata(resolved, rows)
     if meta is None:
         return
-    path = Path(folder) / SUMMARY
     table = pq.read_table(path)
     table = table.replace_schema_metadata({**(table.schema.metadata or {}),
                                            SUMMARY_KEY.encode(): json.dumps(meta, sort_keys=True).encode()})
     sink = pa.BufferOutputStream()
     pq.write_table(table, sink, compression="zstd")
-    _atomic_write(path, sink.getvalue().to_pybytes())
+    storage._atomic_write(path, sink.getvalue().to_pybytes())
 
 
 def read_summary_verdicts(folder: Path) -> dict[str, Any] | None:

@@ -25,12 +25,17 @@ from __future__ import annotations
 import dataclasses
 import math
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from rpo.runtime.campaign import storage
-from rpo.runtime.campaign.requirements import Requirement, judge_rows
+import numpy as np
+
+from rpo.runtime.campaign import execute, storage
+from rpo.runtime.campaign.execute import CampaignOutcome
+from rpo.runtime.campaign.requirements import Requirement, judge, judge_rows, of_resolved
+from rpo.runtime.campaign.spec import Campaign
 
 
 def look_points(runs: int, looks: int) -> list[int]:
@@ -38,17 +43,42 @@ def look_points(runs: int, looks: int) -> list[int]:
     return sorted({math.ceil(j * runs / looks) for j in range(1, looks + 1)})
 
 
-def fly_in_looks(requirements: Sequence[Requirement], runs: int, looks: int, folder: Path,
-                 fly: Callable[[Sequence[int]], Any]) -> Any:
-    """Fly look after look with ``fly(cases)`` (a :func:`~.execute.run_campaign` of those cases:
-    it returns a ``CampaignOutcome``) until every requirement is decided at the Bonferroni
-    confidence of ``looks`` looks; returns the last outcome with ``sequential`` set to what happened
-    (``looks``, ``look``, ``runs_judged``, ``decided``, ``verdicts``)."""
+@dataclass
+class SequentialOutcome(CampaignOutcome):
+    """:class:`~.execute.CampaignOutcome` of a sequential campaign, with its last look: its number
+    (1-based) of ``looks``, the runs judged there, whether every requirement was decided, and the
+    verdicts (JSON-ready, :meth:`~.requirements.Verdict.to_json`)."""
+
+    looks: int = 0
+    look: int = 0
+    runs_judged: int = 0
+    decided: bool = False
+    verdicts: list[dict[str, Any]] = dataclasses.field(default_factory=list)
+
+
+def run_campaign(camp: Campaign, model: Any, folder: Path, *, cases: Iterable[int] | None = None,
+                 workers: int | None = None, dask: str | None = None, batch: int | None = None,
+                 on_rows: Callable[[list[dict]], None] | None = None) -> CampaignOutcome:
+    """:func:`.execute.run_campaign`; a sequential campaign (``[campaign] sequential = true``, all
+    of its cases asked for) flies look after look until decided (:func:`fly_in_looks`)."""
+    def fly(some: Iterable[int] | None) -> CampaignOutcome:
+        return execute.run_campaign(camp, model, folder, cases=some, workers=workers, dask=dask, batch=batch,
+                                    on_rows=on_rows)
+
+    if cases is not None or not camp.settings.sequential:
+        return fly(cases)
+    return fly_in_looks(camp.requirements, camp.runs, camp.looks, folder, fly)
+
+
+def fly_in_looks(requirements: list[Requirement], runs: int, looks: int, folder: Path,
+                 fly: Callable[[Iterable[int]], CampaignOutcome]) -> SequentialOutcome:
+    """Fly look after look with ``fly(cases)`` (:func:`.execute.run_campaign` of those cases) until
+    every requirement is decided at the Bonferroni confidence of ``looks`` looks, a run ends in an
+    error, or a signal stops it; the last outcome with the last look's figures."""
     t0 = time.perf_counter()
     points = look_points(runs, looks)
     flown = 0
-    out: Any = None
-    info: dict[str, Any] = {}
+    extra: dict[str, Any] = {"looks": len(points)}
     for j, n in enumerate(points, 1):
         out = fly(range(n))
         flown += out.flown_now
@@ -57,10 +87,28 @@ def fly_in_looks(requirements: Sequence[Requirement], runs: int, looks: int, fol
         rows = storage.read_rows(folder)
         seen = {c: rows[c] for c in range(n) if c in rows}
         verdicts = judge_rows(requirements, seen, len(points))
-        decided = all(v.verdict != "UNDECIDED" for v in verdicts)
         errors = any(r["status"] == "error" for r in seen.values())
-        info = {"looks": len(points), "look": j, "runs_judged": len(seen), "decided": decided and not errors,
-                "verdicts": [v.to_json() for v in verdicts]}
+        decided = all(v.verdict != "UNDECIDED" for v in verdicts) and not errors
+        extra.update(look=j, runs_judged=len(seen), decided=decided, verdicts=[v.to_json() for v in verdicts])
         if decided or errors or len(seen) < n:
             break
-    return dataclasses.replace(out, flown_now=flown, wall_s=time.perf_counter() - t0, sequential=info)
+    base = {f.name: getattr(out, f.name) for f in dataclasses.fields(CampaignOutcome)}
+    base.update(flown_now=flown, wall_s=time.perf_counter() - t0)
+    return SequentialOutcome(**base, **extra)
+
+
+def stopped_at(resolved: Mapping[str, Any], cases: np.ndarray, status: np.ndarray,
+               columns: Mapping[str, np.ndarray]) -> tuple[int, int, int] | None:
+    """(runs, look, looks) when a sequential campaign's done cases are 0 .. n - 1 with n a planned look
+    and every requirement decided there (it stopped as planned); None otherwise (the report then says
+    which cases are missing)."""
+    seq, reqs = resolved.get("sequential"), of_resolved(resolved)
+    if not seq or not reqs:
+        return None
+    points = look_points(int(resolved["runs"]), int(seq["looks"]))
+    n = int(np.asarray(cases).size)
+    if n not in points or sorted(int(k) for k in cases) != list(range(n)):
+        return None
+    if any(v.verdict == "UNDECIDED" for v in judge(reqs, status, columns, len(points))):
+        return None
+    return n, points.index(n) + 1, len(points)

@@ -83,7 +83,7 @@ def _dask_option(value: str | None) -> str | None:
 
 def _fly(camp: Any, model: Any, folder: Path, workers: int | None, dask: str | None, batch: int | None,
          quiet: bool, what: str) -> int:
-    from rpo.runtime.campaign import execute, storage
+    from rpo.runtime.campaign import execute, sequential, storage
 
     done = storage.read_rows(folder)
     todo = sum(1 for c in range(camp.runs) if c not in done or done[c]["status"] == "error")
@@ -94,7 +94,8 @@ def _fly(camp: Any, model: Any, folder: Path, workers: int | None, dask: str | N
              f"{camp.settings.seed}) on {how}, into {folder}")
     bar = _Progress(todo, quiet)
     try:
-        out = execute.run_campaign(camp, model, folder, workers=n_workers, dask=dask, batch=batch, on_rows=bar.rows)
+        out = sequential.run_campaign(camp, model, folder, workers=n_workers, dask=dask, batch=batch,
+                                      on_rows=bar.rows)
     finally:
         bar.close()
     c = out.counts
@@ -109,7 +110,7 @@ def _fly(camp: Any, model: Any, folder: Path, workers: int | None, dask: str | N
         click.echo(f"done: {len(rows)} of {camp.runs} runs in {out.wall_s:.1f} s: {c['ok']} ok, {c['diverged']} "
                    f"diverged, {c['invalid']} invalid draws, {c['error']} errors; {failed} of {flown} flown runs "
                    "failed (diverged, a goal not reached or a constraint violated)")
-        _verdict_lines(camp, out.sequential, rows)
+        _verdict_lines(camp, out, rows)
         click.echo(f"summary: {folder / storage.SUMMARY}; statistics: rpo mc report {shlex.quote(str(folder))}")
     if c["error"]:
         first = next(r for r in rows.values() if r["status"] == "error")
@@ -119,16 +120,17 @@ def _fly(camp: Any, model: Any, folder: Path, workers: int | None, dask: str | N
     return 0
 
 
-def _verdict_lines(camp: Any, seq: dict | None, rows: dict) -> None:
+def _verdict_lines(camp: Any, out: Any, rows: dict) -> None:
     """One line per requirement (PASS / FAIL / UNDECIDED, k/n, bounds), after the sequential stop's."""
     from rpo.runtime.campaign.requirements import judge_rows
+    from rpo.runtime.campaign.sequential import SequentialOutcome
 
     if not camp.requirements:
         return
     looks = camp.looks if camp.settings.sequential else 1
-    if seq:
-        click.echo(f"sequential: look {seq['look']} of {seq['looks']} after {seq['runs_judged']} runs: "
-                   + ("every requirement decided, stopped" if seq["decided"] else "not every requirement decided"))
+    if isinstance(out, SequentialOutcome) and out.look:
+        click.echo(f"sequential: look {out.look} of {out.looks} after {out.runs_judged} runs: "
+                   + ("every requirement decided, stopped" if out.decided else "not every requirement decided"))
     for v in judge_rows(camp.requirements, rows, looks):
         more = "" if v.verdict != "UNDECIDED" else (
             f", {v.runs_still_needed} more runs without failure to pass" if v.runs_still_needed is not None else "")
