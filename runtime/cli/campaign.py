@@ -90,8 +90,10 @@ def _fly(camp: Any, model: Any, folder: Path, workers: int | None, dask: str | N
     n_workers = workers or execute.default_workers()
     if not quiet:
         how = f"Dask {dask}" if dask else ("this process" if n_workers == 1 else f"{n_workers} worker processes")
-        _err(f"{camp.name}: {what} {todo} of {camp.runs} runs ({camp.settings.sampling} sampling, seed "
-             f"{camp.settings.seed}) on {how}, into {folder}")
+        upto = f"up to {todo}" if camp.settings.sequential else str(todo)
+        seq = f", sequential in {camp.looks} looks, stopping once decided" if camp.settings.sequential else ""
+        _err(f"{camp.name}: {what} {upto} of {camp.runs} runs ({camp.settings.sampling} sampling, seed "
+             f"{camp.settings.seed}{seq}) on {how}, into {folder}")
     bar = _Progress(todo, quiet)
     try:
         out = sequential.run_campaign(camp, model, folder, workers=n_workers, dask=dask, batch=batch,
