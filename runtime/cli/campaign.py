@@ -180,15 +180,23 @@ def run_cmd(campaign_file: str, out: str, workers: int | None, dask: str | None,
 
     dask = _dask_option(dask)
     source = _source(campaign_file, sets)  # --set: the campaign's scenario (or its [campaign]) changed first
-    camp = load_campaign(source, read_manifest(), runs=runs, duration=duration)
+    camp = _with_sets(load_campaign(source, read_manifest(), runs=runs, duration=duration), sets)
     check_out_dir(out)  # before the model loads (which may compile): a bad folder is told at once
     ctrl = camp.scenario_data.get("simulation", {}).get("controller", "baseline")
     model = _model(ctrl, quiet)
     if model.manifest.manifest_hash != camp.manifest.manifest_hash:
-        camp = load_campaign(source, model.manifest, runs=runs, duration=duration)
+        camp = _with_sets(load_campaign(source, model.manifest, runs=runs, duration=duration), sets)
     command = " ".join(shlex.quote(a) for a in ["rpo", "mc", "run", *sys.argv[3:]]) if len(sys.argv) > 3 else ""
     folder = execute.start_folder(camp, model, out, command=command)
     return _fly(camp, model, folder, workers, dask, batch, quiet, "flying")
+
+
+def _with_sets(camp: Any, sets: tuple[str, ...]) -> Any:
+    """``camp`` with its ``--set`` items recorded in ``overrides["set"]`` (as TOML text, in
+    ``resolved.json`` and the hash), so that ``rpo mc resume`` applies them again."""
+    if sets:
+        camp.overrides["set"] = {k.strip(): v.strip() for k, _, v in (s.partition("=") for s in sets)}
+    return camp
 
 
 @mc.command("resume")
@@ -210,7 +218,9 @@ def resume_cmd(folder: Path, workers: int | None, dask: str | None, batch: int |
     again = None
     if source.is_file():
         ov = resolved.get("overrides", {})
-        again = load_campaign(source, model.manifest, runs=ov.get("runs"), duration=ov.get("duration"))
+        sets = tuple(f"{k}={v}" for k, v in ov.get("set", {}).items())
+        again = _with_sets(load_campaign(_source(str(source), sets), model.manifest, runs=ov.get("runs"),
+                                         duration=ov.get("duration")), sets)
     elif not quiet:
         _err(f"note: {source} is not there any more: resuming the campaign recorded in {folder}/{storage.RESOLVED}")
     camp = execute.check_resume(folder, model, again)
