@@ -86,6 +86,11 @@ def test_compute_metrics_known_values():
     assert m["converged"] is True
     assert m["wheel_speed_peak_rad_s"] is None and "wheel_speed_peak_rad_s" in m["unavailable"]
     assert "chatter_cmd_F_tv_per_s" in m["unavailable"]
+    # the printed table: the wheels' peak, unless the run flew ideal actuators (no wheel exists)
+    wheels = [ln for ln in M.format_table(m).splitlines() if ln.split()[0] == "wheels"]
+    assert wheels and "peak |h_w| 1 N m s" in wheels[0]
+    wheels = [ln for ln in M.format_table(m, ideal_actuators=True).splitlines() if ln.split()[0] == "wheels"]
+    assert wheels and "none: ideal force and torque actuators" in wheels[0] and "h_w" not in wheels[0]
 
 
 def test_missing_fields_are_reported_not_fatal():

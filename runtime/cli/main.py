@@ -195,7 +195,8 @@ def run(scenario: str | None, out: str | None, campaign: Path | None, case: int 
     if not quiet:
         _summary(result, outcome.model, outcome.inputs, outcome.out_dir, outcome.write_time)
         click.echo("metrics (metrics.json; definitions in rpo.runtime.outputs.metrics):")
-        click.echo(format_table(outcome.metrics))
+        from rpo.runtime.jobs.runner import ideal_actuators
+        click.echo(format_table(outcome.metrics, ideal_actuators=ideal_actuators(outcome.inputs.params)))
         # the goal flown (the scenario's, runtime/scenario/goals.py), then the verdict last, so that the run
         # ends with it (rule: rpo.runtime.outputs.verdict, docs/verdict.md)
         click.echo(f"goal: {outcome.inputs.goal.get('text', '-')}")

@@ -192,6 +192,11 @@ PROPAGATED = "propagated (the target's own orbit with J2 and drag, its LVLH fram
 KEPLER = "kepler (000's Keplerian target; J2 and drag as chaser-minus-target differences, eqs. 30, 45)"
 
 
+def ideal_actuators(params: Mapping[str, Any]) -> bool:
+    """True when the run flies the ideal force and torque actuators (no wheel, no thruster)."""
+    return float(np.ravel(params["actuators_ideal"])[0]) == 1.0
+
+
 def plant_summary(params: Mapping[str, Any], plant: str | None) -> dict[str, str]:
     """Which plant a run flew (``run.json``'s ``plant``, ``rpo validate``): the --plant choice and
     the model choices a reader most needs, from the run's parameters."""
@@ -201,7 +206,7 @@ def plant_summary(params: Mapping[str, Any], plant: str | None) -> dict[str, str
     return {
         "selected": plant or "paper",
         "target_orbit": (PROPAGATED if on("orbit_propagated") else KEPLER),
-        "actuators": "ideal force and torque" if on("actuators_ideal") else "reaction wheels and PWPF thrusters",
+        "actuators": "ideal force and torque" if ideal_actuators(params) else "reaction wheels and PWPF thrusters",
     }
 
 
