@@ -11,7 +11,8 @@ as if the key had been studied (Basilisk's Monte Carlo, issue 1164).  Two checks
    * a parameter of a model the scenario switches off (:data:`SWITCHED`: the dipoles with the
      magnetic torques off, the drag coefficients and areas with drag off, the wheel motors,
      thrusters and PWPF with the ideal actuators, the ideal actuators' limits with the wheels and thrusters,
-     J2 with J2 off, the orbit's orientation in free space with every environment term off);
+     J2 with J2 off; not the orbit's orientation in free space, which still sets the target's own
+     ECI state, integrated and recorded);
    * an amplitude of a disturbance harmonic whose frequency is zero on every axis (``sin(0 t)``
      is 0), or the frequency of a harmonic whose amplitudes are all zero;
    * the ``value`` of a fault whose kind takes none.
@@ -74,17 +75,15 @@ SWITCHED: tuple[Switched, ...] = (
     Switched(("chaser_cd", "chaser_area", "target_cd", "target_area", "target_mass", "omega_earth",
               "earth_flattening"), ("drag_on",), "drag is off (environment.drag = false)"),
     Switched(("j2",), ("j2_on",), "J2 is off (environment.j2 = false)"),
-    # not the wheels' tilt and misalignment: the wheels' stored momentum stays in the body (A h_w)
-    Switched(("wheel_inertia", "wheel_torque_max", "wheel_speed_max", "thruster_force", "thruster_misalign",
+    # not the wheels' tilt, misalignment and inertia: the wheels' stored momentum stays in the body
+    # (A h_w, with h_w from the initial wheel speeds and J_w)
+    Switched(("wheel_torque_max", "wheel_speed_max", "thruster_force", "thruster_misalign",
               "pwpf_km", "pwpf_tm", "pwpf_uon", "pwpf_uoff", "fdir_allocation"), ("actuators_ideal",),
              "the plant flies the ideal actuators (plant.actuators = \"ideal\"): no wheel motor, thruster or PWPF "
              "acts", off_value=1.0),
     Switched(("force_max", "torque_max"), ("actuators_ideal",),
              "these are the ideal actuators' limits and the plant flies the wheels and thrusters "
              "(plant.actuators = \"wheels_thrusters\")"),
-    Switched(("orbit_inc", "orbit_raan", "orbit_argp"), ("gravity_on", "mag_on", "j2_on", "drag_on", "gg_on"),
-             "the plant is in free space (plant.gravity = false) with every environment term off: the orbit's "
-             "orientation enters nothing"),
 )
 
 #: The scenario disturbance's harmonics: (amplitudes, frequency) p-field suffixes; the sine's
