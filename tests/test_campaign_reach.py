@@ -130,6 +130,20 @@ def test_each_switched_rule_holds_in_the_generated_code(rule, model):
     assert seen, f"none of {rule.fields} changes the outputs with the model on"
 
 
+@pytest.mark.parametrize("kind", ["force", "torque"])
+def test_harmonic_rules_hold_in_the_generated_code(kind, model):
+    """001's disturbance has no first harmonic (sin1 = cos1 = omega1 = 0): its amplitude and its
+    frequency are unread; with the other one non-zero, each is read."""
+    amp, freq = f"dist_{kind}_a1", f"dist_{kind}_w1"
+    base = _outputs(_preflight(model, _data(model, "001_scenario"))[1])
+    for field in (amp, freq):
+        assert np.array_equal(_perturbed_outputs(model, "001_scenario", {}, field), base), field
+    for field, other in ((amp, freq), (freq, amp)):
+        sw = {other: [0.01, 0.02, 0.03]}
+        on = _outputs(_preflight(model, _data(model, "001_scenario", **sw))[1])
+        assert not np.array_equal(_perturbed_outputs(model, "001_scenario", sw, field), on), field
+
+
 # ------------------------------------------------------------------------------- refusals
 
 
