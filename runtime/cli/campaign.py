@@ -15,12 +15,17 @@ import shlex
 import sys
 import time
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import click
 
 from rpo.runtime.cli.options import _SET, _source
 from rpo.runtime.errors import CampaignError
+
+if TYPE_CHECKING:
+    from rpo.runtime.model.manifest import Manifest
+    from rpo.runtime.scenario.loader import ScenarioSource
+    from rpo.runtime.scenario.schema import Scenario
 
 EXIT_RUN_ERRORS = 1
 
@@ -71,7 +76,7 @@ def _model(controller: str, quiet: bool) -> Any:
     return load_model("auto", log=None if quiet else _err, controllers=[controller])
 
 
-def campaign_or_scenario(name: str, source: Any, manifest: Any) -> Any:
+def campaign_or_scenario(name: str, source: str | ScenarioSource, manifest: Manifest) -> Scenario:
     """The scenario `rpo validate` checks: the file's, or for a campaign file (a ``[campaign]``
     table) its base scenario, once the campaign passed every check `rpo mc run` makes on reading it
     (dispersions, median draw, keys the flown configuration reads)."""
