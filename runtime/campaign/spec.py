@@ -35,7 +35,8 @@ A draw that is refused is recorded as status ``invalid`` with the one-line reaso
 flown; it is never clipped, replaced or redrawn (either would change the distribution without
 saying so).  The report gives the invalid count and rate apart from the flown runs' statistics.
 A campaign whose *median* draw (every dispersion at u = 0.5) is refused is refused as a whole when
-it is read: almost every run would be.
+it is read: almost every run would be; so is a dispersion of a key the flown configuration never
+reads (:mod:`.reach`).
 """
 
 from __future__ import annotations
@@ -54,6 +55,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from rpo.runtime.campaign.dispersions import Dispersion, DispersionError
+from rpo.runtime.campaign.reach import check_reach
 from rpo.runtime.campaign.requirements import Requirement, of_resolved, parse_requirements
 from rpo.runtime.campaign.sampling import SAMPLINGS, Design, run_seed, run_seeds
 from rpo.runtime.errors import CampaignError, ScenarioError
@@ -438,6 +440,7 @@ def campaign_from_table(data: dict, source: str, text: str, manifest: Manifest, 
     camp = Campaign(name=name, source=str(source), text=text, settings=settings, scenario_data=data,
                     dispersions=dispersions, manifest=manifest, overrides=overrides, requirements=requirements)
     _check_channels(camp, manifest, source)
+    check_reach(camp, source)  # a dispersed key the flown configuration never reads (runtime/campaign/reach.py)
     _check_median(camp, manifest, source)
     return camp
 

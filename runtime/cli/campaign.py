@@ -15,12 +15,17 @@ import shlex
 import sys
 import time
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import click
 
 from rpo.runtime.cli.options import _SET, _source
 from rpo.runtime.errors import CampaignError
+
+if TYPE_CHECKING:
+    from rpo.runtime.model.manifest import Manifest
+    from rpo.runtime.scenario.loader import ScenarioSource
+    from rpo.runtime.scenario.schema import Scenario
 
 EXIT_RUN_ERRORS = 1
 
@@ -69,6 +74,22 @@ class _Progress:
 def _model(controller: str, quiet: bool) -> Any:
     from rpo.runtime.model.loader import load_model
     return load_model("auto", log=None if quiet else _err, controllers=[controller])
+
+
+def campaign_or_scenario(name: str, source: str | ScenarioSource, manifest: Manifest) -> Scenario:
+    """The scenario `rpo validate` checks: the file's, or for a campaign file (a ``[campaign]``
+    table) its base scenario, once the campaign passed every check `rpo mc run` makes on reading it
+    (dispersions, median draw, keys the flown configuration reads)."""
+    from rpo.runtime.campaign.spec import load_campaign
+    from rpo.runtime.scenario import load_scenario, read_scenario, validate_scenario
+
+    src = read_scenario(source) if isinstance(source, str) else source
+    if not isinstance(src.data.get("campaign"), dict):
+        return load_scenario(src, manifest)
+    camp = load_campaign(src, manifest)
+    click.echo(f"{name}: campaign {camp.name!r}: {camp.runs} runs, {len(camp.dispersions)} dispersions "
+               f"({', '.join(d.key for d in camp.dispersions)}); its scenario:")
+    return validate_scenario(camp.scenario_data, src.source, manifest)
 
 
 def _dask_option(value: str | None) -> str | None:

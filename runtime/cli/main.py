@@ -304,11 +304,11 @@ def validate(scenario: str, backend: str, sets: tuple[str, ...]) -> int:
     (attitudes relative to ECI and to LVLH) and every parameter the scenario changes from the
     manifest defaults.
     """
+    from rpo.runtime.cli.campaign import campaign_or_scenario
     from rpo.runtime.model.manifest import read_manifest
     from rpo.runtime.run.preflight import preflight
-    from rpo.runtime.scenario import load_scenario
 
-    sc = load_scenario(_source(scenario, sets), read_manifest())
+    sc = campaign_or_scenario(scenario, _source(scenario, sets), read_manifest())  # a campaign: checked as mc run
     model = _load_model(backend, quiet=True)
     pre = preflight(sc, model)  # every check `rpo run` makes before its first step, by the same function
     inputs = pre.inputs

@@ -131,6 +131,18 @@ figure_format = "svg"
 """  # noqa: E501 - markdown table rows
 
 
+#: What a chosen value must respect besides its range (in docs/scenarios.md).
+PHYSICAL_DOC = """## What a chosen value must also respect: physically absurd combinations
+
+`rpo validate`, `rpo run` and each draw of a campaign refuse a combination no spacecraft flies,
+naming the key, the value and the reason (`runtime/scenario/physical.py`; `docs/parameters.md`
+gives the figures): an Earth orbit with its perigee below 100 km (whether it is given by
+`orbit.perigee_altitude` or `orbit.semi_major_axis` and `orbit.eccentricity`) or its apogee beyond
+the Earth's Hill sphere (1.5e9 m), a chaser starting below that 100 km floor, or at the target's
+centre or inside the keep-out sphere `constraints.chaser_radius + constraints.target_radius`.
+"""
+
+
 def render(paths: list[Path]) -> str:
     """Markdown for ``docs/scenarios.md``."""
     lines = [
@@ -144,6 +156,7 @@ def render(paths: list[Path]) -> str:
         "comes first.",
         "",
         OUTPUT_DOC,
+        PHYSICAL_DOC,
     ]
     for path in paths:
         rows = collect(path)

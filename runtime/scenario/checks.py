@@ -20,6 +20,7 @@ from rpo.runtime.scenario import goals
 from rpo.runtime.scenario.faults import FaultConflict, actuator_families, fault_params, fault_value_unit
 from rpo.runtime.scenario.messages import field_error, unknown_key
 from rpo.runtime.scenario.params import finite
+from rpo.runtime.scenario.physical import check_physical
 
 if TYPE_CHECKING:
     from rpo.runtime.scenario.schema import Scenario, ScenarioSchema
@@ -59,13 +60,17 @@ def cross_checks(sc: Scenario, schema: ScenarioSchema, source: str = "scenario",
     sim = sc.simulation
 
     # orbit: the perigee must be above the surface
+    def orbit_key() -> str:  # the orbit key the scenario sets, named in a refusal of its orbit
+        keys = ("orbit.perigee_altitude", key("orbit_a"), key("orbit_e"), key("r_earth"))
+        return next((k for k in keys if sc.get(k) is not None), key("orbit_a"))
+
     r_p = p["orbit_a"] * (1 - p["orbit_e"])
     if not r_p > p["r_earth"]:
-        where = next((k for k in (key("orbit_a"), key("orbit_e"), key("r_earth")) if sc.get(k) is not None),
-                     key("orbit_a"))
+        where = orbit_key()
         raise field_error(where, sc.get(where),
                           f"perigee below the surface: perigee radius a (1 - e) = {r_p:.7g} m with "
                           f"a = {p['orbit_a']:.7g} m, e = {p['orbit_e']:g}; must be > R_E = {p['r_earth']:.7g} m")
+    check_physical(sc, schema, p, orbit_key)  # a perigee in the atmosphere, bodies inside each other
 
     # time: at least one step; the wheel delay fits the delay line
     dt = p["dt"]

@@ -31,6 +31,18 @@ and `rpo validate` and `rpo run` then build the initial state and the controller
 and try step 0 (`runtime/run/preflight.py`): a combination that gives a nan there is
 refused as well.
 
+**Physically absurd combinations** are refused by the same checks (`runtime/scenario/physical.py`),
+each naming the key, the value and the physical reason: an Earth orbit (`mu` within 1 % of the
+Earth's) whose perigee altitude `a (1 - e) - R_E` is below 100 km (the Karman line: at 5.6e-7
+kg/m^3 a 100 kg chaser would lose ~3000 km of semi-major axis per revolution, so the orbit ends
+at its first perigee pass), whichever form the orbit is given in (`semi_major_axis` or
+`perigee_altitude`); an Earth orbit whose apogee `a (1 + e)` is beyond the Earth's Hill sphere
+(1.5e9 m: the Sun, not modelled, would dominate); with gravity on, a chaser whose initial
+position `|r_T + r|` (LVLH X radial) is below that 100 km floor; a chaser at the target's centre
+or inside the keep-out sphere `constraints.chaser_radius + constraints.target_radius` at t = 0
+(the bodies would start inside each other's envelope). `e >= 1` (no closed orbit), masses and
+inertias that are not positive or break the triangle inequality are refused by the ranges.
+
 The files themselves: a scenario and every file its `extends` chain names (at most 16) must be a
 regular file of at most 1 MiB in UTF-8 TOML. A folder, a FIFO, a device such as `/dev/zero`, a
 socket, a missing or unreadable file, a longer file, invalid UTF-8 or TOML and an `extends`
