@@ -558,8 +558,7 @@ def result_columns(result: Any) -> dict[str, np.ndarray]:
 
 
 def format_table(m: dict, ideal_actuators: bool = False) -> str:
-    """A short human table of the main metrics (degrees for angles); ``ideal_actuators``: the run
-    flew the ideal force and torque actuators, so the wheel line says there is none."""
+    """A short human table of the main metrics (degrees); ``ideal_actuators``: no wheel line."""
     def f(v, scale=1.0, fmt=".4g", none="-"):
         return none if v is None else format(v * scale, fmt)
 
@@ -575,8 +574,7 @@ def format_table(m: dict, ideal_actuators: bool = False) -> str:
         ("rate, velocity", f"final {f(m['rate_err_final_rad_s'], deg)} deg/s, {f(m['vel_err_final_m_s'])} m/s"),
         ("effort", f"torque {f(m['torque_effort_N_m_s'])} N m s, force {f(m['force_effort_N_s'])} N s, "
                    f"delta-v {f(m['delta_v_m_s'])} m/s, propellant {f(m['propellant_kg'])} kg"),
-        # ideal actuators: no wheel exists (the wheel states of the model are not a wheel's)
-        ("wheels", "none: ideal force and torque actuators" if ideal_actuators else
+        ("wheels", "none: ideal force and torque actuators" if ideal_actuators else  # no wheel exists
                    f"peak |h_w| {f(m['wheel_momentum_peak_N_m_s'])} N m s, peak speed "
                    f"{f(m['wheel_speed_peak_rad_s'], 60 / (2 * np.pi))} rpm"),
         ("constraints", f"min beta_FOV {f(m['beta_fov_min_m'])} m, min beta_CA {f(m['beta_ca_min_m2'])} m^2"),
