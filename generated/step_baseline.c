@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_baseline: one closed-loop step (plant + baseline + actuators), RK4 over dt: measure, control_baseline, plant_advance
- * Produced by `python build.py` from family 'controller_baseline' (hash 7610b69f0a9884596650a0b57d2b8bd705a00737a28e6faa8002b3cf3974d5af),
+ * Produced by `python build.py` from family 'controller_baseline' (hash 2076317edf48540e1e1d7102dcce4265a11e6ef95e91d7062b978430bd85e3be),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/codegen/__init__.py
@@ -30,7 +30,7 @@
  *   symbolic/physics/rotations.py
  *   symbolic/physics/special.py
  *   symbolic/physics/target_orbit_state.py
- * Operations: 28285 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 28311 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {
@@ -81,7 +81,7 @@ static int step_baseline_all_zero(const casadi_real* x, const casadi_int* idx, c
 static const casadi_int step_baseline_s0[3] = {92, 1, 1};
 static const casadi_int step_baseline_s1[3] = {1, 1, 1};
 static const casadi_int step_baseline_s2[3] = {376, 1, 1};
-static const casadi_int step_baseline_s3[3] = {7, 1, 1};
+static const casadi_int step_baseline_s3[3] = {10, 1, 1};
 static const casadi_int step_baseline_s4[3] = {18, 1, 1};
 static const casadi_int step_baseline_s5[3] = {92, 1, 1};
 static const casadi_int step_baseline_s6[3] = {136, 1, 1};

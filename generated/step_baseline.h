@@ -1,6 +1,6 @@
 /* GENERATED FILE - DO NOT EDIT.
  * step_baseline: one closed-loop step (plant + baseline + actuators), RK4 over dt: measure, control_baseline, plant_advance
- * Produced by `python build.py` from family 'controller_baseline' (hash 7610b69f0a9884596650a0b57d2b8bd705a00737a28e6faa8002b3cf3974d5af),
+ * Produced by `python build.py` from family 'controller_baseline' (hash 2076317edf48540e1e1d7102dcce4265a11e6ef95e91d7062b978430bd85e3be),
  * derived from:
  *   symbolic/__init__.py
  *   symbolic/codegen/__init__.py
@@ -30,7 +30,7 @@
  *   symbolic/physics/rotations.py
  *   symbolic/physics/special.py
  *   symbolic/physics/target_orbit_state.py
- * Operations: 28285 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
+ * Operations: 28311 (CasADi SX instructions).  Edit symbolic/ and rebuild instead.
  */
 #ifdef __cplusplus
 extern "C" {
