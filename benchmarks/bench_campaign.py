@@ -20,6 +20,11 @@ one core; 1.0 would be free), ``dask_ratio`` = dask_wall_s / campaign_wall_s, ea
 ``--repeat`` of the ratio within one repetition (the two are timed back to back there, so a drift
 of the shared machine's speed between repetitions cancels; ``*_s`` are medians of the times);
 ``campaign_mb`` is the size of the pool run's folder [MB, 1e6 bytes].
+``requirements``: each ``[requirements]`` entry of the campaign judged on the pool run's folder
+(``{"name": "PASS 0/1000 failed", ...}``; docs/campaigns.md).  ``sobol_ishigami``: Sobol indices of
+the Ishigami function (a = 7, b = 0.1) on the campaigns' own Saltelli design (2048 blocks), as
+``"k/6"`` analytic first and total indices inside their 95 % bootstrap intervals, with the largest
+distance to the analytic values (``sobol_ishigami_max_err``).  ``cpu``: avx512f, avx2 or other.
 ``--json``: the last line is one JSON object with these keys.  ``load_average`` (1 min) is
 printed too: wall times on a machine shared with other jobs are not comparable.
 """
@@ -64,6 +69,49 @@ def bare(camp, model, batch: int) -> float:
                            record_every=g[0].inputs.record_every)
         t += time.perf_counter() - t0
     return t
+
+
+def cpu() -> str:
+    info = Path("/proc/cpuinfo")
+    flags = info.read_text().split("flags", 1)[-1].split("\n", 1)[0] if info.exists() else ""
+    return "avx512f" if "avx512f" in flags else "avx2" if "avx2" in flags else "other"
+
+
+def ishigami_check(blocks: int = 2048, seed: int = 11) -> tuple[str, float]:
+    """(``"k/6"``, max |estimate - analytic|): the first and total Sobol indices of the Ishigami function,
+    its three inputs dispersed uniform on [-pi, pi] and drawn by the campaign's ``sobol-indices`` design,
+    against the analytic values (Saltelli et al., Global Sensitivity Analysis: The Primer, 2008, 4.7)."""
+    import math
+
+    from rpo.runtime.campaign.dispersions import Dispersion
+    from rpo.runtime.campaign.sampling import Design
+    from rpo.runtime.campaign.sobol import block_size, sobol_indices, split_blocks
+
+    a, b, pi = 7.0, 0.1, math.pi
+    v1, v2, v13 = 0.5 * (1 + b * pi**4 / 5) ** 2, a**2 / 8, 8 * b**2 * pi**8 / 225
+    v = v1 + v2 + v13
+    first, total = np.array([v1, v2, 0.0]) / v, np.array([v1 + v13, v2, v13]) / v
+    disps = [Dispersion(key=f"x{i}", dist="uniform", params={"dist": "uniform", "low": -pi, "high": pi},
+                        nominal=0.0, unit="rad", size=1) for i in range(3)]
+    n = blocks * block_size(3)
+    us = Design("sobol-indices", seed, n, disps).uniforms_many(range(n))
+    x = np.stack([np.asarray(d.values([u[d.key] for u in us]), float).reshape(-1) for d in disps], axis=1)
+    y = np.sin(x[:, 0]) + a * np.sin(x[:, 1]) ** 2 + b * x[:, 2] ** 4 * np.sin(x[:, 0])
+    r = sobol_indices(*split_blocks(np.arange(n), y, 3), confidence=0.95, n_boot=1000, seed=0)
+    inside = sum(int(ci[0] <= ref <= ci[1]) for cis, refs in ((r.first_ci, first), (r.total_ci, total))
+                 for ci, ref in zip(cis, refs, strict=True))
+    err = float(max(np.max(np.abs(r.first - first)), np.max(np.abs(r.total - total))))
+    return f"{inside}/6", err
+
+
+def requirement_verdicts(folder: Path) -> dict[str, str] | None:
+    """Each requirement's verdict as recorded in ``folder``'s summary (None: the campaign states none)."""
+    from rpo.runtime.campaign.requirements import read_summary_verdicts
+
+    meta = read_summary_verdicts(folder)
+    if not meta:
+        return None
+    return {v["name"]: f"{v['verdict']} {v['failures']}/{v['n']} failed" for v in meta["verdicts"]}
 
 
 def campaign(camp, model, tmp: Path, name: str, **kw) -> tuple[float, Path]:
@@ -122,10 +170,12 @@ def main() -> None:
             wall, folder = campaign(camp, model, tmp, "pool", workers=workers)
             res["campaign_wall_s"].append(wall)
             res["campaign_mb"].append(folder_mb(folder))
+            verdicts = requirement_verdicts(folder)
             if has_dask:
                 res["dask_wall_s"].append(campaign(camp, model, tmp, "dask", workers=workers, dask="local")[0])
             print(f"  rep {rep + 1}: " + ", ".join(f"{k} {v[-1]:.3g}" for k, v in res.items() if v), flush=True)
     med = {k: statistics.median(v) for k, v in res.items() if v}
+    ishigami = ishigami_check()
     overhead = [w / b for w, b in zip(res["wall_1worker_s"], res["bare_s"], strict=True)]
     dask = [d / p for d, p in zip(res["dask_wall_s"], res["campaign_wall_s"], strict=False)]
     print("  per repetition: campaign_overhead " + ", ".join(f"{r:.3f}" for r in overhead)
@@ -135,10 +185,13 @@ def main() -> None:
            "campaign_overhead": round(statistics.median(overhead), 4),
            "dask_ratio": round(statistics.median(dask), 4) if dask else None,
            "us_per_run_step": round(med["bare_s"] / (camp.runs * round(sim["duration"] / dt)) * 1e6, 4),
-           "load_average": round(os.getloadavg()[0], 2)}
-    print(f"campaign_wall_s {out['campaign_wall_s']:.3g} (target <= 30), campaign_overhead "
+           "requirements": verdicts, "sobol_ishigami": ishigami[0], "sobol_ishigami_max_err": round(ishigami[1], 4),
+           "cpu": cpu(), "load_average": round(os.getloadavg()[0], 2)}
+    print(f"campaign_wall_s {out['campaign_wall_s']:.3g} (target <= 60 for 1000 runs of 300 s), campaign_overhead "
           f"{out['campaign_overhead']:.3g} (<= 1.10), campaign_mb {out['campaign_mb']:.3g} (<= 50), dask_ratio "
           f"{out['dask_ratio'] if out['dask_ratio'] is not None else '-'} (<= 1.3)")
+    print(f"requirements: {out['requirements'] or 'none stated'}; Sobol indices of Ishigami inside their "
+          f"intervals: {out['sobol_ishigami']} (max error {out['sobol_ishigami_max_err']:.3g}); cpu {out['cpu']}")
     if args.json:
         print(json.dumps(out))
 
