@@ -579,6 +579,7 @@ def run_campaign(camp: Campaign, model: Any, folder: Path, *, cases: Iterable[in
 def _run_locked(camp: Campaign, model: Any, folder: Path, cases: Iterable[int] | None, workers: int | None,
                 dask: str | None, batch: int | None, on_rows: Callable[[list[dict]], None] | None) -> CampaignOutcome:
     t0 = time.perf_counter()
+    (folder / storage.HISTORIES).mkdir(exist_ok=True)  # removed by hand: the runs that need it fly again
     storage.remove_temporaries(folder)
     scan = storage.scan_manifest(folder, repair=True)
     done = scan.rows

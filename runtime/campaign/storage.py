@@ -411,7 +411,15 @@ def _state_of(data: bytes | None, sha256: str | None) -> str:
         return "missing"
     if sha256:
         return "whole" if hashlib.sha256(data).hexdigest() == sha256 else "damaged"
-    return "unverified" if len(data) >= 12 and data[:4] == data[-4:] == b"PAR1" else "damaged"
+    if len(data) < 12 or not data[:4] == data[-4:] == b"PAR1":
+        return "damaged"
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+    try:  # no hash to check: at least its footer must parse (a file cut but keeping its last bytes does not)
+        pq.read_metadata(pa.BufferReader(data))
+    except (pa.ArrowException, OSError, ValueError):
+        return "damaged"
+    return "unverified"
 
 
 def _read_bytes(path: Path) -> bytes | None:

@@ -11,6 +11,7 @@ Heavy imports (SciPy, the model) happen inside the commands, so ``rpo --help`` s
 
 from __future__ import annotations
 
+import os
 import shlex
 import sys
 import time
@@ -41,7 +42,11 @@ def os_error_line(exc: OSError, folder: Path | None, again: str) -> str:
     if exc.errno in (errno.ENOSPC, errno.EDQUOT):
         fix = "free space"
     elif exc.errno in (errno.EACCES, errno.EPERM, errno.EROFS):
-        fix = "make it writable (a read-only model cache: set RPO_CACHE_DIR to a writable folder)"
+        inside = folder is not None and exc.filename is not None and \
+            Path(os.path.abspath(exc.filename)).is_relative_to(os.path.abspath(folder))
+        # outside the campaign folder, it is most often the model cache (its lock, a library)
+        fix = "make it writable" if inside else "make it writable (the model cache: or set RPO_CACHE_DIR to a " \
+                                                "writable folder)"
     else:
         fix = "fix it"
     return f"{where}: {what} ({errno.errorcode.get(exc.errno or 0, 'OSError')}): {fix}, then {again}"
@@ -211,9 +216,16 @@ def run_cmd(campaign_file: str, out: str, workers: int | None, dask: str | None,
         camp = load_campaign(source, model.manifest, runs=runs, duration=duration)
     command = " ".join(shlex.quote(a) for a in ["rpo", "mc", "run", *sys.argv[3:]]) if len(sys.argv) > 3 else ""
     with _os_errors(folder, "run"):
+        made = not folder.exists()
         folder.mkdir(parents=True, exist_ok=True)
         with folder_lock(folder):  # a second `rpo mc run --out` the same folder refuses
-            folder = execute.start_folder(camp, model, folder, command=command)
+            try:
+                folder = execute.start_folder(camp, model, folder, command=command)
+            except OSError:  # not started (a full disk, a read-only folder): the folder this command made goes
+                if made:  # (an OutputError, a folder that another command filled meanwhile, is left alone)
+                    import shutil
+                    shutil.rmtree(folder, ignore_errors=True)
+                raise
             return _fly(camp, model, folder, workers, dask, batch, quiet, "flying")
 
 
