@@ -62,8 +62,7 @@ class CampaignOutcome:
     #: the signal that stopped it (SIGINT, SIGTERM), None when every batch came back
     interrupted: int | None = None
     missing: list[int] = field(default_factory=list)
-    #: the manifest lines not counted (``line N: why``: storage.scan_manifest), and the cases
-    #: whose history has no recorded sha256 (an older folder: read, not verified)
+    #: the manifest lines not counted (storage.scan_manifest), the cases whose history is not verified (no sha256)
     problems: list[str] = field(default_factory=list)
     unverified: list[int] = field(default_factory=list)
 
@@ -469,36 +468,6 @@ def _shutdown(pool: Any, cancel: bool) -> None:
         p.join(timeout=5)
 
 
-def check_dask(address: str | None, timeout: float = 5.0) -> None:
-    """Refuse ``--dask`` before anything is written: Dask distributed not installed, or a scheduler
-    ``address`` (``tcp://host:port``) that does not accept a connection within ``timeout`` [s]."""
-    if address is None:
-        return
-    import importlib.util
-    import socket
-    from urllib.parse import urlsplit
-
-    if importlib.util.find_spec("distributed") is None:
-        raise CampaignError("--dask needs Dask distributed, which is not installed: pip install 'dask[distributed]' "
-                            "(or pip install 'rpo[dask]'), then run the command again")
-    if address == "local":
-        return
-    parts = urlsplit(address if "://" in address else f"tcp://{address}")
-    try:
-        host, port = parts.hostname, parts.port
-    except ValueError:
-        host, port = None, None
-    if not host or not port:
-        raise CampaignError(f"--dask {address}: not a scheduler address (host and port, as tcp://10.0.0.5:8786)")
-    if parts.scheme not in ("tcp", "tls"):
-        return  # another transport (ucx, inproc): Dask itself tells
-    try:
-        socket.create_connection((host, port), timeout=timeout).close()
-    except OSError as exc:
-        raise CampaignError(f"--dask {address}: no scheduler answers there ({exc.strerror or exc}): start one "
-                            "(dask scheduler) or give its address; nothing was written") from None
-
-
 def _dask(resolved, key, tasks, folder, workers, address, record, stop, lanes: bool = True) -> bool:
     try:
         from dask.distributed import Client, LocalCluster, as_completed
@@ -581,9 +550,8 @@ def _run_locked(camp: Campaign, model: Any, folder: Path, cases: Iterable[int] |
     t0 = time.perf_counter()
     (folder / storage.HISTORIES).mkdir(exist_ok=True)  # removed by hand: the runs that need it fly again
     storage.remove_temporaries(folder)
-    scan = storage.scan_manifest(folder, repair=True)
-    done = scan.rows
-    _check_histories(folder, done)
+    done = (scan := storage.scan_manifest(folder, repair=True)).rows
+    storage.mark_lost_histories(folder, done)
     todo = sorted(c for c in (range(camp.runs) if cases is None else cases)
                   if c not in done or done[c]["status"] == "error")
     flown: dict[int, dict] = {}
@@ -598,31 +566,14 @@ def _run_locked(camp: Campaign, model: Any, folder: Path, cases: Iterable[int] |
     # the manifest's latest line per case, as appended (not read back: the summary uses none of
     # what a JSON round trip could change, and draw_columns orders by names, not key order)
     rows = {**done, **flown}
-    _check_histories(folder, rows)
+    storage.mark_lost_histories(folder, rows)
     if stopped is None:  # every batch came back: a history file no row names is a killed batch's
         storage.remove_orphans(folder, rows)
     storage.write_summary(folder, storage.read_resolved(folder), rows)
     missing = [c for c in range(camp.runs) if c not in rows]
     return CampaignOutcome(folder=folder, runs=camp.runs, flown_now=len(todo), counts=counts(rows),
                            wall_s=time.perf_counter() - t0, interrupted=stopped, missing=missing,
-                           problems=scan.problems, unverified=[c for c in scan.unverified if c in done
-                                                               and rows[c] is done[c]])
-
-
-def _check_histories(folder: Path, rows: dict[int, dict]) -> None:
-    """A flown run whose history file is not the one its line names (missing: a remote worker that
-    does not share the folder; another sha256: a machine crash before the page cache reached the
-    disk, a file cut or edited) is an error, flown again by resume.  Each file is checked once."""
-    lost = {c: (state, path) for path, (state, cases) in storage.damaged_histories(folder, rows).items()
-            for c in cases}
-    if lost:
-        fixed = [{**rows[c], "status": "error", "message": f"its history {lost[c][1].name} is {lost[c][0]} in the "
-                  "campaign folder (Dask workers must share the folder's filesystem)"} for c in sorted(lost)]
-        for r in fixed:
-            r.pop("history", None)
-            r.pop("history_sha256", None)
-        storage.append_rows(folder, fixed)
-        rows.update({r["case"]: r for r in fixed})
+                           problems=scan.problems, unverified=[c for c in scan.unverified if rows[c] is done[c]])
 
 
 def check_resume(folder: Path, model: Any, camp: Campaign | None) -> Campaign:

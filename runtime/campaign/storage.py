@@ -49,6 +49,7 @@ from typing import Any
 import numpy as np
 import orjson
 
+from rpo.runtime.campaign.records import STATUSES, ManifestScan, row_problem  # noqa: F401  (STATUSES: read here too)
 from rpo.runtime.errors import CampaignError
 from rpo.runtime.outputs.metrics import UNITS
 
@@ -57,7 +58,6 @@ MANIFEST = "manifest.jsonl"
 SUMMARY = "summary.parquet"
 HISTORIES = "histories"
 CAMPAIGN_COPY = "campaign.toml"
-STATUSES = ("ok", "diverged", "invalid", "error")
 #: The outcome flags of a flown run (``execute.run_row``): ``constraint_violated`` by the verdict's rule
 #: (``rpo.runtime.outputs.verdict.violated_constraints``), ``failed`` counting the declared constraints only.
 OUTCOMES = ("att_reached", "pos_reached", "diverged", "constraint_violated", "failed")
@@ -185,53 +185,6 @@ class Syncer:
             self.pool.shutdown(wait=True)
 
 
-#: A history file's name as rpo writes it (:func:`history_name`): nothing else is opened from a line
-_HISTORY_NAME = re.compile(r"batch_\d{6}_[0-9a-f]{12}\.parquet")
-_SHA256 = re.compile(r"[0-9a-f]{64}")
-
-
-@dataclass
-class ManifestScan:
-    """``manifest.jsonl`` read and checked (:func:`scan_manifest`): ``rows`` case -> its latest valid
-    line; ``problems`` one text per line that is not counted (``line N: why``); ``unverified`` the
-    cases whose line names a history without its sha256 (written before rpo recorded it)."""
-
-    rows: dict[int, dict[str, Any]]
-    problems: list[str]
-    unverified: list[int]
-
-
-def _row_problem(row: Any, runs: int | None, seed: int | None) -> str:
-    """Why ``row`` (a manifest line, parsed) is not a run record of the campaign (``runs`` runs,
-    master ``seed``; None: unknown, not checked); empty if it is one."""
-    if not isinstance(row, dict):
-        return f"a JSON {type(row).__name__}, not a run record"
-    case = row.get("case")
-    if type(case) is not int:
-        return "no case number" if case is None else f"case {json.dumps(case)[:30]} is not an integer"
-    if case < 0 or (runs is not None and case >= runs):
-        return f"case {case} is outside [0, {runs - 1 if runs is not None else 'runs - 1'}]"
-    if row.get("status") not in STATUSES:
-        return f"case {case}: status {json.dumps(row.get('status'))[:30]} is not one of {', '.join(STATUSES)}"
-    for key, typ in (("draws", dict), ("outcome", dict), ("metrics", dict), ("message", str), ("history", str),
-                     ("history_sha256", str)):
-        if key in row and row[key] is not None and not isinstance(row[key], typ):
-            return f"case {case}: {key} is a {type(row[key]).__name__}, not a {typ.__name__}"
-    bad = [k for k, v in (row.get("metrics") or {}).items()
-           if v is not None and (type(v) not in (int, float) or not np.isfinite(v))]
-    if bad:
-        return f"case {case}: metric {bad[0]} is not a finite number"
-    if row.get("history") and not _HISTORY_NAME.fullmatch(row["history"]):
-        return f"case {case}: history {json.dumps(row['history'])[:60]} is not a history file's name"
-    if row.get("history_sha256") and not _SHA256.fullmatch(row["history_sha256"]):
-        return f"case {case}: history_sha256 is not a sha256 digest"
-    if seed is not None:
-        from rpo.runtime.campaign.sampling import run_seed
-        if row.get("seed") != run_seed(seed, case):
-            return f"case {case}: seed {json.dumps(row.get('seed'))[:30]} is not this campaign's seed of the case"
-    return ""
-
-
 def _resolved_if_any(folder: Path) -> dict[str, Any] | None:
     """The folder's resolved.json as far as it reads (the run count and seed the lines are checked
     against); None if absent or unreadable (the commands that need it refuse: read_resolved)."""
@@ -282,7 +235,7 @@ def scan_manifest(folder: Path, repair: bool = False, resolved: Mapping[str, Any
         except ValueError:
             problems.append(f"line {n}: not JSON")
             continue
-        why = _row_problem(row, runs, seed)
+        why = row_problem(row, runs, seed)
         if not why:
             case = row["case"]
             before = rows.get(case)
@@ -444,6 +397,22 @@ def history_state(path: Path, sha256: str | None = None) -> str:
 def history_ok(path: Path, sha256: str | None = None) -> bool:
     """Whether :func:`history_state` finds the file usable (whole, or unverified in an older folder)."""
     return history_state(path, sha256) in READABLE
+
+
+def mark_lost_histories(folder: Path, rows: dict[int, dict[str, Any]]) -> None:
+    """A flown run whose history file is not the one its line names (missing: a remote worker that
+    does not share the folder; another sha256: a machine crash before the page cache reached the
+    disk, a file cut or edited) is an error, flown again by resume: its line appended, ``rows``
+    updated.  Each file is checked once (:func:`damaged_histories`)."""
+    lost = {c: (state, path) for path, (state, cases) in damaged_histories(folder, rows).items() for c in cases}
+    fixed = [{**rows[c], "status": "error", "message": f"its history {lost[c][1].name} is {lost[c][0]} in the "
+              "campaign folder (Dask workers must share the folder's filesystem)"} for c in sorted(lost)]
+    for r in fixed:
+        r.pop("history", None)
+        r.pop("history_sha256", None)
+    if fixed:
+        append_rows(folder, fixed)
+        rows.update({r["case"]: r for r in fixed})
 
 
 def damaged_histories(folder: Path, rows: Mapping[int, Mapping[str, Any]]) -> dict[Path, tuple[str, list[int]]]:

@@ -200,6 +200,7 @@ def run_cmd(campaign_file: str, out: str, workers: int | None, dask: str | None,
     from rpo.runtime.campaign import execute
     from rpo.runtime.campaign.lock import folder_lock
     from rpo.runtime.campaign.spec import load_campaign
+    from rpo.runtime.campaign.up_front import check_dask
     from rpo.runtime.model.manifest import read_manifest
     from rpo.runtime.outputs.writers import check_out_dir
 
@@ -208,7 +209,7 @@ def run_cmd(campaign_file: str, out: str, workers: int | None, dask: str | None,
     camp = load_campaign(source, read_manifest(), runs=runs, duration=duration)
     # every check before the folder exists, so that a refused command can be run again unchanged
     folder = check_out_dir(out)  # before the model loads (which may compile): a bad folder is told at once
-    execute.check_dask(dask)
+    check_dask(dask)
     ctrl = camp.scenario_data.get("simulation", {}).get("controller", "baseline")
     with _os_errors(None, "run"):
         model = _model(ctrl, quiet)
@@ -241,10 +242,11 @@ def resume_cmd(folder: Path, workers: int | None, dask: str | None, batch: int |
     from rpo.runtime.campaign import execute, storage
     from rpo.runtime.campaign.lock import folder_lock
     from rpo.runtime.campaign.spec import load_campaign
+    from rpo.runtime.campaign.up_front import check_dask
 
     dask = _dask_option(dask)
     resolved = storage.read_resolved(folder)
-    execute.check_dask(dask)
+    check_dask(dask)
     with _os_errors(folder, "resume"), folder_lock(folder):  # before the model loads: a folder in use is told at once
         model = _model(resolved["controller"], quiet)
         source = Path(resolved["campaign_file"])

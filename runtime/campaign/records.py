@@ -1,0 +1,62 @@
+"""What a campaign folder's manifest line must be to count: a run record of the folder's campaign
+(:func:`row_problem`), and what reading the manifest found (:class:`ManifestScan`).  The manifest
+itself is read by ``storage.scan_manifest``; the rules are in docs/campaigns.md ("What the folder
+trusts")."""
+
+from __future__ import annotations
+
+import json
+import re
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+STATUSES = ("ok", "diverged", "invalid", "error")
+
+
+#: A history file's name as rpo writes it (storage.history_name): nothing else is opened from a line
+_HISTORY_NAME = re.compile(r"batch_\d{6}_[0-9a-f]{12}\.parquet")
+_SHA256 = re.compile(r"[0-9a-f]{64}")
+
+
+@dataclass
+class ManifestScan:
+    """``manifest.jsonl`` read and checked (``storage.scan_manifest``): ``rows`` case -> its latest valid
+    line; ``problems`` one text per line that is not counted (``line N: why``); ``unverified`` the
+    cases whose line names a history without its sha256 (written before rpo recorded it)."""
+
+    rows: dict[int, dict[str, Any]]
+    problems: list[str]
+    unverified: list[int]
+
+
+def row_problem(row: Any, runs: int | None, seed: int | None) -> str:
+    """Why ``row`` (a manifest line, parsed) is not a run record of the campaign (``runs`` runs,
+    master ``seed``; None: unknown, not checked); empty if it is one."""
+    if not isinstance(row, dict):
+        return f"a JSON {type(row).__name__}, not a run record"
+    case = row.get("case")
+    if type(case) is not int:
+        return "no case number" if case is None else f"case {json.dumps(case)[:30]} is not an integer"
+    if case < 0 or (runs is not None and case >= runs):
+        return f"case {case} is outside [0, {runs - 1 if runs is not None else 'runs - 1'}]"
+    if row.get("status") not in STATUSES:
+        return f"case {case}: status {json.dumps(row.get('status'))[:30]} is not one of {', '.join(STATUSES)}"
+    for key, typ in (("draws", dict), ("outcome", dict), ("metrics", dict), ("message", str), ("history", str),
+                     ("history_sha256", str)):
+        if key in row and row[key] is not None and not isinstance(row[key], typ):
+            return f"case {case}: {key} is a {type(row[key]).__name__}, not a {typ.__name__}"
+    bad = [k for k, v in (row.get("metrics") or {}).items()
+           if v is not None and (type(v) not in (int, float) or not np.isfinite(v))]
+    if bad:
+        return f"case {case}: metric {bad[0]} is not a finite number"
+    if row.get("history") and not _HISTORY_NAME.fullmatch(row["history"]):
+        return f"case {case}: history {json.dumps(row['history'])[:60]} is not a history file's name"
+    if row.get("history_sha256") and not _SHA256.fullmatch(row["history_sha256"]):
+        return f"case {case}: history_sha256 is not a sha256 digest"
+    if seed is not None:
+        from rpo.runtime.campaign.sampling import run_seed
+        if row.get("seed") != run_seed(seed, case):
+            return f"case {case}: seed {json.dumps(row.get('seed'))[:30]} is not this campaign's seed of the case"
+    return ""
