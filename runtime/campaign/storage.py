@@ -49,7 +49,7 @@ from typing import Any
 import numpy as np
 import orjson
 
-from rpo.runtime.campaign.records import STATUSES, ManifestScan, row_problem  # noqa: F401  (STATUSES: read here too)
+from rpo.runtime.campaign.records import STATUSES, ManifestScan, case_seeds, row_problem  # noqa: F401  (STATUSES: read here too)
 from rpo.runtime.errors import CampaignError
 from rpo.runtime.outputs.metrics import UNITS
 
@@ -214,8 +214,8 @@ def scan_manifest(folder: Path, repair: bool = False, resolved: Mapping[str, Any
     if resolved is None:
         resolved = _resolved_if_any(Path(folder))
     runs, seed = (resolved or {}).get("runs"), (resolved or {}).get("seed")
-    runs = runs if type(runs) is int else None
-    seed = seed if type(seed) is int else None
+    runs = runs if type(runs) is int and runs > 0 else None
+    seeds = case_seeds(seed, runs) if type(seed) is int and seed >= 0 and runs is not None else None
     end = raw.rfind(b"\n") + 1
     problems = []
     if end < len(raw):
@@ -235,7 +235,7 @@ def scan_manifest(folder: Path, repair: bool = False, resolved: Mapping[str, Any
         except ValueError:
             problems.append(f"line {n}: not JSON")
             continue
-        why = row_problem(row, runs, seed)
+        why = row_problem(row, runs, seeds)
         if not why:
             case = row["case"]
             before = rows.get(case)
