@@ -15,6 +15,7 @@ import numpy as np
 import pyarrow as pa
 import pyarrow.parquet as pq
 
+from rpo.runtime.campaign.records import json_kind
 from rpo.runtime.campaign.storage import (  # noqa: F401  (the statuses and outcomes: declared once, there)
     OUTCOMES,
     STATUSES,
@@ -206,7 +207,7 @@ def read_folder(campaign_dir: str | Path) -> CampaignFolder:
         raise CampaignError(f"{resolved_path}: damaged ({type(exc).__name__}): the campaign cannot be "
                             "reported; fly it again into a new folder") from None
     if not isinstance(resolved, dict):
-        raise CampaignError(f"{resolved_path}: damaged: a JSON {type(resolved).__name__}, not the campaign's object")
+        raise CampaignError(f"{resolved_path}: damaged: {json_kind(resolved)}, not the campaign's object")
     runs = resolved.get("runs")
     table = _read_summary(path / "summary.parquet", runs if type(runs) is int else None)
     columns = {name: _to_numpy(table.column(name)) for name in table.column_names}

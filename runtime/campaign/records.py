@@ -14,6 +14,9 @@ from typing import Any
 import numpy as np
 
 STATUSES = ("ok", "diverged", "invalid", "error")
+#: JSON's names of the Python types json.loads gives
+_JSON = {dict: "an object", list: "an array", str: "a string", int: "a number", float: "a number",
+         bool: "a boolean", type(None): "null"}
 
 
 #: A history file's name as rpo writes it (storage.history_name): nothing else is opened from a line
@@ -21,11 +24,16 @@ _HISTORY_NAME = re.compile(r"batch_\d{6}_[0-9a-f]{12}\.parquet")
 _SHA256 = re.compile(r"[0-9a-f]{64}")
 
 
+def json_kind(value: Any) -> str:
+    """What ``value`` (parsed JSON) is, in JSON's words ("an object", "a number", ...)."""
+    return _JSON.get(type(value), type(value).__name__)
+
+
 @dataclass
 class ManifestScan:
     """``manifest.jsonl`` read and checked (``storage.scan_manifest``): ``rows`` case -> its latest valid
     line; ``problems`` one text per line that is not counted (``line N: why``); ``unverified`` the
-    cases whose line names a history without its sha256 (written before rpo recorded it)."""
+    flown cases whose line records no sha256 of their history (written before rpo recorded it)."""
 
     rows: dict[int, dict[str, Any]]
     problems: list[str]
@@ -45,7 +53,7 @@ def row_problem(row: Any, runs: int | None, seeds: tuple[int, ...] | None) -> st
     ``seeds`` its cases' noise seeds: :func:`case_seeds`; None: unknown, not checked); empty if it
     is one."""
     if not isinstance(row, dict):
-        return f"a JSON {type(row).__name__}, not a run record"
+        return f"{json_kind(row)}, not a run record"
     case = row.get("case")
     if type(case) is not int:
         return "no case number" if case is None else f"case {json.dumps(case)[:30]} is not an integer"
@@ -56,7 +64,7 @@ def row_problem(row: Any, runs: int | None, seeds: tuple[int, ...] | None) -> st
     for key, typ in (("draws", dict), ("outcome", dict), ("metrics", dict), ("message", str), ("history", str),
                      ("history_sha256", str)):
         if key in row and row[key] is not None and not isinstance(row[key], typ):
-            return f"case {case}: {key} is a {type(row[key]).__name__}, not a {typ.__name__}"
+            return f"case {case}: {key} is {json_kind(row[key])}, not {_JSON[typ]}"
     bad = [k for k, v in (row.get("metrics") or {}).items()
            if v is not None and (type(v) not in (int, float) or not np.isfinite(v))]
     if bad:

@@ -49,7 +49,7 @@ from typing import Any
 import numpy as np
 import orjson
 
-from rpo.runtime.campaign.records import STATUSES, ManifestScan, case_seeds, row_problem  # noqa: F401  (STATUSES: read here too)
+from rpo.runtime.campaign.records import STATUSES, ManifestScan, case_seeds, json_kind, row_problem  # noqa: F401
 from rpo.runtime.errors import CampaignError
 from rpo.runtime.outputs.metrics import UNITS
 
@@ -111,11 +111,12 @@ def read_resolved(folder: Path) -> dict[str, Any]:
         raise CampaignError(f"{path}: damaged, not JSON ({exc}); the folder cannot be resumed or "
                             "reported: fly the campaign again into a new folder") from None
     if not isinstance(data, dict):
-        raise CampaignError(f"{path}: damaged: a JSON {type(data).__name__}, not the campaign's object")
+        raise CampaignError(f"{path}: damaged: {json_kind(data)}, not the campaign's object")
     for key, types in RESOLVED_KEYS.items():
         v = data.get(key)
         if not isinstance(v, types) or isinstance(v, bool):
-            what = "missing" if key not in data else f"{json.dumps(v)[:40]}, not a {types[0].__name__}"
+            what = "missing" if key not in data else \
+                f"{json.dumps(v)[:40]} is {json_kind(v)}, not {json_kind(types[0]())}"
             raise CampaignError(f"{path}: damaged: key {key!r} {what}; fly the campaign again into a new folder")
     if data["runs"] < 1:
         raise CampaignError(f"{path}: damaged: runs = {data['runs']}, must be at least 1")
@@ -244,7 +245,7 @@ def scan_manifest(folder: Path, repair: bool = False, resolved: Mapping[str, Any
                 continue
             why = f"case {case} again (a duplicate: its run is recorded by an earlier line)"
         problems.append(f"line {n}: {why}")
-    unverified = sorted(c for c, r in rows.items() if r.get("history") and not r.get("history_sha256"))
+    unverified = sorted(c for c, r in rows.items() if r["status"] in ("ok", "diverged") and not r.get("history_sha256"))
     return ManifestScan(rows, problems, unverified)
 
 

@@ -45,8 +45,8 @@ def os_error_line(exc: OSError, folder: Path | None, again: str) -> str:
         inside = folder is not None and exc.filename is not None and \
             Path(os.path.abspath(exc.filename)).is_relative_to(os.path.abspath(folder))
         # outside the campaign folder, it is most often the model cache (its lock, a library)
-        fix = "make it writable" if inside else "make it writable (the model cache: or set RPO_CACHE_DIR to a " \
-                                                "writable folder)"
+        fix = "make it writable" if inside else \
+            "make it writable (if it is the model cache: or set RPO_CACHE_DIR to a writable folder)"
     else:
         fix = "fix it"
     return f"{where}: {what} ({errno.errorcode.get(exc.errno or 0, 'OSError')}): {fix}, then {again}"
