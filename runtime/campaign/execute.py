@@ -566,7 +566,7 @@ def _run_locked(camp: Campaign, model: Any, folder: Path, cases: Iterable[int] |
     # the manifest's latest line per case, as appended (not read back: the summary uses none of
     # what a JSON round trip could change, and draw_columns orders by names, not key order)
     rows = {**done, **flown}
-    storage.mark_lost_histories(folder, rows)
+    storage.mark_lost_histories(folder, rows, fresh={r["history"] for r in flown.values() if r.get("history")})
     if stopped is None:  # every batch came back: a history file no row names is a killed batch's
         storage.remove_orphans(folder, rows)
     storage.write_summary(folder, storage.read_resolved(folder), rows)

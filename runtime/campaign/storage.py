@@ -18,7 +18,7 @@
 
 **Loss and resumption.**  A run counts as done when its line is in ``manifest.jsonl``; its
 batch's history file was renamed into place before the line is written (and is checked whole by
-resume: :func:`history_ok`).  SIGKILL at any moment leaves at worst a last line cut in half
+resume: :func:`history_state`).  SIGKILL at any moment leaves at worst a last line cut in half
 (ignored and cut off by ``resume``), a history file without its lines (its runs flown again: the
 same batch rewrites it with identical bytes, another batch writes its own, and the orphan is
 removed when the campaign completes) or a temporary file (removed).  ``summary.parquet`` is a pure function of the
@@ -69,7 +69,7 @@ def _atomic_write(path: Path, data: bytes, durable: bool = True) -> None:
     """Write a temporary file beside ``path`` and rename it over ``path``: a reader sees the old
     file or the new one, never a part.  ``durable``: fsync before the rename (survives a machine
     crash, not only a killed process; ~1-3 ms a file, so the histories skip it, see
-    :func:`history_ok`)."""
+    :func:`history_state`)."""
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     try:
         with open(tmp, "wb") as fh:
@@ -395,17 +395,13 @@ def history_state(path: Path, sha256: str | None = None) -> str:
     return _state_of(_read_bytes(path), sha256)
 
 
-def history_ok(path: Path, sha256: str | None = None) -> bool:
-    """Whether :func:`history_state` finds the file usable (whole, or unverified in an older folder)."""
-    return history_state(path, sha256) in READABLE
-
-
-def mark_lost_histories(folder: Path, rows: dict[int, dict[str, Any]]) -> None:
+def mark_lost_histories(folder: Path, rows: dict[int, dict[str, Any]], fresh: Iterable[str] = ()) -> None:
     """A flown run whose history file is not the one its line names (missing: a remote worker that
     does not share the folder; another sha256: a machine crash before the page cache reached the
     disk, a file cut or edited) is an error, flown again by resume: its line appended, ``rows``
-    updated.  Each file is checked once (:func:`damaged_histories`)."""
-    lost = {c: (state, path) for path, (state, cases) in damaged_histories(folder, rows).items() for c in cases}
+    updated.  Each file is checked once (:func:`damaged_histories`; ``fresh``: as there)."""
+    lost = {c: (state, path) for path, (state, cases) in damaged_histories(folder, rows, fresh).items()
+            for c in cases}
     fixed = [{**rows[c], "status": "error", "message": f"its history {lost[c][1].name} is {lost[c][0]} in the "
               "campaign folder (Dask workers must share the folder's filesystem)"} for c in sorted(lost)]
     for r in fixed:
@@ -416,9 +412,11 @@ def mark_lost_histories(folder: Path, rows: dict[int, dict[str, Any]]) -> None:
         rows.update({r["case"]: r for r in fixed})
 
 
-def damaged_histories(folder: Path, rows: Mapping[int, Mapping[str, Any]]) -> dict[Path, tuple[str, list[int]]]:
-    """The history files that the flown runs of ``rows`` name and that are not usable: path ->
-    (its state, the cases it should hold); each file checked once."""
+def damaged_histories(folder: Path, rows: Mapping[int, Mapping[str, Any]],
+                      fresh: Iterable[str] = ()) -> dict[Path, tuple[str, list[int]]]:
+    """The files the flown runs of ``rows`` name that are not usable: path -> (state, its cases); each
+    checked once; ``fresh``: names just written and hashed by this command's workers, checked to exist only."""
+    fresh = set(fresh)
     by_file: dict[Path, tuple[str | None, list[int]]] = {}
     for c, r in sorted(rows.items()):
         if r.get("status") in ("ok", "diverged"):
@@ -426,7 +424,7 @@ def damaged_histories(folder: Path, rows: Mapping[int, Mapping[str, Any]]) -> di
             by_file.setdefault(path, (r.get("history_sha256"), []))[1].append(c)
     out = {}
     for path, (sha, cases) in by_file.items():
-        state = history_state(path, sha)
+        state = ("whole" if path.is_file() else "missing") if path.name in fresh else history_state(path, sha)
         if state not in READABLE:
             out[path] = (state, cases)
     return out
