@@ -67,3 +67,20 @@ def test_mc_run_takes_set_and_refuses_a_bad_value_before_any_folder(tmp_path):
     resolved = json.loads((out / "resolved.json").read_text())
     assert '"seed": 7' in json.dumps(resolved)  # the campaign flown is the changed one, recorded so
     assert "campaign.seed" in (out / "campaign.toml").read_text()  # and its copy names the override
+
+
+def test_mc_resume_applies_the_set_values_the_campaign_was_started_with(tmp_path):
+    """`rpo mc resume` re-reads the campaign file: without the recorded --set values it would see a
+    different campaign and refuse ("the campaign changed")."""
+    camp = ROOT / "scenarios" / "campaigns" / "000_III_mc.toml"
+    out = tmp_path / "mc"
+    res = rpo("mc", "run", camp, "--runs", "2", "--duration", "0.5", "--set", "chaser.mass=95.0", "--out", out, "-q",
+              timeout=300)
+    assert res.returncode == 0, res.stderr
+    resolved = json.loads((out / "resolved.json").read_text())
+    assert resolved["overrides"]["set"] == {"chaser.mass": "95.0"}
+    assert resolved["scenario"]["chaser"]["mass"] == 95.0
+    summary = (out / "summary.parquet").read_bytes()
+    res = rpo("mc", "resume", out, "-q", timeout=300)
+    assert res.returncode == 0, res.stderr
+    assert (out / "summary.parquet").read_bytes() == summary  # nothing was missing: nothing flown again

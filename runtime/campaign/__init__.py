@@ -3,6 +3,8 @@
 * :mod:`.spec`: the campaign file (``[campaign]``, ``[dispersions]``), :func:`load_campaign`;
 * :mod:`.dispersions`: the distributions; :mod:`.sampling`: seeds and designs;
 * :mod:`.execute`: flying the runs (this process, a process pool, Dask), resuming;
+* :mod:`.requirements`: ``[requirements]`` and their verdicts; :mod:`.sequential`: stopping once decided;
+* :mod:`.sobol`: Sobol indices of a Saltelli design (``sampling = "sobol-indices"``);
 * :mod:`.storage`: the campaign folder (manifest.jsonl, summary.parquet, histories);
 * :mod:`.stats`, :mod:`.report`, :mod:`.figures`: statistics and ``report.md``.
 
@@ -20,7 +22,8 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-from rpo.runtime.campaign.execute import CampaignOutcome, check_resume, run_campaign, start_folder
+from rpo.runtime.campaign.execute import CampaignOutcome, check_resume, start_folder
+from rpo.runtime.campaign.sequential import run_campaign  # execute's, in looks for a sequential campaign
 from rpo.runtime.campaign.spec import Campaign, load_campaign, loads_campaign
 from rpo.runtime.campaign.storage import read_history, read_rows
 from rpo.runtime.errors import CampaignError

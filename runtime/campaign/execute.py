@@ -38,6 +38,7 @@ from rpo.runtime.campaign import storage
 from rpo.runtime.campaign.fingerprint import fingerprint, model_changes
 from rpo.runtime.campaign.folder import first_difference
 from rpo.runtime.campaign.lock import LOCK, folder_lock
+from rpo.runtime.campaign.requirements import write_summary
 from rpo.runtime.campaign.spec import DERIVED, Campaign, campaign_from_resolved
 from rpo.runtime.errors import CampaignError, RpoError
 from rpo.runtime.model.manifest import Manifest
@@ -518,12 +519,11 @@ def start_folder(camp: Campaign, model: Any, out: str | Path, command: str = "")
     from rpo.runtime.errors import OutputError
     from rpo.runtime.outputs.writers import check_out_dir
     folder = Path(out)
-    if (folder / LOCK).is_file():  # made and locked by the caller: the folder must hold nothing else
-        if any(p.name != LOCK for p in folder.iterdir()):
-            raise OutputError(f"output folder {folder} is not empty: choose a new folder (--out), or "
-                              f"`rpo mc resume {folder}` if it is this campaign's")
-    else:
+    if not (folder / LOCK).is_file():
         folder = check_out_dir(out)
+    elif any(p.name != LOCK for p in folder.iterdir()):  # made and locked by the caller: nothing else in it
+        raise OutputError(f"output folder {folder} is not empty: choose a new folder (--out), or "
+                          f"`rpo mc resume {folder}` if it is this campaign's")
     folder.mkdir(parents=True, exist_ok=True)
     (folder / storage.HISTORIES).mkdir(exist_ok=True)
     storage._atomic_write(folder / storage.CAMPAIGN_COPY, camp.text.encode())
@@ -569,7 +569,7 @@ def _run_locked(camp: Campaign, model: Any, folder: Path, cases: Iterable[int] |
     storage.mark_lost_histories(folder, rows, fresh={r["history"] for r in flown.values() if r.get("history")})
     if stopped is None:  # every batch came back: a history file no row names is a killed batch's
         storage.remove_orphans(folder, rows)
-    storage.write_summary(folder, storage.read_resolved(folder), rows)
+    write_summary(folder, storage.read_resolved(folder), rows)  # storage's, with the requirements' verdicts
     missing = [c for c in range(camp.runs) if c not in rows]
     return CampaignOutcome(folder=folder, runs=camp.runs, flown_now=len(todo), counts=counts(rows),
                            wall_s=time.perf_counter() - t0, interrupted=stopped, missing=missing,

@@ -43,6 +43,7 @@ from rpo.runtime.campaign.folder import (  # noqa: F401  (summary_table, case_hi
     read_folder,
     summary_table,
 )
+from rpo.runtime.campaign.qualification import requirement_lines, sobol_lines
 from rpo.runtime.campaign.sections import (
     ReportContext,
     failure_rate_lines,
@@ -75,9 +76,10 @@ def write_report(campaign_dir: str | Path, out: str | Path | None = None, covera
     out_dir.mkdir(parents=True, exist_ok=True)
     x = ReportContext(c, c.path.resolve(), coverage, confidence, n_boot, seed, top, worst)
     L = [f"# Monte Carlo campaign: {c.name}", ""]
-    L += header_lines(x) + status_lines(x) + failure_rate_lines(x) + wilks_lines(x) + metric_lines(x)
+    L += header_lines(x) + status_lines(x) + requirement_lines(x) + failure_rate_lines(x) + wilks_lines(x)
+    L += metric_lines(x)
     sensitivity, by_pair = sensitivity_lines(x)
-    L += sensitivity + worst_case_lines(x)
+    L += sensitivity + sobol_lines(x) + worst_case_lines(x)
     if figures:
         L += figure_lines(x, out_dir, by_pair, fmt)
     text = "\n".join(L).rstrip("\n") + "\n"

@@ -16,6 +16,13 @@ process and Python version, unlike ``hash``):
   the keys appear in the campaign file (a low-discrepancy design is joint by nature, so a key
   added at the end leaves the earlier keys' draws unchanged; one inserted before them does not).
   ``runs`` should be a power of 2 for the sequence's balance (scipy warns otherwise; rpo accepts it).
+* ``sampling = "sobol-indices"``: a Saltelli design for Sobol indices (:mod:`.sobol`), in blocks of
+  d + 2 runs (d dispersions, each one group whatever its dimension): row j of a scrambled Sobol
+  sequence over twice the keys' dimensions gives A_j (its first half) and B_j (its second half);
+  run (d + 2) j flies A_j, run (d + 2) j + 1 flies B_j, run (d + 2) j + 2 + i flies A_j with
+  dispersion i's uniforms from B_j.  ``runs`` must be a multiple of d + 2 (best: a power of 2
+  times d + 2).  A case's uniforms depend on the seed and its number only (a Sobol sequence's
+  first points do not depend on its length), so runs can be drawn one by one and resumed.
 
 The run's own noise seed (random torques, sensor noise: :mod:`rpo.runtime.run.noise`) is the 64-bit
 state of ``SeedSequence(seed, spawn_key=(NOISE_STREAM, i))``.
@@ -32,7 +39,7 @@ from scipy.stats import qmc
 
 from rpo.runtime.campaign.dispersions import Dispersion
 
-SAMPLINGS = ("random", "lhs", "sobol")
+SAMPLINGS = ("random", "lhs", "sobol", "sobol-indices")
 #: Stream id of the runs' noise seeds: a fixed constant ("noise"); a key's sha256-derived id equals
 #: it with probability 2**-64.
 NOISE_STREAM = 0x6E6F697365  # "noise"
@@ -160,8 +167,10 @@ class Design:
         self._ids = {d.key: stream_id(d.key) for d in self.dispersions}
 
     def _build(self) -> dict[str, np.ndarray]:
-        """The whole design (lhs, sobol): key -> (runs, dims) uniforms."""
+        """The whole design (lhs, sobol, sobol-indices): key -> (runs, dims) uniforms."""
         out: dict[str, np.ndarray] = {}
+        if self.sampling == "sobol-indices":
+            return self._saltelli()
         if self.sampling == "lhs":
             for d in self.dispersions:
                 rng = np.random.default_rng(np.random.SeedSequence(self.seed, spawn_key=(stream_id(d.key),)))
@@ -177,6 +186,32 @@ class Design:
                 for d in self.dispersions:
                     out[d.key] = _clip(u[:, col: col + d.dims])
                     col += d.dims
+        return out
+
+    def _saltelli(self) -> dict[str, np.ndarray]:
+        """The Saltelli design (module docstring): key -> (runs, dims) uniforms."""
+        d = len(self.dispersions)
+        size = d + 2
+        if self.runs % size:
+            raise ValueError(f"a sobol-indices design of {d} dispersions needs runs in blocks of {size}")
+        total = sum(x.dims for x in self.dispersions)
+        blocks = self.runs // size
+        rng = np.random.default_rng(np.random.SeedSequence(self.seed, spawn_key=(stream_id("sobol-indices"),)))
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore", UserWarning)  # blocks not a power of 2: accepted, see above
+            base = _clip(qmc.Sobol(d=2 * total, scramble=True, seed=rng).random(blocks))
+        A, B = base[:, :total], base[:, total:]
+        rows = np.repeat(A[:, None, :], size, axis=1)  # (blocks, size, total): A everywhere ...
+        rows[:, 1] = B                                 # ... B in the second run ...
+        col = 0
+        for i, x in enumerate(self.dispersions):       # ... and AB_i: group i's columns from B
+            rows[:, 2 + i, col: col + x.dims] = B[:, col: col + x.dims]
+            col += x.dims
+        flat = rows.reshape(self.runs, total)
+        out, col = {}, 0
+        for x in self.dispersions:
+            out[x.key] = flat[:, col: col + x.dims]
+            col += x.dims
         return out
 
     def uniforms(self, case: int) -> dict[str, np.ndarray]:

@@ -20,6 +20,7 @@ from rpo.runtime.campaign.folder import (
     STATUSES,
     CampaignFolder,
 )
+from rpo.runtime.campaign.sequential import stopped_at
 from rpo.runtime.campaign.storage import read_histories, read_rows
 from rpo.runtime.outputs.jsonunits import shown
 from rpo.runtime.outputs.verdict import CONSTRAINT_RULE, declared_constraints
@@ -295,7 +296,12 @@ def header_lines(x: ReportContext) -> list[str]:
              f"{conf_pct} confidence; percentile intervals by bootstrap ({n_boot} resamples, seed {seed})")
     L.append(f"- {UNITS_TEXT}")
     missing = sorted(set(range(c.requested)) - {int(x) for x in c.cases})
-    if missing:
+    stop = stopped_at(r, c.cases, x.st, c.columns)
+    if stop:
+        L += ["", f"**Sequential campaign: stopped after {stop[0]} of at most {c.requested} runs (look {stop[1]} of "
+                  f"{stop[2]}): every requirement is decided.** Everything below covers those {stop[0]} runs, the "
+                  f"rows a campaign of {stop[0]} runs gives."]
+    elif missing:
         L += ["", f"**Incomplete campaign: {len(missing)} of the {c.requested} requested cases have no result "
                   f"(cases {_ranges(missing)}); everything below covers the {n_done} done.**"]
     L.append("")

@@ -7,7 +7,7 @@
     [campaign]
     name = "000 III dispersed"     # default: the file's stem
     runs = 1000                    # >= 1
-    sampling = "random"            # random | lhs | sobol (rpo.runtime.campaign.sampling)
+    sampling = "random"            # random | lhs | sobol | sobol-indices (rpo.runtime.campaign.sampling)
     seed = 1                       # the root of every draw and of the runs' noise seeds
     rate_hz = 1.0                  # the runs' record (metrics, histories); or record_every (steps)
     channels = ["q_c", "r", ...]   # the histories' columns (default CHANNELS); err_att_rad,
@@ -54,6 +54,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from rpo.runtime.campaign.dispersions import Dispersion, DispersionError
+from rpo.runtime.campaign.requirements import Requirement, of_resolved, parse_requirements
 from rpo.runtime.campaign.sampling import SAMPLINGS, Design, run_seed, run_seeds
 from rpo.runtime.errors import CampaignError, ScenarioError
 from rpo.runtime.model.manifest import Manifest
@@ -79,6 +80,8 @@ STATE_KEYS = {
     "orbit.perigee_altitude": "m",
 }
 FAULT_FIELDS = ("time", "end", "value", "unit", "kind")
+#: Looks of a sequential campaign when ``[campaign] looks`` is not given.
+DEFAULT_LOOKS = 10
 
 
 class _Section(BaseModel):
@@ -97,6 +100,10 @@ class CampaignSection(_Section):
     record_every: Annotated[int, Field(ge=1)] | None = None
     channels: Annotated[list[str], Field(min_length=1)] | None = None
     batch: Annotated[int, Field(ge=1, le=100_000)] | None = None
+    #: fly in ``looks`` equal steps up to ``runs`` and stop once every requirement is decided
+    #: (rpo.runtime.campaign.sequential)
+    sequential: bool = False
+    looks: Annotated[int, Field(ge=1, le=1000)] | None = None
 
 
 @dataclass
@@ -114,6 +121,8 @@ class Campaign:
     overrides: dict[str, Any] = field(default_factory=dict)
     #: the scenario file the campaign extends (itself when it extends none)
     base: str = ""
+    #: ``[requirements]``, judged on the summary (rpo.runtime.campaign.requirements)
+    requirements: list[Requirement] = field(default_factory=list)
     _design: Design | None = field(default=None, init=False, repr=False, compare=False)
     #: (campaign seed, case) -> the run's noise seed: asked for twice a run (its row, its scenario)
     _seeds: dict[tuple[int, int], int] = field(default_factory=dict, init=False, repr=False, compare=False)
@@ -133,6 +142,9 @@ class Campaign:
             "dispersions": [{"key": d.key, "dist": d.dist, "params": d.params, "size": d.size, "unit": d.unit,
                              "nominal": d.nominal} for d in self.dispersions],
             "scenario": self.scenario_data,
+            # only when given, so that the hash of a campaign without them is what it always was
+            **({"requirements": [r.to_json() for r in self.requirements]} if self.requirements else {}),
+            **({"sequential": {"looks": self.looks}} if self.settings.sequential else {}),
         }
 
     @property
@@ -149,6 +161,11 @@ class Campaign:
     @property
     def runs(self) -> int:
         return self.settings.runs
+
+    @property
+    def looks(self) -> int:
+        """The looks of a sequential campaign (:mod:`.sequential`; default 10, at most ``runs``)."""
+        return min(self.settings.looks or DEFAULT_LOOKS, self.settings.runs)
 
     @property
     def design(self) -> Design:
@@ -351,6 +368,7 @@ def campaign_from_table(data: dict, source: str, text: str, manifest: Manifest, 
                         duration: float | None = None) -> Campaign:
     table = data.pop("campaign", None)
     disp_table = data.pop("dispersions", {})
+    req_table = data.pop("requirements", None)
     if table is None:
         raise CampaignError(f"{source}: [campaign]: required table is missing (a campaign file extends a "
                             "scenario and adds [campaign] with runs = ... and [dispersions])")
@@ -413,12 +431,44 @@ def campaign_from_table(data: dict, source: str, text: str, manifest: Manifest, 
             where = f"dispersions.{key}.{exc.field}"
             shown = spec.get(exc.field.split(".")[0], spec["dist"]) if exc.field != "dist" else spec["dist"]
             raise CampaignError(f"{source}: {where} = {show(shown)}: {exc.message}") from None
+    requirements = [] if req_table is None else parse_requirements(req_table, source)
+    _check_sequential(settings, requirements, source)
+    _check_saltelli(settings, dispersions, source)
     name = settings.name or Path(source).stem
     camp = Campaign(name=name, source=str(source), text=text, settings=settings, scenario_data=data,
-                    dispersions=dispersions, manifest=manifest, overrides=overrides)
+                    dispersions=dispersions, manifest=manifest, overrides=overrides, requirements=requirements)
     _check_channels(camp, manifest, source)
     _check_median(camp, manifest, source)
     return camp
+
+
+def _check_sequential(settings: CampaignSection, requirements: list[Requirement], source: str) -> None:
+    """A sequential campaign stops when its requirements are decided, on a design whose first n runs
+    are those of a campaign of n runs (random, sobol)."""
+    if not settings.sequential:
+        if settings.looks is not None:
+            raise CampaignError(f"{source}: campaign.looks = {settings.looks}: only with campaign.sequential = true")
+        return
+    if not requirements:
+        raise CampaignError(f"{source}: campaign.sequential = true: needs [requirements.<name>] to decide "
+                            "(it stops when every requirement is PASS or FAIL)")
+    if settings.sampling not in ("random", "sobol"):
+        raise CampaignError(f"{source}: campaign.sampling = {settings.sampling!r}: a sequential campaign needs "
+                            "\"random\" or \"sobol\" (designs whose first n runs are a campaign of n runs)")
+
+
+def _check_saltelli(settings: CampaignSection, dispersions: list[Dispersion], source: str) -> None:
+    """A Saltelli design flies whole blocks of (dispersions + 2) runs, at least 2 of them."""
+    if settings.sampling != "sobol-indices":
+        return
+    size = len(dispersions) + 2
+    if not dispersions:
+        raise CampaignError(f"{source}: campaign.sampling = \"sobol-indices\": needs at least one [dispersions.<key>]")
+    if settings.runs % size or settings.runs < 2 * size:
+        blocks = max(2, round(settings.runs / size))
+        raise CampaignError(f"{source}: campaign.runs = {settings.runs}: a sobol-indices design of {len(dispersions)} "
+                            f"dispersions flies blocks of {size} runs: give a multiple of {size}, at least {2 * size} "
+                            f"(e.g. {blocks * size}; best a power of 2 times {size}, e.g. {1024 * size})")
 
 
 def _check_channels(camp: Campaign, manifest: Manifest, source: str) -> None:
@@ -456,10 +506,11 @@ def campaign_from_resolved(resolved: dict, manifest: Manifest) -> Campaign:
     """The campaign recorded in a folder's ``resolved.json`` (no file needed)."""
     settings = CampaignSection.model_validate({
         "name": resolved["name"], "runs": resolved["runs"], "sampling": resolved["sampling"],
-        "seed": resolved["seed"], "record_every": resolved["record_every"], "channels": resolved["channels"]})
+        "seed": resolved["seed"], "record_every": resolved["record_every"], "channels": resolved["channels"],
+        **({"sequential": True, "looks": resolved["sequential"]["looks"]} if resolved.get("sequential") else {})})
     data = copy.deepcopy(resolved["scenario"])
     disps = [Dispersion(key=d["key"], dist=d["dist"], params=d["params"], nominal=d["nominal"], unit=d["unit"],
                         size=d["size"]) for d in resolved["dispersions"]]
     return Campaign(name=resolved["name"], source=resolved["campaign_file"], text="", settings=settings,
                     scenario_data=data, dispersions=disps, manifest=manifest, overrides=resolved.get("overrides", {}),
-                    base=resolved.get("scenario_file", ""))
+                    base=resolved.get("scenario_file", ""), requirements=of_resolved(resolved))

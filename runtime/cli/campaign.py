@@ -129,7 +129,7 @@ def _dask_option(value: str | None) -> str | None:
 
 def _fly(camp: Any, model: Any, folder: Path, workers: int | None, dask: str | None, batch: int | None,
          quiet: bool, what: str) -> int:
-    from rpo.runtime.campaign import execute, storage
+    from rpo.runtime.campaign import execute, sequential, storage
 
     done = storage.read_rows(folder)
     lost = {c for _, cases in storage.damaged_histories(folder, done).values() for c in cases}  # flown again
@@ -137,11 +137,14 @@ def _fly(camp: Any, model: Any, folder: Path, workers: int | None, dask: str | N
     n_workers = workers or execute.default_workers()
     if not quiet:
         how = f"Dask {dask}" if dask else ("this process" if n_workers == 1 else f"{n_workers} worker processes")
-        _err(f"{camp.name}: {what} {todo} of {camp.runs} runs ({camp.settings.sampling} sampling, seed "
-             f"{camp.settings.seed}) on {how}, into {folder}")
+        upto = f"up to {todo}" if camp.settings.sequential else str(todo)
+        seq = f", sequential in {camp.looks} looks, stopping once decided" if camp.settings.sequential else ""
+        _err(f"{camp.name}: {what} {upto} of {camp.runs} runs ({camp.settings.sampling} sampling, seed "
+             f"{camp.settings.seed}{seq}) on {how}, into {folder}")
     bar = _Progress(todo, quiet)
     try:
-        out = execute.run_campaign(camp, model, folder, workers=n_workers, dask=dask, batch=batch, on_rows=bar.rows)
+        out = sequential.run_campaign(camp, model, folder, workers=n_workers, dask=dask, batch=batch,
+                                      on_rows=bar.rows)
     finally:
         bar.close()
     _notes(out.problems, out.unverified, folder, quiet)
@@ -157,6 +160,7 @@ def _fly(camp: Any, model: Any, folder: Path, workers: int | None, dask: str | N
         click.echo(f"done: {len(rows)} of {camp.runs} runs in {out.wall_s:.1f} s: {c['ok']} ok, {c['diverged']} "
                    f"diverged, {c['invalid']} invalid draws, {c['error']} errors; {failed} of {flown} flown runs "
                    "failed (diverged, a goal not reached or a constraint violated)")
+        _verdict_lines(camp, out, rows)
         click.echo(f"summary: {folder / storage.SUMMARY}; statistics: rpo mc report {shlex.quote(str(folder))}")
     if c["error"]:
         first = next(r for r in rows.values() if r["status"] == "error")
@@ -164,6 +168,25 @@ def _fly(camp: Any, model: Any, folder: Path, workers: int | None, dask: str | N
              f"`rpo mc resume {folder}` flies them again")
         return EXIT_RUN_ERRORS
     return 0
+
+
+def _verdict_lines(camp: Any, out: Any, rows: dict) -> None:
+    """One line per requirement (PASS / FAIL / UNDECIDED, k/n, bounds), after the sequential stop's."""
+    from rpo.runtime.campaign.requirements import judge_rows
+    from rpo.runtime.campaign.sequential import SequentialOutcome
+
+    if not camp.requirements:
+        return
+    looks = camp.looks if camp.settings.sequential else 1
+    if isinstance(out, SequentialOutcome) and out.look:
+        click.echo(f"sequential: look {out.look} of {out.looks} after {out.runs_judged} runs: "
+                   + ("every requirement decided, stopped" if out.decided else "not every requirement decided"))
+    for v in judge_rows(camp.requirements, rows, looks):
+        more = "" if v.verdict != "UNDECIDED" else (
+            f", {v.runs_still_needed} more runs without failure to pass" if v.runs_still_needed is not None else "")
+        click.echo(f"requirement {v.requirement.name} ({v.requirement.text}, p >= {v.requirement.probability:g} at "
+                   f"{100 * v.confidence_used:g} %): {v.verdict}, met {v.met}/{v.n}, bounds "
+                   f"[{v.lower:.6f}, {v.upper:.6f}]{more}")
 
 
 @click.group()
@@ -175,6 +198,7 @@ def mc() -> None:
       rpo mc resume runs/mc          (after an interruption: flies the missing runs)
       rpo mc report runs/mc          (report.md and figures)
       rpo run --campaign runs/mc --case 17   (one run again, every step recorded)
+      rpo mc plan scenarios/campaigns/000_III_mc.toml   (the runs its requirements need)
     """
 
 
@@ -206,7 +230,7 @@ def run_cmd(campaign_file: str, out: str, workers: int | None, dask: str | None,
 
     dask = _dask_option(dask)
     source = _source(campaign_file, sets)  # --set: the campaign's scenario (or its [campaign]) changed first
-    camp = load_campaign(source, read_manifest(), runs=runs, duration=duration)
+    camp = _with_sets(load_campaign(source, read_manifest(), runs=runs, duration=duration), sets)
     # every check before the folder exists, so that a refused command can be run again unchanged
     folder = check_out_dir(out)  # before the model loads (which may compile): a bad folder is told at once
     check_dask(dask)
@@ -214,7 +238,7 @@ def run_cmd(campaign_file: str, out: str, workers: int | None, dask: str | None,
     with _os_errors(None, "run"):
         model = _model(ctrl, quiet)
     if model.manifest.manifest_hash != camp.manifest.manifest_hash:
-        camp = load_campaign(source, model.manifest, runs=runs, duration=duration)
+        camp = _with_sets(load_campaign(source, model.manifest, runs=runs, duration=duration), sets)
     command = " ".join(shlex.quote(a) for a in ["rpo", "mc", "run", *sys.argv[3:]]) if len(sys.argv) > 3 else ""
     with _os_errors(folder, "run"):
         made = not folder.exists()
@@ -228,6 +252,14 @@ def run_cmd(campaign_file: str, out: str, workers: int | None, dask: str | None,
                     shutil.rmtree(folder, ignore_errors=True)
                 raise
             return _fly(camp, model, folder, workers, dask, batch, quiet, "flying")
+
+
+def _with_sets(camp: Any, sets: tuple[str, ...]) -> Any:
+    """``camp`` with its ``--set`` items recorded in ``overrides["set"]`` (as TOML text, in
+    ``resolved.json`` and the hash), so that ``rpo mc resume`` applies them again."""
+    if sets:
+        camp.overrides["set"] = {k.strip(): v.strip() for k, _, v in (s.partition("=") for s in sets)}
+    return camp
 
 
 @mc.command("resume")
@@ -253,7 +285,9 @@ def resume_cmd(folder: Path, workers: int | None, dask: str | None, batch: int |
         again = None
         if source.is_file():
             ov = resolved.get("overrides", {})
-            again = load_campaign(source, model.manifest, runs=ov.get("runs"), duration=ov.get("duration"))
+            sets = tuple(f"{k}={v}" for k, v in ov.get("set", {}).items())
+            again = _with_sets(load_campaign(_source(str(source), sets), model.manifest, runs=ov.get("runs"),
+                                             duration=ov.get("duration")), sets)
         elif not quiet:
             _err(f"note: {source} is not there any more: resuming the campaign recorded in "
                  f"{folder}/{storage.RESOLVED}")
@@ -286,6 +320,56 @@ def report_cmd(folder: Path, coverage: float, confidence: float, no_figures: boo
                  "them again")
         path = write_report(folder, coverage=coverage, confidence=confidence, figures=not no_figures)
     click.echo(f"wrote {path}")
+    return 0
+
+
+#: Failures allowed in the columns of `rpo mc plan`.
+PLAN_FAILURES = (0, 1, 2)
+
+
+@mc.command("plan")
+@click.argument("campaign_file", type=click.Path(dir_okay=False, path_type=str))
+@click.option("--json", "as_json", is_flag=True, help="Print one JSON object instead of the table.")
+@_SET
+def plan_cmd(campaign_file: str, as_json: bool, sets: tuple[str, ...]) -> int:
+    """The runs each requirement of CAMPAIGN_FILE needs for a PASS, before flying: with no failure,
+    and with 1 and 2 failures allowed (one-sided Clopper-Pearson, docs/campaigns.md); the most over
+    the requirements; for a sequential campaign the same at the confidence of each look."""
+    import json
+
+    from rpo.runtime.campaign.requirements import runs_needed
+    from rpo.runtime.campaign.spec import load_campaign
+    from rpo.runtime.model.manifest import read_manifest
+
+    camp = load_campaign(_source(campaign_file, sets), read_manifest())
+    if not camp.requirements:
+        raise CampaignError(f"{campaign_file}: no [requirements.<name>] table to plan for (add one with metric, "
+                            "max or min, probability, confidence: docs/campaigns.md)")
+    looks = camp.looks if camp.settings.sequential else 1
+    plan = []
+    for r in camp.requirements:
+        conf = 1.0 - (1.0 - r.confidence) / looks
+        plan.append({"name": r.name, "metric": r.metric, "kind": r.kind, "bound": r.bound,
+                     "probability": r.probability, "confidence": r.confidence, "confidence_per_look": conf,
+                     "runs": {str(k): runs_needed(r.probability, conf, k) for k in PLAN_FAILURES}})
+    most = {str(k): max(p["runs"][str(k)] for p in plan) for k in PLAN_FAILURES}
+    out = {"campaign": camp.name, "runs": camp.runs, "looks": looks, "requirements": plan, "most": most}
+    if as_json:
+        click.echo(json.dumps(out, sort_keys=True))
+        return 0
+    click.echo(f"{camp.name}: runs for a PASS of each requirement (k failures allowed among them)"
+               + (f"; sequential, {looks} looks: each look at confidence 1 - (1 - c) / {looks}" if looks > 1 else ""))
+    head = ["requirement", "bound", "p", "confidence", *[f"k={k}" for k in PLAN_FAILURES]]
+    body = [[p["name"], f"{p['metric']} {'<=' if p['kind'] == 'max' else '>='} {p['bound']:g}", f"{p['probability']:g}",
+             f"{p['confidence_per_look']:g}", *[str(p["runs"][str(k)]) for k in PLAN_FAILURES]] for p in plan]
+    body.append(["most", "", "", "", *[str(most[str(k)]) for k in PLAN_FAILURES]])
+    widths = [max(len(str(row[i])) for row in [head, *body]) for i in range(len(head))]
+    for row in [head, *body]:
+        click.echo("  ".join(str(v).ljust(w) for v, w in zip(row, widths, strict=True)).rstrip())
+    note = f"the campaign asks for {camp.runs} runs"
+    if camp.runs < most["0"]:
+        note += f": too few for a PASS of every requirement even with no failure (needs {most['0']})"
+    click.echo(note)
     return 0
 
 
