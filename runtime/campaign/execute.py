@@ -37,6 +37,7 @@ import numpy as np
 from rpo.runtime.campaign import storage
 from rpo.runtime.campaign.fingerprint import fingerprint, model_changes
 from rpo.runtime.campaign.folder import first_difference
+from rpo.runtime.campaign.lock import LOCK, folder_lock
 from rpo.runtime.campaign.requirements import write_summary
 from rpo.runtime.campaign.spec import DERIVED, Campaign, campaign_from_resolved
 from rpo.runtime.errors import CampaignError, RpoError
@@ -62,6 +63,9 @@ class CampaignOutcome:
     #: the signal that stopped it (SIGINT, SIGTERM), None when every batch came back
     interrupted: int | None = None
     missing: list[int] = field(default_factory=list)
+    #: the manifest lines not counted (storage.scan_manifest), the cases whose history is not verified (no sha256)
+    problems: list[str] = field(default_factory=list)
+    unverified: list[int] = field(default_factory=list)
 
 
 # --------------------------------------------------------------------------- the worker side
@@ -166,9 +170,10 @@ def _fly(camp: Campaign, model: Any, cases: list[int], folder: Path, lanes: bool
             histories[case] = storage.History(case, res.t, hist, {"case": case, "seed": pre.inputs.seed,
                                                                   "status": row["status"]})
     if histories:  # the batch's histories in one file, in case order, before its rows are returned
-        name = storage.write_histories(folder, [histories[c] for c in cases if c in histories], units)
+        name, digest = storage.write_history_file(folder, [histories[c] for c in cases if c in histories], units)
         for c in histories:
             rows[c]["history"] = name
+            rows[c]["history_sha256"] = digest
     return [rows[c] for c in cases]
 
 
@@ -509,10 +514,16 @@ def counts(rows: dict[int, dict]) -> dict[str, int]:
 
 
 def start_folder(camp: Campaign, model: Any, out: str | Path, command: str = "") -> Path:
-    """Create the campaign folder (absent or empty: refused otherwise) with the campaign's text and
-    resolved.json."""
+    """Create the campaign folder (absent or empty: refused otherwise; holding only its lock file
+    when the caller locked it first: :mod:`.lock`) with the campaign's text and resolved.json."""
+    from rpo.runtime.errors import OutputError
     from rpo.runtime.outputs.writers import check_out_dir
-    folder = check_out_dir(out)
+    folder = Path(out)
+    if not (folder / LOCK).is_file():
+        folder = check_out_dir(out)
+    elif any(p.name != LOCK for p in folder.iterdir()):  # made and locked by the caller: nothing else in it
+        raise OutputError(f"output folder {folder} is not empty: choose a new folder (--out), or "
+                          f"`rpo mc resume {folder}` if it is this campaign's")
     folder.mkdir(parents=True, exist_ok=True)
     (folder / storage.HISTORIES).mkdir(exist_ok=True)
     storage._atomic_write(folder / storage.CAMPAIGN_COPY, camp.text.encode())
@@ -530,10 +541,17 @@ def run_campaign(camp: Campaign, model: Any, folder: Path, *, cases: Iterable[in
                  on_rows: Callable[[list[dict]], None] | None = None) -> CampaignOutcome:
     """Fly the campaign's ``cases`` (default: every case not yet done, or done with status
     ``error``) into ``folder`` (made by :func:`start_folder`), then write ``summary.parquet``."""
+    with folder_lock(folder):  # one command flies a folder at a time
+        return _run_locked(camp, model, Path(folder), cases, workers, dask, batch, on_rows)
+
+
+def _run_locked(camp: Campaign, model: Any, folder: Path, cases: Iterable[int] | None, workers: int | None,
+                dask: str | None, batch: int | None, on_rows: Callable[[list[dict]], None] | None) -> CampaignOutcome:
     t0 = time.perf_counter()
+    (folder / storage.HISTORIES).mkdir(exist_ok=True)  # removed by hand: the runs that need it fly again
     storage.remove_temporaries(folder)
-    done = storage.read_rows(folder, repair=True)
-    _check_histories(folder, done)
+    done = (scan := storage.scan_manifest(folder, repair=True)).rows
+    storage.mark_lost_histories(folder, done)
     todo = sorted(c for c in (range(camp.runs) if cases is None else cases)
                   if c not in done or done[c]["status"] == "error")
     flown: dict[int, dict] = {}
@@ -548,35 +566,14 @@ def run_campaign(camp: Campaign, model: Any, folder: Path, *, cases: Iterable[in
     # the manifest's latest line per case, as appended (not read back: the summary uses none of
     # what a JSON round trip could change, and draw_columns orders by names, not key order)
     rows = {**done, **flown}
-    _check_histories(folder, rows)
+    storage.mark_lost_histories(folder, rows, fresh={r["history"] for r in flown.values() if r.get("history")})
     if stopped is None:  # every batch came back: a history file no row names is a killed batch's
         storage.remove_orphans(folder, rows)
     write_summary(folder, storage.read_resolved(folder), rows)  # storage's, with the requirements' verdicts
     missing = [c for c in range(camp.runs) if c not in rows]
     return CampaignOutcome(folder=folder, runs=camp.runs, flown_now=len(todo), counts=counts(rows),
-                           wall_s=time.perf_counter() - t0, interrupted=stopped, missing=missing)
-
-
-def _check_histories(folder: Path, rows: dict[int, dict]) -> None:
-    """A flown run whose history file is not whole in the folder (a remote worker that does not
-    share it, a machine crash before the page cache reached the disk) is an error, flown again by
-    resume.  Each file is checked once, for all of its runs."""
-    whole: dict[Path, bool] = {}
-    lost = []
-    for c, r in rows.items():
-        if r["status"] in ("ok", "diverged"):
-            path = storage.history_path(folder, c, r)
-            if path not in whole:
-                whole[path] = storage.history_ok(path)
-            if not whole[path]:
-                lost.append(c)
-    if lost:
-        fixed = [{**rows[c], "status": "error", "message": "its history is missing or cut short in the campaign "
-                  "folder (Dask workers must share the folder's filesystem)"} for c in lost]
-        for r in fixed:
-            r.pop("history", None)
-        storage.append_rows(folder, fixed)
-        rows.update({r["case"]: r for r in fixed})
+                           wall_s=time.perf_counter() - t0, interrupted=stopped, missing=missing,
+                           problems=scan.problems, unverified=[c for c in scan.unverified if rows[c] is done[c]])
 
 
 def check_resume(folder: Path, model: Any, camp: Campaign | None) -> Campaign:
@@ -587,7 +584,11 @@ def check_resume(folder: Path, model: Any, camp: Campaign | None) -> Campaign:
     if changed:
         raise CampaignError(f"{folder}: the model changed since the campaign started ({changed}): its "
                             "runs would not be comparable; start a new campaign folder")
-    stored = campaign_from_resolved(resolved, model.manifest)
+    try:
+        stored = campaign_from_resolved(resolved, model.manifest)
+    except (KeyError, TypeError, ValueError) as exc:
+        raise CampaignError(f"{folder}/{storage.RESOLVED}: damaged ({type(exc).__name__}: "
+                            f"{' '.join(str(exc).split())[:120]}): refusing to resume") from None
     if stored.hash != resolved.get("hash"):
         raise CampaignError(f"{folder}/{storage.RESOLVED}: its content does not match its recorded hash "
                             "(edited?): refusing to resume")

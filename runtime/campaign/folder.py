@@ -15,6 +15,7 @@ import numpy as np
 import pyarrow as pa
 import pyarrow.parquet as pq
 
+from rpo.runtime.campaign.records import json_kind
 from rpo.runtime.campaign.storage import (  # noqa: F401  (the statuses and outcomes: declared once, there)
     OUTCOMES,
     STATUSES,
@@ -22,6 +23,7 @@ from rpo.runtime.campaign.storage import (  # noqa: F401  (the statuses and outc
     read_histories,
     read_rows,
 )
+from rpo.runtime.errors import CampaignError
 
 FLOWN = ("ok", "diverged")
 #: The metrics with a tolerance bound and a worst-case list: (column, bound side, worst-case title).
@@ -158,15 +160,56 @@ class CampaignFolder:
         return self.units.get(column, "")
 
 
+class MissingSummary(CampaignError, FileNotFoundError):
+    """A campaign folder without ``summary.parquet``: a user error (one line, exit 2) that is still
+    the FileNotFoundError the Python API raised before."""
+
+
+#: The summary columns the report cannot do without (storage.write_summary writes them all).
+SUMMARY_COLUMNS = ("case", "seed", "status")
+
+
+def _read_summary(path: Path, runs: int | None) -> pa.Table:
+    """``summary.parquet`` read and checked as one rpo wrote: readable Parquet with the columns of
+    :data:`SUMMARY_COLUMNS`, each case once and in ``[0, runs)``; refused in one line naming what is
+    wrong and how to write it again (resume rebuilds it from the manifest)."""
+    fix = f"`rpo mc resume {path.parent}` writes it again from manifest.jsonl"
+    try:
+        table = pq.read_table(path)
+    except FileNotFoundError:
+        raise MissingSummary(f"{path} does not exist (no run has finished, or it was removed): {fix}") from None
+    except (pa.ArrowException, OSError, ValueError) as exc:
+        why = " ".join(str(exc).split())[:100]
+        raise CampaignError(f"{path}: damaged, not a campaign summary ({why}): {fix}") from None
+    lacking = [c for c in SUMMARY_COLUMNS if c not in table.column_names]
+    if lacking:
+        raise CampaignError(f"{path}: damaged, no column {lacking[0]!r}: {fix}")
+    case = table.column("case")
+    if not pa.types.is_integer(case.type) or case.null_count:
+        raise CampaignError(f"{path}: damaged, its case column is not whole numbers: {fix}")
+    cases = np.asarray(case.to_numpy())
+    if cases.size != np.unique(cases).size:
+        raise CampaignError(f"{path}: damaged, a case appears twice: {fix}")
+    if cases.size and (cases.min() < 0 or (runs is not None and cases.max() >= runs)):
+        raise CampaignError(f"{path}: damaged, case {int(cases.max() if cases.min() >= 0 else cases.min())} is "
+                            f"outside [0, {runs - 1 if runs else 'runs - 1'}]: {fix}")
+    return table
+
+
 def read_folder(campaign_dir: str | Path) -> CampaignFolder:
-    """Read ``resolved.json`` (optional) and ``summary.parquet`` (required) of a campaign folder."""
+    """Read ``resolved.json`` (optional) and ``summary.parquet`` (required, checked: :func:`_read_summary`)
+    of a campaign folder."""
     path = Path(campaign_dir)
-    summary = path / "summary.parquet"
-    if not summary.is_file():
-        raise FileNotFoundError(f"{summary} does not exist: not a campaign folder, or no case has finished")
     resolved_path = path / "resolved.json"
-    resolved = json.loads(resolved_path.read_text()) if resolved_path.is_file() else {}
-    table = pq.read_table(summary)
+    try:
+        resolved = json.loads(resolved_path.read_bytes()) if resolved_path.is_file() else {}
+    except (OSError, ValueError) as exc:
+        raise CampaignError(f"{resolved_path}: damaged ({type(exc).__name__}): the campaign cannot be "
+                            "reported; fly it again into a new folder") from None
+    if not isinstance(resolved, dict):
+        raise CampaignError(f"{resolved_path}: damaged: {json_kind(resolved)}, not the campaign's object")
+    runs = resolved.get("runs")
+    table = _read_summary(path / "summary.parquet", runs if type(runs) is int else None)
     columns = {name: _to_numpy(table.column(name)) for name in table.column_names}
     kinds = {name: _column_kind(table.schema.field(name).type) for name in table.column_names}
     units = {str(k): str(v) for k, v in _meta_json(table.schema, b"rpo.units").items()}

@@ -5,7 +5,8 @@ seed: :mod:`.sampling` needs nothing of the other runs), flown by the scalar run
 step recorded ("full logging"), and written as any ``rpo run``.  Lockstep lanes and the scalar
 loop give the same bits, and the campaign's record is every ``record_every``-th step of this one,
 so :func:`compare` takes those rows, computes the campaign's row from them and checks it against
-the folder's (manifest line and history) bit for bit.
+the folder's (manifest line and history) bit for bit.  :func:`compared` says what was compared: the
+history only when its file is the one the manifest line names (sha256), never a file missing or damaged.
 """
 
 from __future__ import annotations
@@ -77,7 +78,11 @@ def case_scenario(folder: Path, case: int, model: Any, full_logging: bool = True
     if changed:
         raise CampaignError(f"{folder}: the model changed since the campaign ran ({changed}): case {case} would "
                             "not be the campaign's run")
-    camp = campaign_from_resolved(resolved, model.manifest)
+    try:
+        camp = campaign_from_resolved(resolved, model.manifest)
+    except (KeyError, TypeError, ValueError) as exc:
+        raise CampaignError(f"{folder}/{storage.RESOLVED}: damaged ({type(exc).__name__}: "
+                            f"{' '.join(str(exc).split())[:120]}): case {case} cannot be made again") from None
     if not 0 <= case < camp.runs:
         raise CampaignError(f"--case {case}: must be in [0, {camp.runs - 1}] (the campaign has {camp.runs} runs)")
     data = camp.case_data(case)
@@ -106,17 +111,34 @@ def _subsample(res: Any, every: int) -> Any:
                      divergence=res.divergence, meta=res.meta, field_labels=res.field_labels)
 
 
+def _history(folder: Path, case: int, rows: dict[int, dict[str, Any]]) -> tuple[str, Path]:
+    """(the state of ``case``'s history file, storage.history_state; its path)."""
+    row = rows.get(case, {})
+    path = storage.history_path(folder, case, row)
+    return storage.history_state(path, row.get("history_sha256")), path
+
+
 def compared(folder: Path, case: int) -> str:
-    """What :func:`compare` compares for ``case``: the history only when its file is there and whole."""
+    """What :func:`compare` compares for ``case``, said as it is: the history only when its file is
+    the one the manifest names (its sha256), or an older folder's file that reads (unverified)."""
     rows = storage.read_rows(folder)
-    if case in rows and storage.history_ok(storage.history_path(folder, case, rows[case])):
-        return "status, metrics, history"
-    return "status and metrics; its history file is missing or damaged, so the history was not compared"
+    if case not in rows:
+        return f"nothing: case {case} is not in {folder / storage.MANIFEST}"
+    state, path = _history(folder, case, rows)
+    shown = f"{storage.HISTORIES}/{path.name}"
+    if state == "whole":
+        return f"status, metrics, history; {shown} has the sha256 its manifest line records"
+    if state == "unverified":
+        return (f"status, metrics, history; {shown} has no recorded sha256 (a folder written before rpo "
+                "recorded them): the history compared is not verified to be the campaign's")
+    return (f"status and metrics; its history file is {state} ({shown}), so the history was not compared; "
+            f"`rpo mc resume {folder}` flies its runs again")
 
 
 def compare(folder: Path, camp: Campaign, model: Any, case: int, result: Any, inputs: Any) -> list[str]:
     """What differs between the case flown alone and the campaign's record of it (empty: the same
-    bits: status, every metric, every history value when the history file is there: :func:`compared`)."""
+    bits: status, every metric, and every history value when the history file is readable:
+    :func:`compared` says which)."""
     from rpo.runtime.campaign.execute import run_row
 
     rows = storage.read_rows(folder)
@@ -131,8 +153,12 @@ def compare(folder: Path, camp: Campaign, model: Any, case: int, result: Any, in
         w = stored.get("metrics", {}).get(k)
         if not (v == w or (v is None and w is None)):
             out.append(f"metric {k}: {w!r} in the campaign, {v!r} alone")
-    if storage.history_ok(storage.history_path(folder, case, stored)):
-        cols, _, _ = storage.read_history(folder, case, rows)
+    state, path = _history(folder, case, rows)
+    if state in storage.READABLE:
+        cols = dict(storage.read_histories(folder, [case], rows)).get(case)
+        if cols is None:  # an older folder's file that does not read as Parquet, or without the case
+            out.append(f"history: {path} does not hold case {case} readably")
+            return out
         for k, v in hist.items():
             a = np.asarray(v, np.float32)
             b = cols.get(k)

@@ -18,13 +18,21 @@
 
 **Loss and resumption.**  A run counts as done when its line is in ``manifest.jsonl``; its
 batch's history file was renamed into place before the line is written (and is checked whole by
-resume: :func:`history_ok`).  SIGKILL at any moment leaves at worst a last line cut in half
+resume: :func:`history_state`).  SIGKILL at any moment leaves at worst a last line cut in half
 (ignored and cut off by ``resume``), a history file without its lines (its runs flown again: the
 same batch rewrites it with identical bytes, another batch writes its own, and the orphan is
 removed when the campaign completes) or a temporary file (removed).  ``summary.parquet`` is a pure function of the
 lines (sorted by case; later lines for a case replace earlier ones), so a resumed campaign's
 summary has the bytes of one never interrupted.  A machine crash loses at most the lines
 written since the last fsync completed (flown again by resume; :class:`Syncer`).
+
+**What is trusted.**  Every manifest line is checked as a run record of this campaign
+(:func:`scan_manifest`: the schema, the case in ``[0, runs)``, its seed, the history's name and
+sha256); a line that is not one is reported with its number and never counted.  Each line of a
+flown run records the sha256 of its history file (``history_sha256``), checked by resume, the
+report and replay (:func:`history_state`); lines written before rpo recorded it are read, their
+histories reported as unverified.  ``.lock`` (:mod:`.lock`) keeps a second ``rpo mc run`` or
+``resume`` out while one flies.
 """
 
 from __future__ import annotations
@@ -41,6 +49,7 @@ from typing import Any
 import numpy as np
 import orjson
 
+from rpo.runtime.campaign.records import STATUSES, ManifestScan, case_seeds, json_kind, row_problem  # noqa: F401
 from rpo.runtime.errors import CampaignError
 from rpo.runtime.outputs.metrics import UNITS
 
@@ -49,7 +58,6 @@ MANIFEST = "manifest.jsonl"
 SUMMARY = "summary.parquet"
 HISTORIES = "histories"
 CAMPAIGN_COPY = "campaign.toml"
-STATUSES = ("ok", "diverged", "invalid", "error")
 #: The outcome flags of a flown run (``execute.run_row``): ``constraint_violated`` by the verdict's rule
 #: (``rpo.runtime.outputs.verdict.violated_constraints``), ``failed`` counting the declared constraints only.
 OUTCOMES = ("att_reached", "pos_reached", "diverged", "constraint_violated", "failed")
@@ -61,28 +69,58 @@ def _atomic_write(path: Path, data: bytes, durable: bool = True) -> None:
     """Write a temporary file beside ``path`` and rename it over ``path``: a reader sees the old
     file or the new one, never a part.  ``durable``: fsync before the rename (survives a machine
     crash, not only a killed process; ~1-3 ms a file, so the histories skip it, see
-    :func:`history_ok`)."""
+    :func:`history_state`)."""
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    with open(tmp, "wb") as fh:
-        fh.write(data)
-        if durable:
-            fh.flush()
-            os.fsync(fh.fileno())
-    os.replace(tmp, path)
+    try:
+        with open(tmp, "wb") as fh:
+            fh.write(data)
+            if durable:
+                fh.flush()
+                os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:  # a full disk, a kill: no temporary left behind (resume removes any other)
+        tmp.unlink(missing_ok=True)
+        raise
 
 
 def write_json(path: Path, obj: Any) -> None:
     _atomic_write(path, (json.dumps(obj, indent=1, sort_keys=True) + "\n").encode())
 
 
+#: The keys of ``resolved.json`` that rpo reads (spec.campaign_from_resolved, the folder's checks), with
+#: their JSON types: a file without one of them is not a campaign's.
+RESOLVED_KEYS: dict[str, tuple[type, ...]] = {
+    "name": (str,), "runs": (int,), "seed": (int,), "sampling": (str,), "record_every": (int,),
+    "channels": (list,), "scenario": (dict,), "dispersions": (list,), "controller": (str,),
+    "campaign_file": (str,), "hash": (str,)}
+
+
 def read_resolved(folder: Path) -> dict[str, Any]:
+    """The folder's ``resolved.json``, checked to hold the keys rpo reads with their types (refused
+    in one line naming the first that is not: a damaged or foreign file)."""
     path = Path(folder) / RESOLVED
     try:
-        return dict(json.loads(path.read_text()))
+        data = json.loads(path.read_bytes())
     except FileNotFoundError:
         raise CampaignError(f"{folder}: not a campaign folder (no {RESOLVED}; `rpo mc run` makes one)") from None
-    except (OSError, ValueError) as exc:
-        raise CampaignError(f"{path}: cannot be read ({exc})") from None
+    except IsADirectoryError:
+        raise CampaignError(f"{path}: is a folder, not the campaign's resolved file") from None
+    except OSError as exc:
+        raise CampaignError(f"{path}: cannot be read ({exc.strerror})") from None
+    except ValueError as exc:
+        raise CampaignError(f"{path}: damaged, not JSON ({exc}); the folder cannot be resumed or "
+                            "reported: fly the campaign again into a new folder") from None
+    if not isinstance(data, dict):
+        raise CampaignError(f"{path}: damaged: {json_kind(data)}, not the campaign's object")
+    for key, types in RESOLVED_KEYS.items():
+        v = data.get(key)
+        if not isinstance(v, types) or isinstance(v, bool):
+            what = "missing" if key not in data else \
+                f"{json.dumps(v)[:40]} is {json_kind(v)}, not {json_kind(types[0]())}"
+            raise CampaignError(f"{path}: damaged: key {key!r} {what}; fly the campaign again into a new folder")
+    if data["runs"] < 1:
+        raise CampaignError(f"{path}: damaged: runs = {data['runs']}, must be at least 1")
+    return dict(data)
 
 
 # --------------------------------------------------------------------------- manifest
@@ -148,31 +186,73 @@ class Syncer:
             self.pool.shutdown(wait=True)
 
 
-def read_rows(folder: Path, repair: bool = False) -> dict[int, dict[str, Any]]:
-    """case -> its latest row.  A last line without its newline (a write cut by a kill) is
-    ignored and, with ``repair``, cut off so that the next append starts on a line of its own."""
+def _resolved_if_any(folder: Path) -> dict[str, Any] | None:
+    """The folder's resolved.json as far as it reads (the run count and seed the lines are checked
+    against); None if absent or unreadable (the commands that need it refuse: read_resolved)."""
+    try:
+        data = json.loads((folder / RESOLVED).read_bytes())
+    except (OSError, ValueError):
+        return None
+    return data if isinstance(data, dict) else None
+
+
+def scan_manifest(folder: Path, repair: bool = False, resolved: Mapping[str, Any] | None = None) -> ManifestScan:
+    """Read ``manifest.jsonl`` and keep the lines that are run records of the campaign: a JSON object
+    with an integer ``case`` in ``[0, runs)``, a known status, fields of the right types, the case's
+    own seed, a history named as rpo names them with its sha256.  A later line replaces an earlier
+    one of its case when the earlier ended in an error (resume flew it again) or the later is an
+    error (its history was found lost); any other second line of a case (a duplicate, two commands
+    flying the same run) is not counted.  ``resolved``: the campaign (read from the folder when it
+    has one; without it the range and the seeds are not checked).
+
+    A last line without its newline (a write cut by a kill or a full disk) is ignored and, with
+    ``repair``, cut off so that the next append starts on a line of its own."""
     path = Path(folder) / MANIFEST
     try:
         raw = path.read_bytes()
     except FileNotFoundError:
-        return {}
+        return ManifestScan({}, [], [])
+    if resolved is None:
+        resolved = _resolved_if_any(Path(folder))
+    runs, seed = (resolved or {}).get("runs"), (resolved or {}).get("seed")
+    runs = runs if type(runs) is int and runs > 0 else None
+    seeds = case_seeds(seed, runs) if type(seed) is int and seed >= 0 and runs is not None else None
     end = raw.rfind(b"\n") + 1
-    if repair and end < len(raw):
-        with open(path, "r+b") as fh:
-            fh.truncate(end)
-            fh.flush()
-            os.fsync(fh.fileno())
+    problems = []
+    if end < len(raw):
+        cut_line = raw.count(b"\n") + 1
+        problems.append(f"line {cut_line}: cut short (a write stopped half-way)")
+        if repair:
+            with open(path, "r+b") as fh:
+                fh.truncate(end)
+                fh.flush()
+                os.fsync(fh.fileno())
     rows: dict[int, dict[str, Any]] = {}
-    for n, line in enumerate(raw[:end].splitlines()):
+    for n, line in enumerate(raw[:end].split(b"\n")[:-1], start=1):
         if not line.strip():
             continue
         try:
             row = json.loads(line)
         except ValueError:
-            raise CampaignError(f"{path}: line {n + 1} is not JSON (edited by hand?): refusing to guess; "
-                                "remove the line to fly that run again") from None
-        rows[int(row["case"])] = row
-    return rows
+            problems.append(f"line {n}: not JSON")
+            continue
+        why = row_problem(row, runs, seeds)
+        if not why:
+            case = row["case"]
+            before = rows.get(case)
+            if before is None or before["status"] == "error" or row["status"] == "error":
+                rows[case] = row
+                continue
+            why = f"case {case} again (a duplicate: its run is recorded by an earlier line)"
+        problems.append(f"line {n}: {why}")
+    unverified = sorted(c for c, r in rows.items() if r["status"] in ("ok", "diverged") and not r.get("history_sha256"))
+    return ManifestScan(rows, problems, unverified)
+
+
+def read_rows(folder: Path, repair: bool = False) -> dict[int, dict[str, Any]]:
+    """case -> its latest row: the run records of ``manifest.jsonl`` (:func:`scan_manifest`; the
+    lines that are not one are left out)."""
+    return scan_manifest(folder, repair).rows
 
 
 # --------------------------------------------------------------------------- histories
@@ -220,8 +300,14 @@ def history_path(folder: Path, case: int, row: Mapping[str, Any] | None) -> Path
 
 
 def write_histories(folder: Path, runs: Sequence[History], units: Mapping[str, str]) -> str:
+    """:func:`write_history_file`'s file name."""
+    return write_history_file(folder, runs, units)[0]
+
+
+def write_history_file(folder: Path, runs: Sequence[History], units: Mapping[str, str]) -> tuple[str, str]:
     """The histories of one batch's flown ``runs``, in one Parquet file written atomically (a
-    temporary file renamed into place: a reader sees all of it or none); returns its name.
+    temporary file renamed into place: a reader sees all of it or none); returns its name and the
+    sha256 of its bytes (hex; the runs' manifest lines record it: :func:`history_state`).
 
     Columns: ``case`` (int64), ``t`` (float64, s) and each channel as float32 (7 digits: ample for
     envelopes and figures; the metrics come from the full-precision record), the rows of each run
@@ -263,30 +349,95 @@ def write_histories(folder: Path, runs: Sequence[History], units: Mapping[str, s
     sink = pa.BufferOutputStream()
     pq.write_table(table, sink, compression=HISTORY_COMPRESSION, use_dictionary=False, write_statistics=False)
     name = history_name([r.case for r in runs])
-    _atomic_write(Path(folder) / HISTORIES / name, sink.getvalue().to_pybytes(), durable=False)
-    return name
+    data = sink.getvalue().to_pybytes()
+    _atomic_write(Path(folder) / HISTORIES / name, data, durable=False)
+    return name, hashlib.sha256(data).hexdigest()
 
 
-def history_ok(path: Path) -> bool:
-    """Whether a history file is whole: present and ending with Parquet's footer magic.  A killed
-    process cannot leave a part (the file is renamed into place whole), but a machine that crashed
-    before the page cache reached the disk can: resume re-flies the runs of such a file."""
+#: What :func:`history_state` finds: ``whole`` (its bytes have the sha256 its lines record),
+#: ``unverified`` (no sha256 recorded, an older folder: only Parquet's magic at both ends is
+#: checked), ``missing``, ``damaged`` (another sha256, no magic, or unreadable).
+READABLE = ("whole", "unverified")
+
+
+def _state_of(data: bytes | None, sha256: str | None) -> str:
+    if data is None:
+        return "missing"
+    if sha256:
+        return "whole" if hashlib.sha256(data).hexdigest() == sha256 else "damaged"
+    if len(data) < 12 or not data[:4] == data[-4:] == b"PAR1":
+        return "damaged"
+    import pyarrow as pa
+    import pyarrow.parquet as pq
+    try:  # no hash to check: at least its footer must parse (a file cut but keeping its last bytes does not)
+        pq.read_metadata(pa.BufferReader(data))
+    except (pa.ArrowException, OSError, ValueError):
+        return "damaged"
+    return "unverified"
+
+
+def _read_bytes(path: Path) -> bytes | None:
+    """A history file's bytes; None if it is not there; b"" if it cannot be read (damaged)."""
     try:
-        if path.stat().st_size < 12:
-            return False
-        with open(path, "rb") as fh:
-            fh.seek(-4, os.SEEK_END)
-            return fh.read(4) == b"PAR1"
-    except OSError:
-        return False
+        return path.read_bytes()
+    except FileNotFoundError:
+        return None
+    except OSError:  # a folder in its place, no permission: not a history rpo can use
+        return b""
+
+
+def history_state(path: Path, sha256: str | None = None) -> str:
+    """Whether the history file ``path`` is the one its manifest lines name (``sha256``: what they
+    record, None for lines written before rpo recorded it): one of ``whole``, ``unverified``,
+    ``missing``, ``damaged`` (:data:`READABLE`).  A killed process cannot leave a part (the file
+    is renamed into place whole), but a machine that crashed before the page cache reached the
+    disk can, and so can a hand or a tool: resume re-flies the runs of a file not READABLE."""
+    return _state_of(_read_bytes(path), sha256)
+
+
+def mark_lost_histories(folder: Path, rows: dict[int, dict[str, Any]], fresh: Iterable[str] = ()) -> None:
+    """A flown run whose history file is not the one its line names (missing: a remote worker that
+    does not share the folder; another sha256: a machine crash before the page cache reached the
+    disk, a file cut or edited) is an error, flown again by resume: its line appended, ``rows``
+    updated.  Each file is checked once (:func:`damaged_histories`; ``fresh``: as there)."""
+    lost = {c: (state, path) for path, (state, cases) in damaged_histories(folder, rows, fresh).items()
+            for c in cases}
+    fixed = [{**rows[c], "status": "error", "message": f"its history {lost[c][1].name} is {lost[c][0]} in the "
+              "campaign folder (Dask workers must share the folder's filesystem)"} for c in sorted(lost)]
+    for r in fixed:
+        r.pop("history", None)
+        r.pop("history_sha256", None)
+    if fixed:
+        append_rows(folder, fixed)
+        rows.update({r["case"]: r for r in fixed})
+
+
+def damaged_histories(folder: Path, rows: Mapping[int, Mapping[str, Any]],
+                      fresh: Iterable[str] = ()) -> dict[Path, tuple[str, list[int]]]:
+    """The files the flown runs of ``rows`` name that are not usable: path -> (state, its cases); each
+    checked once; ``fresh``: names just written and hashed by this command's workers, checked to exist only."""
+    fresh = set(fresh)
+    by_file: dict[Path, tuple[str | None, list[int]]] = {}
+    for c, r in sorted(rows.items()):
+        if r.get("status") in ("ok", "diverged"):
+            path = history_path(folder, c, r)
+            by_file.setdefault(path, (r.get("history_sha256"), []))[1].append(c)
+    out = {}
+    for path, (sha, cases) in by_file.items():
+        state = ("whole" if path.is_file() else "missing") if path.name in fresh else history_state(path, sha)
+        if state not in READABLE:
+            out[path] = (state, cases)
+    return out
 
 
 def read_histories(folder: Path, cases: Iterable[int], rows: Mapping[int, Mapping[str, Any]] | None = None,
                    columns: Sequence[str] | None = None) -> Iterator[tuple[int, dict[str, np.ndarray] | None]]:
     """(case, its history's columns) for each of ``cases``, in order; None for a case with no
     history (not flown, invalid, an error, or its file missing).  Each file is read once, for all
-    of its cases that are asked for.  ``rows``: the manifest's rows (read here when not given);
-    ``columns``: only these (``t`` and those present; default all but ``case``)."""
+    of its cases that are asked for, and only if it is the file its lines name (its sha256:
+    :func:`history_state`; a damaged file gives None).  ``rows``: the manifest's rows (read here
+    when not given); ``columns``: only these (``t`` and those present; default all but ``case``)."""
+    import pyarrow as pa
     import pyarrow.parquet as pq
 
     folder = Path(folder)
@@ -297,11 +448,17 @@ def read_histories(folder: Path, cases: Iterable[int], rows: Mapping[int, Mappin
         by_file.setdefault(history_path(folder, c, rows.get(c)), []).append(c)
     found: dict[int, dict[str, np.ndarray]] = {}
     for path, wanted in by_file.items():
-        if not path.is_file():
+        data = _read_bytes(path)
+        if _state_of(data, rows.get(wanted[0], {}).get("history_sha256")) not in READABLE:
+            continue  # missing, or not the bytes its lines name: no history (the caller says so)
+        assert data is not None
+        try:
+            buf = pa.BufferReader(data)
+            names = pq.read_schema(buf).names
+            pick = [n for n in names if n != "case"] if columns is None else [n for n in columns if n in names]
+            table = pq.read_table(pa.BufferReader(data), columns=(["case"] if "case" in names else []) + pick)
+        except (pa.ArrowException, OSError, ValueError):  # an older folder's unverified file, damaged inside
             continue
-        names = pq.read_schema(path).names
-        pick = [n for n in names if n != "case"] if columns is None else [n for n in columns if n in names]
-        table = pq.read_table(path, columns=(["case"] if "case" in names else []) + pick)
         cols = {n: table.column(n).to_numpy() for n in pick}
         if "case" not in names:  # a per-run file of an older folder: the whole file is the run
             found[wanted[0]] = cols
@@ -325,7 +482,12 @@ def read_history(folder: Path, case: int, rows: Mapping[int, Mapping[str, Any]] 
     path = history_path(folder, case, rows.get(case))
     cols = dict(read_histories(folder, [case], rows)).get(case)
     if cols is None:
-        raise CampaignError(f"{path}: no history for case {case} (not flown: invalid or missing)")
+        row = rows.get(case)
+        if row is None or row.get("status") not in ("ok", "diverged"):
+            raise CampaignError(f"{path}: no history for case {case} (not flown: invalid, an error or not done)")
+        state = history_state(path, row.get("history_sha256"))
+        raise CampaignError(f"{path}: the history of case {case} is {state if state != 'whole' else 'not in it'}; "
+                            f"`rpo mc resume {folder}` flies its runs again")
     md = pq.read_schema(path).metadata or {}
     units = json.loads(md.get(b"rpo.units", b"{}"))
     units.pop("case", None)

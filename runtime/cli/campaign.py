@@ -11,9 +11,12 @@ Heavy imports (SciPy, the model) happen inside the commands, so ``rpo --help`` s
 
 from __future__ import annotations
 
+import os
 import shlex
 import sys
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -32,6 +35,49 @@ EXIT_RUN_ERRORS = 1
 
 def _err(msg: str) -> None:
     click.echo(msg, err=True)
+
+
+def os_error_line(exc: OSError, folder: Path | None, again: str) -> str:
+    """One line for an OSError met while flying or reporting: the path, what happened and what to
+    do (``again``: the command that goes on afterwards)."""
+    import errno
+
+    where = exc.filename or folder or "?"
+    what = exc.strerror or type(exc).__name__
+    if exc.errno in (errno.ENOSPC, errno.EDQUOT):
+        fix = "free space"
+    elif exc.errno in (errno.EACCES, errno.EPERM, errno.EROFS):
+        inside = folder is not None and exc.filename is not None and \
+            Path(os.path.abspath(exc.filename)).is_relative_to(os.path.abspath(folder))
+        # outside the campaign folder, it is most often the model cache (its lock, a library)
+        fix = "make it writable" if inside else \
+            "make it writable (if it is the model cache: or set RPO_CACHE_DIR to a writable folder)"
+    else:
+        fix = "fix it"
+    return f"{where}: {what} ({errno.errorcode.get(exc.errno or 0, 'OSError')}): {fix}, then {again}"
+
+
+def _again(folder: Path | None, command: str) -> str:
+    """The command that goes on after an error: resume once the folder holds its campaign."""
+    from rpo.runtime.campaign import storage
+    if folder is not None and command != "report" and (folder / storage.RESOLVED).is_file():
+        return f"`rpo mc resume {shlex.quote(str(folder))}` (the runs recorded so far are kept)"
+    if command == "report":
+        return f"`rpo mc report {shlex.quote(str(folder))}` again"
+    return "run the command again"
+
+
+def _notes(scan_problems: list[str], unverified: list[int], folder: Path, quiet: bool) -> None:
+    """The manifest lines not counted and the histories not verified, one line each (on stderr)."""
+    from rpo.runtime.campaign import storage
+    if scan_problems:
+        more = f" (and {len(scan_problems) - 3} more)" if len(scan_problems) > 3 else ""
+        lines = "line" if len(scan_problems) == 1 else "lines"
+        _err(f"warning: {folder / storage.MANIFEST}: {len(scan_problems)} {lines} not counted: "
+             f"{'; '.join(scan_problems[:3])}{more}")
+    if unverified and not quiet:
+        _err(f"note: {len(unverified)} runs' histories have no recorded sha256 (a folder written before rpo "
+             "recorded them): read, not verified")
 
 
 class _Progress:
@@ -107,7 +153,8 @@ def _fly(camp: Any, model: Any, folder: Path, workers: int | None, dask: str | N
     from rpo.runtime.campaign import execute, sequential, storage
 
     done = storage.read_rows(folder)
-    todo = sum(1 for c in range(camp.runs) if c not in done or done[c]["status"] == "error")
+    lost = {c for _, cases in storage.damaged_histories(folder, done).values() for c in cases}  # flown again
+    todo = sum(1 for c in range(camp.runs) if c not in done or done[c]["status"] == "error" or c in lost)
     n_workers = workers or execute.default_workers()
     if not quiet:
         how = f"Dask {dask}" if dask else ("this process" if n_workers == 1 else f"{n_workers} worker processes")
@@ -121,6 +168,7 @@ def _fly(camp: Any, model: Any, folder: Path, workers: int | None, dask: str | N
                                       on_rows=bar.rows)
     finally:
         bar.close()
+    _notes(out.problems, out.unverified, folder, quiet)
     c = out.counts
     flown = c["ok"] + c["diverged"]
     rows = storage.read_rows(folder)
@@ -195,21 +243,36 @@ def run_cmd(campaign_file: str, out: str, workers: int | None, dask: str | None,
             duration: float | None, batch: int | None, quiet: bool, sets: tuple[str, ...]) -> int:
     """Fly CAMPAIGN_FILE (a scenario with [campaign] and [dispersions]) into a new folder."""
     from rpo.runtime.campaign import execute
+    from rpo.runtime.campaign.lock import folder_lock
     from rpo.runtime.campaign.spec import load_campaign
+    from rpo.runtime.campaign.up_front import check_dask
     from rpo.runtime.model.manifest import read_manifest
     from rpo.runtime.outputs.writers import check_out_dir
 
     dask = _dask_option(dask)
     source = _source(campaign_file, sets)  # --set: the campaign's scenario (or its [campaign]) changed first
     camp = _with_sets(load_campaign(source, read_manifest(), runs=runs, duration=duration), sets)
-    check_out_dir(out)  # before the model loads (which may compile): a bad folder is told at once
+    # every check before the folder exists, so that a refused command can be run again unchanged
+    folder = check_out_dir(out)  # before the model loads (which may compile): a bad folder is told at once
+    check_dask(dask)
     ctrl = camp.scenario_data.get("simulation", {}).get("controller", "baseline")
-    model = _model(ctrl, quiet)
+    with _os_errors(None, "run"):
+        model = _model(ctrl, quiet)
     if model.manifest.manifest_hash != camp.manifest.manifest_hash:
         camp = _with_sets(load_campaign(source, model.manifest, runs=runs, duration=duration), sets)
     command = " ".join(shlex.quote(a) for a in ["rpo", "mc", "run", *sys.argv[3:]]) if len(sys.argv) > 3 else ""
-    folder = execute.start_folder(camp, model, out, command=command)
-    return _fly(camp, model, folder, workers, dask, batch, quiet, "flying")
+    with _os_errors(folder, "run"):
+        made = not folder.exists()
+        folder.mkdir(parents=True, exist_ok=True)
+        with folder_lock(folder):  # a second `rpo mc run --out` the same folder refuses
+            try:
+                folder = execute.start_folder(camp, model, folder, command=command)
+            except OSError:  # not started (a full disk, a read-only folder): the folder this command made goes
+                if made:  # (an OutputError, a folder that another command filled meanwhile, is left alone)
+                    import shutil
+                    shutil.rmtree(folder, ignore_errors=True)
+                raise
+            return _fly(camp, model, folder, workers, dask, batch, quiet, "flying")
 
 
 def _with_sets(camp: Any, sets: tuple[str, ...]) -> Any:
@@ -230,22 +293,27 @@ def resume_cmd(folder: Path, workers: int | None, dask: str | None, batch: int |
     """Fly the runs of FOLDER that are missing or ended in an error; refused, naming what changed,
     if the model or the campaign (its file, or the scenario it extends) changed since it started."""
     from rpo.runtime.campaign import execute, storage
+    from rpo.runtime.campaign.lock import folder_lock
     from rpo.runtime.campaign.spec import load_campaign
+    from rpo.runtime.campaign.up_front import check_dask
 
     dask = _dask_option(dask)
     resolved = storage.read_resolved(folder)
-    model = _model(resolved["controller"], quiet)
-    source = Path(resolved["campaign_file"])
-    again = None
-    if source.is_file():
-        ov = resolved.get("overrides", {})
-        sets = tuple(f"{k}={v}" for k, v in ov.get("set", {}).items())
-        again = _with_sets(load_campaign(_source(str(source), sets), model.manifest, runs=ov.get("runs"),
-                                         duration=ov.get("duration")), sets)
-    elif not quiet:
-        _err(f"note: {source} is not there any more: resuming the campaign recorded in {folder}/{storage.RESOLVED}")
-    camp = execute.check_resume(folder, model, again)
-    return _fly(camp, model, folder, workers, dask, batch, quiet, "resuming:")
+    check_dask(dask)
+    with _os_errors(folder, "resume"), folder_lock(folder):  # before the model loads: a folder in use is told at once
+        model = _model(resolved["controller"], quiet)
+        source = Path(resolved["campaign_file"])
+        again = None
+        if source.is_file():
+            ov = resolved.get("overrides", {})
+            sets = tuple(f"{k}={v}" for k, v in ov.get("set", {}).items())
+            again = _with_sets(load_campaign(_source(str(source), sets), model.manifest, runs=ov.get("runs"),
+                                             duration=ov.get("duration")), sets)
+        elif not quiet:
+            _err(f"note: {source} is not there any more: resuming the campaign recorded in "
+                 f"{folder}/{storage.RESOLVED}")
+        camp = execute.check_resume(folder, model, again)
+        return _fly(camp, model, folder, workers, dask, batch, quiet, "resuming:")
 
 
 @mc.command("report")
@@ -258,11 +326,20 @@ def resume_cmd(folder: Path, workers: int | None, dask: str | None, batch: int |
 def report_cmd(folder: Path, coverage: float, confidence: float, no_figures: bool) -> int:
     """Write FOLDER/report.md and FOLDER/figures/: statistics of every metric, failure rates with
     confidence intervals, envelopes, CDFs, sensitivities and the worst cases."""
+    from rpo.runtime.campaign import storage
     from rpo.runtime.campaign.reporting import write_report
-    from rpo.runtime.campaign.storage import read_resolved
 
-    read_resolved(folder)  # a clear error for a folder that is not a campaign
-    path = write_report(folder, coverage=coverage, confidence=confidence, figures=not no_figures)
+    storage.read_resolved(folder)  # a clear error for a folder that is not a campaign
+    with _os_errors(folder, "report"):
+        scan = storage.scan_manifest(folder)
+        _notes(scan.problems, scan.unverified, folder, False)
+        damaged = storage.damaged_histories(folder, scan.rows)
+        if damaged and not no_figures:
+            (path0, (state, cases)), n = next(iter(damaged.items())), sum(len(c) for _, c in damaged.values())
+            _err(f"warning: {len(damaged)} history files missing or damaged (first: {path0}: {state}, cases "
+                 f"{cases[0]}-{cases[-1]}): {n} runs left out of the figures; `rpo mc resume {folder}` flies "
+                 "them again")
+        path = write_report(folder, coverage=coverage, confidence=confidence, figures=not no_figures)
     click.echo(f"wrote {path}")
     return 0
 
@@ -315,3 +392,16 @@ def plan_cmd(campaign_file: str, as_json: bool, sets: tuple[str, ...]) -> int:
         note += f": too few for a PASS of every requirement even with no failure (needs {most['0']})"
     click.echo(note)
     return 0
+
+
+@contextmanager
+def _os_errors(folder: Path | None, command: str) -> Iterator[None]:
+    """An OSError (a full disk, no permission, a read-only cache) as one CampaignError line naming
+    the path and what to do; what is written stays (a cut last line or a temporary file is cleaned
+    by the next resume)."""
+    try:
+        yield
+    except OSError as exc:
+        if isinstance(exc, CampaignError):  # already one line (folder.MissingSummary)
+            raise
+        raise CampaignError(os_error_line(exc, folder, _again(folder, command))) from None
