@@ -193,3 +193,27 @@ def test_report_gives_the_indices_of_each_metric_against_each_dispersion(model, 
     s_pos = float(first[3].split()[0])
     assert s_pos > 0.9 and "| 64 |" in rows[0]
     assert "## Which dispersion matters" in text  # the rank correlations stay beside it
+
+
+def test_runs_of_a_block_share_their_noise_and_blocks_do_not(model):
+    """Within a Saltelli block the runs differ only by the dispersions they swap: the sensor noise is the
+    block's, else it would count as an interaction of every dispersion (each total index near 1)."""
+    from rpo.runtime.campaign.execute import run_seed_of
+    from rpo.runtime.campaign.records import case_seeds
+    from rpo.runtime.campaign.sampling import run_seed
+
+    camp = loads_campaign(SOBOL_CAMPAIGN, "s.toml", model.manifest)
+    size = len(camp.dispersions) + 2
+    seeds = [camp.seed_of(c) for c in range(3 * size)]
+    blocks = [set(seeds[b * size:(b + 1) * size]) for b in range(3)]
+    assert all(len(b) == 1 for b in blocks) and len(set.union(*blocks)) == 3
+    # every place that makes a run's seed agrees: the batched draws, the error rows, the manifest check
+    fresh = loads_campaign(SOBOL_CAMPAIGN, "s.toml", model.manifest)
+    fresh.draws_many(range(3 * size))
+    assert [fresh.seed_of(c) for c in range(3 * size)] == seeds
+    resolved = camp.resolved()
+    assert [run_seed_of(resolved, c) for c in range(3 * size)] == seeds
+    assert list(case_seeds(camp.settings.seed, camp.runs, "sobol-indices", len(camp.dispersions))[:3 * size]) == seeds
+    # any other design: each run its own noise, as before
+    rnd = loads_campaign(SOBOL_CAMPAIGN.replace('"sobol-indices"', '"random"'), "s.toml", model.manifest)
+    assert [rnd.seed_of(c) for c in range(5)] == [run_seed(5, c) for c in range(5)]

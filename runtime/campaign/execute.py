@@ -110,8 +110,8 @@ def error_rows(resolved: dict, cases: Iterable[int], message: str, tb: str | Non
 
 
 def run_seed_of(resolved: dict, case: int) -> int:
-    from rpo.runtime.campaign.sampling import run_seed
-    return run_seed(int(resolved["seed"]), int(case))
+    from rpo.runtime.campaign.sampling import noise_case, run_seed
+    return run_seed(int(resolved["seed"]), noise_case(resolved["sampling"], len(resolved["dispersions"]), int(case)))
 
 
 def prepare_case(camp: Campaign, model: Any, case: int,

@@ -41,11 +41,12 @@ class ManifestScan:
 
 
 @functools.lru_cache(maxsize=8)
-def case_seeds(seed: int, runs: int) -> tuple[int, ...]:
-    """The noise seed of every case of a campaign (master ``seed``, ``runs`` runs), computed at once:
-    one by one they cost ~0.2 ms a line, more than reading it."""
-    from rpo.runtime.campaign.sampling import run_seeds
-    return tuple(run_seeds(seed, range(runs)))
+def case_seeds(seed: int, runs: int, sampling: str = "random", dispersions: int = 0) -> tuple[int, ...]:
+    """The noise seed of every case of a campaign (master ``seed``, ``runs`` runs, its ``sampling``
+    and number of ``dispersions``: :func:`~.sampling.noise_case`), computed at once: one by one
+    they cost ~0.2 ms a line, more than reading it."""
+    from rpo.runtime.campaign.sampling import noise_case, run_seeds
+    return tuple(run_seeds(seed, [noise_case(sampling, dispersions, c) for c in range(runs)]))
 
 
 def row_problem(row: Any, runs: int | None, seeds: tuple[int, ...] | None) -> str:

@@ -151,6 +151,15 @@ def run_seeds(seed: int, cases: Sequence[int]) -> list[int]:
     return [int(w) for w in seed_words(seed, [(NOISE_STREAM, int(c)) for c in cases], 1)[:, 0]]
 
 
+def noise_case(sampling: str, dispersions: int, case: int) -> int:
+    """The case whose noise seed (:func:`run_seed`) run ``case`` flies with: itself, except in a
+    Saltelli design (``sobol-indices``, blocks of ``dispersions`` + 2 runs), where every run of a
+    block flies its block's noise.  Why: the indices estimate what each dispersion does by comparing
+    runs of one block that differ only in that dispersion; with noise drawn afresh per run the noise
+    would differ too, and count as an interaction of every dispersion (each total index near 1)."""
+    return case // (dispersions + 2) if sampling == "sobol-indices" else case
+
+
 def _clip(u: np.ndarray) -> np.ndarray:
     return np.clip(u, U_MIN, 1.0 - U_MIN)
 

@@ -57,7 +57,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 from rpo.runtime.campaign.dispersions import Dispersion, DispersionError
 from rpo.runtime.campaign.reach import check_reach
 from rpo.runtime.campaign.requirements import Requirement, of_resolved, parse_requirements
-from rpo.runtime.campaign.sampling import SAMPLINGS, Design, run_seed, run_seeds
+from rpo.runtime.campaign.sampling import SAMPLINGS, Design, noise_case, run_seed, run_seeds
 from rpo.runtime.errors import CampaignError, ScenarioError
 from rpo.runtime.model.manifest import Manifest
 from rpo.runtime.scenario import ScenarioSchema, read_scenario, validate_scenario
@@ -179,12 +179,16 @@ class Campaign:
     # -- runs --------------------------------------------------------------------------------
 
     def seed_of(self, case: int) -> int:
-        """Run ``case``'s noise seed (:func:`~.sampling.run_seed`; made once per case)."""
+        """Run ``case``'s noise seed (:func:`~.sampling.run_seed` of :func:`~.sampling.noise_case`;
+        made once per case)."""
         key = (self.settings.seed, case)
         seed = self._seeds.get(key)
         if seed is None:
-            seed = self._seeds[key] = run_seed(*key)
+            seed = self._seeds[key] = run_seed(self.settings.seed, self._noise_case(case))
         return seed
+
+    def _noise_case(self, case: int) -> int:
+        return noise_case(self.settings.sampling, len(self.dispersions), case)
 
     def draws(self, case: int) -> dict[str, Any]:
         """key -> the value drawn for run ``case`` (in the key's unit, as a scenario holds it)."""
@@ -197,8 +201,8 @@ class Campaign:
         us = self.design.uniforms_many(cases)
         # the batch's noise seeds at once too (the same numbers: run_seeds is run_seed on arrays)
         fresh = [c for c in cases if (self.settings.seed, c) not in self._seeds]
-        self._seeds.update(zip(((self.settings.seed, c) for c in fresh), run_seeds(self.settings.seed, fresh),
-                               strict=True))
+        self._seeds.update(zip(((self.settings.seed, c) for c in fresh),
+                               run_seeds(self.settings.seed, [self._noise_case(c) for c in fresh]), strict=True))
         with np.errstate(over="ignore", invalid="ignore"):  # as in draws: the row's message names it
             by_key = {d.key: d.values([u[d.key] for u in us]) for d in self.dispersions}
         return [{d.key: by_key[d.key][i] for d in self.dispersions} for i in range(len(us))]

@@ -216,7 +216,9 @@ def scan_manifest(folder: Path, repair: bool = False, resolved: Mapping[str, Any
         resolved = _resolved_if_any(Path(folder))
     runs, seed = (resolved or {}).get("runs"), (resolved or {}).get("seed")
     runs = runs if type(runs) is int and runs > 0 else None
-    seeds = case_seeds(seed, runs) if type(seed) is int and seed >= 0 and runs is not None else None
+    sampling, disps = (resolved or {}).get("sampling", "random"), (resolved or {}).get("dispersions", [])
+    seeds = case_seeds(seed, runs, str(sampling), len(disps) if isinstance(disps, list) else 0) \
+        if type(seed) is int and seed >= 0 and runs is not None else None
     end = raw.rfind(b"\n") + 1
     problems = []
     if end < len(raw):
