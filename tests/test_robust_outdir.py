@@ -161,3 +161,27 @@ def test_an_error_while_writing_leaves_no_temporary_folder(model, short_run, tmp
         write_run(short_run, tmp_path / "out", model, output=NO_PLOTS)
     assert list(tmp_path.iterdir()) == []
     assert np.isfinite(short_run.z).all()
+
+
+@pytest.mark.parametrize("code, fix", [("ENOSPC", "free space"), ("EROFS", "make it writable"),
+                                       ("EACCES", "make it writable")])
+def test_an_os_error_of_any_command_is_one_line_naming_the_path(monkeypatch, capsys, tmp_path, code, fix):
+    """A full disk or a read-only folder met anywhere (here: while `rpo run` writes its folder) ends in
+    one `error:` line naming the path, what happened and what to do, exit 1, no traceback."""
+    import errno
+    import os
+
+    import rpo.runtime.jobs.runner as runner
+    from rpo.runtime.cli.main import main
+
+    path = str(tmp_path / "out" / "timeseries.parquet")
+
+    def refuse(*_a, **_k):
+        raise OSError(getattr(errno, code), os.strerror(getattr(errno, code)), path)
+
+    monkeypatch.setattr(runner, "execute_run", refuse)
+    assert main(["run", str(III), "--duration", "0.1", "--no-plots", "--out", str(tmp_path / "out"), "-q"]) == 1
+    err = capsys.readouterr().err
+    lines = [ln for ln in err.splitlines() if ln.strip()]
+    assert len(lines) == 1 and lines[0].startswith("error: ") and "Traceback" not in err, err
+    assert path in lines[0] and f"({code})" in lines[0] and fix in lines[0] and "run the command again" in lines[0]

@@ -571,6 +571,10 @@ def main(argv: list[str] | None = None) -> int:
     except RpoError as exc:
         _err(f"error: {exc}")
         return EXIT_USAGE
+    except OSError as exc:  # a full disk, no permission, a read-only cache: the machine's, said in one line
+        from rpo.runtime.cli.campaign import os_error_line
+        _err(f"error: {os_error_line(exc, None, 'run the command again')}")
+        return 1
     except KeyboardInterrupt as exc:
         _err(f"error: {exc}" if isinstance(exc, interrupts.Interrupted) else "error: interrupted")
         return getattr(exc, "exit_code", 130)
