@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 import pyarrow.parquet as pq
 import pytest
+from drift_scenario import drift_scenario
 from scipy import stats
 from scipy.spatial.transform import Rotation
 
@@ -36,40 +37,7 @@ A_ORBIT = 7.0e6
 #: A free-flying pair on a circular orbit, no disturbance, the baseline law with zero position
 #: gains and ideal actuators: the relative translation is the uncontrolled nonlinear relative
 #: motion, which CW approximates to O(|r| / a).
-BASE = f"""
-[meta]
-name = "cw"
-[simulation]
-duration = 1500.0
-rate = 1.0
-controller = "baseline"
-[orbit]
-semi_major_axis = {A_ORBIT!r}
-eccentricity = 0.0
-inclination_deg = 30.0
-[environment]
-gravity_gradient = false
-magnetic = false
-j2 = false
-drag = false
-random_torque_std_chaser = 0.0
-random_torque_std_target = 0.0
-[plant]
-actuators = "ideal"
-max_force = 1.0
-max_torque = 0.1
-[chaser]
-mass = 100.0
-mass_profile = "constant"
-attitude_frame = "eci"
-quaternion = [0.0, 0.0, 0.0, 1.0]
-[target]
-attitude_frame = "eci"
-quaternion = [0.0, 0.0, 0.0, 1.0]
-[relative]
-position = [50.0, 20.0, -10.0]
-velocity = [0.0, -0.05, 0.01]
-[controller.baseline]
+BASE = drift_scenario("cw", 1500.0, A_ORBIT) + """[controller.baseline]
 kp_pos = 0.0
 kd_pos = 0.0
 kp_att = 0.0

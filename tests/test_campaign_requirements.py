@@ -11,6 +11,7 @@ from functools import cache
 import numpy as np
 import pyarrow.parquet as pq
 import pytest
+from drift_scenario import drift_scenario
 from scipy import stats
 
 from rpo.runtime.campaign import loads_campaign, run_campaign, start_folder, storage
@@ -82,40 +83,7 @@ def test_verdicts_pass_fail_undecided():
 
 # --------------------------------------------------------------------------- the campaign file
 
-BASE = """
-[meta]
-name = "req"
-[simulation]
-duration = 60.0
-rate = 1.0
-controller = "baseline"
-[orbit]
-semi_major_axis = 7000000.0
-eccentricity = 0.0
-inclination_deg = 30.0
-[environment]
-gravity_gradient = false
-magnetic = false
-j2 = false
-drag = false
-random_torque_std_chaser = 0.0
-random_torque_std_target = 0.0
-[plant]
-actuators = "ideal"
-max_force = 1.0
-max_torque = 0.1
-[chaser]
-mass = 100.0
-mass_profile = "constant"
-attitude_frame = "eci"
-quaternion = [0.0, 0.0, 0.0, 1.0]
-[target]
-attitude_frame = "eci"
-quaternion = [0.0, 0.0, 0.0, 1.0]
-[relative]
-position = [50.0, 20.0, -10.0]
-velocity = [0.0, -0.05, 0.01]
-[dispersions.relative.position]
+BASE = drift_scenario("req", 60.0) + """[dispersions.relative.position]
 dist = "normal"
 std = [2.0, 3.0, 1.5]
 """

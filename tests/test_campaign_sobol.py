@@ -8,6 +8,7 @@ import math
 
 import numpy as np
 import pytest
+from drift_scenario import drift_scenario
 from scipy import stats
 
 from rpo.runtime.campaign import loads_campaign, run_campaign, start_folder
@@ -120,40 +121,7 @@ def test_group_indices_of_a_vector_dispersion():
 
 # --------------------------------------------------------------------------- a campaign
 
-SOBOL_CAMPAIGN = """
-[meta]
-name = "sobol"
-[simulation]
-duration = 200.0
-rate = 1.0
-controller = "baseline"
-[orbit]
-semi_major_axis = 7000000.0
-eccentricity = 0.0
-inclination_deg = 30.0
-[environment]
-gravity_gradient = false
-magnetic = false
-j2 = false
-drag = false
-random_torque_std_chaser = 0.0
-random_torque_std_target = 0.0
-[plant]
-actuators = "ideal"
-max_force = 1.0
-max_torque = 0.1
-[chaser]
-mass = 100.0
-mass_profile = "constant"
-attitude_frame = "eci"
-quaternion = [0.0, 0.0, 0.0, 1.0]
-[target]
-attitude_frame = "eci"
-quaternion = [0.0, 0.0, 0.0, 1.0]
-[relative]
-position = [50.0, 20.0, -10.0]
-velocity = [0.0, -0.05, 0.01]
-[controller.baseline]
+SOBOL_CAMPAIGN = drift_scenario("sobol", 200.0) + """[controller.baseline]
 kp_pos = 0.0
 kd_pos = 0.0
 [campaign]
