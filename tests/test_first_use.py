@@ -39,6 +39,21 @@ def test_a_fresh_model_compiles_nothing_and_a_run_only_its_plant_copy():
     assert model._lib_set == held  # flying it needed nothing more
 
 
+def test_a_function_is_resolved_once_not_on_every_call(model, monkeypatch):
+    """``model.plant_rhs(...)`` asks what the function needs on every attribute access: the callee
+    graph is parsed once per (names, parameters), else a compiled call costs the parse (1 ms)."""
+    from rpo.runtime.model import selection
+
+    seen: list[int] = []
+    real = selection.callees
+    monkeypatch.setattr(selection, "callees", lambda text: seen.append(1) or real(text))
+    f = model.function("step_c001")
+    parses = len(seen)
+    for _ in range(5):
+        assert model.function("step_c001") is f and model.step_c001 is f
+    assert len(seen) == parses
+
+
 @pytest.mark.parametrize("variant", ["plant_advance_kepler_nodist", "plant_advance_kepler", "plant_advance"])
 def test_the_python_rule_picks_the_copy_the_c_dispatch_calls(model, variant):
     """A library holding only the copy rpo's rule picks (the others are stubs that return an error):
