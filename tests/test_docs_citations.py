@@ -113,8 +113,10 @@ def test_each_citation_has_its_bibliographic_data():
 def test_the_forbidden_patterns_match_what_they_should():
     hits = {
         "shared" + "/seeds/001_x.txt": True, "see " + "SPEC" + ".md": True, "(SPEC" + ")": True,
-        "--out " + "/tmp/x": True, "/home" + "/u/rpo": True, "`" + "/work/main`": True,
-        "SPECTRAL_NORM": False, "$tmp/work": False, "runs/report/x": False, "https://doi.org/10.1/work/x": False,
+        # the paths spelled in pieces, so that this file writes no path of a machine itself
+        "--out " + "/t" + "mp/x": True, "/ho" + "me" + "/u/rpo": True, "`" + "/wo" + "rk/main`": True,
+        "SPECTRAL_NORM": False, "$tmp" + "/wo" + "rk": False, "runs/report/x": False,
+        "https://doi.org/10.1" + "/wo" + "rk/x": False,
     }
     for line, expected in hits.items():
         assert any(p.search(line) for p in FORBIDDEN.values()) is expected, line
