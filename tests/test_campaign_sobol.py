@@ -11,29 +11,13 @@ import pytest
 from drift_scenario import drift_scenario
 from scipy import stats
 
+from benchmarks.bench_campaign import ishigami, ishigami_indices
 from rpo.runtime.campaign import loads_campaign, run_campaign, start_folder
 from rpo.runtime.campaign.dispersions import Dispersion
 from rpo.runtime.campaign.reporting import write_report
 from rpo.runtime.campaign.sampling import Design
 from rpo.runtime.campaign.sobol import indices, sobol_indices, split_blocks
 from rpo.runtime.errors import CampaignError
-
-A_ISH, B_ISH = 7.0, 0.1
-
-
-def ishigami(x: np.ndarray) -> np.ndarray:
-    return np.sin(x[:, 0]) + A_ISH * np.sin(x[:, 1]) ** 2 + B_ISH * x[:, 2] ** 4 * np.sin(x[:, 0])
-
-
-def ishigami_indices() -> tuple[np.ndarray, np.ndarray]:
-    """Analytic first and total indices of Ishigami (Saltelli et al., Global Sensitivity Analysis: The
-    Primer, 2008, sec. 4.7): V1 = (1 + b pi^4 / 5)^2 / 2, V2 = a^2 / 8, V13 = 8 b^2 pi^8 / 225."""
-    a, b, pi = A_ISH, B_ISH, math.pi
-    v1 = 0.5 * (1 + b * pi**4 / 5) ** 2
-    v2 = a**2 / 8
-    v13 = 8 * b**2 * pi**8 / 225
-    v = v1 + v2 + v13
-    return np.array([v1, v2, 0.0]) / v, np.array([v1 + v13, v2, v13]) / v
 
 
 def uniform_pi(key: str) -> Dispersion:
