@@ -36,6 +36,7 @@ RUNTIME_LAYERS: tuple[tuple[str, ...], ...] = (
     ("rpo.runtime.run",),
     ("rpo.runtime.outputs",),
     ("rpo.runtime.jobs", "rpo.runtime.campaign"),
+    ("rpo.runtime.flight",),
     ("rpo.runtime.cli", "rpo.runtime.docgen"),
     ("rpo.runtime.api",),
 )

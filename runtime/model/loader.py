@@ -307,6 +307,19 @@ class Model:
         return f
 
 
+    def loop_noise(self, key: int, g0: int, n: int) -> np.ndarray | None:
+        """The noise w of steps ``g0 .. g0 + n - 1`` exactly as the C loop draws it (``rpo_noise_fill``
+        in the linked library, ``key`` = :func:`rpo.runtime.run.noise.key` of the seed), shape (n, nw);
+        None before a library is linked (the CasADi backend draws NumPy's, equal only to rounding)."""
+        if self._lib is None:
+            return None
+        nw = self.layout_size("w")
+        W = np.empty((n, nw))
+        self._lib.rpo_noise_fill(ctypes.c_ulonglong(key), ctypes.c_longlong(g0), ctypes.c_longlong(n),
+                                 ctypes.c_int(nw), W.ctypes.data_as(ctypes.POINTER(ctypes.c_double)))
+        return W
+
+
 class _Functions(Mapping):
     """``model.functions``: name -> function, each compiled on first access (:meth:`Model.function`)."""
 

@@ -1,0 +1,217 @@
+"""The flight-code export (runtime/flight): the exported C against the generated function it is printed
+from, its test vectors, and flown in the loop on this machine against the simulation.
+
+The default run checks two designs (baseline: no states, the full plant; c001: states, RK4, sliding
+mode); tests/test_flight_tools.py (``pytest -m flight``) checks every design, under gcc and clang, the
+coding-standard checks and the emulated flight processor.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from rpo.runtime.errors import ModelError
+from rpo.runtime.flight import emit
+from rpo.runtime.flight.host import HostController
+from rpo.runtime.flight.interface import controller_interface
+from rpo.runtime.flight.lockstep import compare, fly
+from rpo.runtime.flight.package import functions, write_package
+from rpo.runtime.flight.vectors import read as read_vectors
+from rpo.runtime.jobs.api import scenario as load_scenario
+from rpo.runtime.run.preflight import preflight
+
+ROOT = Path(__file__).resolve().parents[1]
+DESIGNS = ("baseline", "c001")
+
+
+def rpo(*args, cwd=None, timeout=300) -> subprocess.CompletedProcess:
+    env = {**os.environ, "COLUMNS": "100"}
+    return subprocess.run([sys.executable, "-m", "rpo.runtime.cli.main", *map(str, args)], cwd=cwd, env=env,
+                          capture_output=True, text=True, timeout=timeout)
+
+
+@pytest.fixture(scope="module")
+def packages(tmp_path_factory):
+    """baseline and c001 exported in double precision (200 vector steps each), and c001 in single."""
+    root = tmp_path_factory.mktemp("exports")
+    out = {}
+    for name in DESIGNS:
+        out[name] = write_package(name, root / name, steps=200)
+    out["c001_single"] = write_package("c001", root / "c001_single", precision="single", steps=200)
+    return out
+
+
+def _make(folder: Path, *args: str) -> subprocess.CompletedProcess:
+    return subprocess.run(["make", "-s", *args], cwd=folder, capture_output=True, text=True, timeout=300)
+
+
+@pytest.mark.parametrize("name", DESIGNS)
+def test_the_package_reproduces_its_recorded_run_bit_for_bit(packages, name):
+    e = packages[name]
+    res = _make(e.folder, "test")
+    assert res.returncode == 0, res.stdout + res.stderr
+    assert "bit for bit" in res.stdout and f"{e.vectors.steps} steps" in res.stdout
+    assert {f"rpo_{name}.h", f"rpo_{name}.c", "Makefile", "README.md", f"rpo_{name}_vectors.txt"} <= set(e.files)
+
+
+def test_a_changed_constant_fails_the_vector_test(packages, tmp_path):
+    """The vector test can fail: one constant of the law changed in its last bit."""
+    e = packages["c001"]
+    copy = tmp_path / "c001"
+    shutil.copytree(e.folder, copy)
+    src = copy / "rpo_c001.c"
+    text = src.read_text()
+    assert " = 0.5;" in text
+    src.write_text(text.replace(" = 0.5;", " = 0.50000000000000011;", 1))
+    res = _make(copy, "test")
+    assert res.returncode != 0, res.stdout + res.stderr
+    assert "differs at step" in res.stderr
+
+
+@pytest.mark.parametrize("name", DESIGNS)
+def test_the_exported_law_equals_the_generated_function_at_random_points(model, packages, name):
+    """The printed C against CasADi's C of the same function (the simulation's object), bit for bit,
+    at 300 points scattered around the recorded run (inputs, states and gains perturbed by 30 %)."""
+    e = packages[name]
+    spec = model.manifest.controller(name)
+    fn = model.functions[spec.control]
+    iface = e.interface
+    rng = np.random.default_rng(7)
+    v = read_vectors(e.folder / f"rpo_{name}_vectors.txt")
+    sc = load_scenario(e.scenario, {"simulation.controller": name})
+    pre = preflight(sc, model)
+    host = HostController(e.folder)
+    n_meas = model.layout_size("meas")
+    for i in range(300):
+        row = v["V"][rng.integers(len(v["V"]))]
+        inputs = row[:iface.size("inputs")] * (1 + 0.3 * rng.standard_normal(iface.size("inputs")))
+        state = v["V"][rng.integers(len(v["V"]))][-iface.size("state"):] if iface.size("state") else np.zeros(0)
+        state = state * (1 + 0.3 * rng.standard_normal(state.size))
+        k = pre.sim.k * (1 + 0.3 * rng.standard_normal(pre.sim.k.size))
+        host.init(iface.gather("params", {"p": pre.sim.p, "k": k}))
+        host.set_state(state)
+        out, st = host.step(inputs)
+        meas = np.zeros(n_meas)
+        t = 0.0
+        j = 0
+        for _, m in iface.members("inputs"):
+            if m.source == "t":
+                t = float(inputs[j])
+            else:
+                meas[m.offset:m.offset + m.size] = inputs[j:j + m.size]
+            j += m.size
+        cmd, xc_next, diag = (np.ravel(a) for a in fn(meas, state, t, pre.sim.p, k))
+        want = np.concatenate([cmd, diag])
+        assert np.array_equal(out.view(np.uint64), want.view(np.uint64)) or np.array_equal(out, want, equal_nan=True), i
+        assert np.array_equal(st, xc_next, equal_nan=True), i
+
+
+@pytest.mark.parametrize("name", DESIGNS)
+def test_flown_in_the_loop_on_this_machine_the_run_is_the_simulations(model, packages, name):
+    e = packages[name]
+    sc = load_scenario(e.scenario, {"simulation.controller": name})
+    pre = preflight(sc, model)
+    control, start = functions(model.manifest, name)
+    iface = controller_interface(model.manifest, name, control, start)
+    dur = 400 * pre.sim.dt
+    ref = pre.sim.run(pre.z0, dur, seed=pre.inputs.seed, record_every=1)
+    run = fly(iface, model, pre.sim, pre.z0, dur, pre.inputs.seed, HostController(e.folder))
+    c = compare(ref, run)
+    assert c["bit_identical"] and c["max_abs_diff"] == 0.0 and c["rows"] == 401, c
+
+
+def test_a_changed_package_is_rebuilt_and_the_loop_sees_the_change(model, packages, tmp_path):
+    """The host library is keyed by the package's bytes: an edited law is compiled again (never the
+    stale one), and the lockstep comparison reports the difference."""
+    e = packages["baseline"]
+    copy = tmp_path / "baseline"
+    shutil.copytree(e.folder, copy)
+    src = copy / "rpo_baseline.c"
+    text = src.read_text()
+    first = text.index(" = params->gains.kp_att;")
+    src.write_text(text[:first] + " = 1.01 * params->gains.kp_att;" + text[first + len(" = params->gains.kp_att;"):])
+    sc = load_scenario(e.scenario)
+    pre = preflight(sc, model)
+    control, start = functions(model.manifest, "baseline")
+    iface = controller_interface(model.manifest, "baseline", control, start)
+    dur = 200 * pre.sim.dt
+    ref = pre.sim.run(pre.z0, dur, seed=pre.inputs.seed, record_every=1)
+    c = compare(ref, fly(iface, model, pre.sim, pre.z0, dur, pre.inputs.seed, HostController(copy)))
+    assert not c["bit_identical"] and c["max_abs_diff"] > 0
+
+
+def test_single_precision_compiles_clean_and_stays_near_the_double_loop(model, packages):
+    from rpo.runtime.flight.pil import SINGLE_RUN_BOUND, single_error
+
+    e = packages["c001_single"]
+    res = _make(e.folder, "test")
+    assert res.returncode == 0, res.stdout + res.stderr
+    assert "-Wconversion -Wdouble-promotion" in (e.folder / "Makefile").read_text()
+    assert "typedef float rpo_c001_real_t;" in (e.folder / "rpo_c001.h").read_text()
+    sc = load_scenario(e.scenario)
+    pre = preflight(sc, model)
+    control, start = functions(model.manifest, "c001")
+    iface = controller_interface(model.manifest, "c001", control, start)
+    dur = 2000 * pre.sim.dt
+    ref = pre.sim.run(pre.z0, dur, seed=pre.inputs.seed, record_every=1)
+    run = fly(iface, model, pre.sim, pre.z0, dur, pre.inputs.seed, HostController(e.folder))
+    err = single_error(ref, run)
+    assert 0 < err["position_rel"] <= SINGLE_RUN_BOUND, err  # not bit-identical, and near
+
+
+def test_the_header_names_units_and_the_stack_and_uses_no_heap_or_io(packages):
+    e = packages["c001"]
+    h = (e.folder / "rpo_c001.h").read_text()
+    c = (e.folder / "rpo_c001.c").read_text()
+    for member in ("t;", "q_c[4];", "tau_w[3];", "w_hat[3];", "k_p;", "dt;"):
+        assert member in h
+    for line in h.splitlines():
+        if line.strip().startswith("rpo_c001_real_t "):
+            assert "/* [" in line, line       # every member says its unit
+    assert "#define RPO_C001_STACK_BYTES" in h and "#define RPO_C001_RATE_HZ 100.0" in h
+    for word in ("malloc", "free(", "printf", "FILE", "static double", "static float"):
+        assert word not in c
+    for f in e.folder.glob("*"):
+        if f.suffix not in {".c", ".h", ".md", ".txt", ".json"} and f.name != "Makefile":
+            continue  # objects and programs make built
+        assert "/work/" not in f.read_text() and "/tmp/" not in f.read_text(), f
+
+
+def test_literals_are_exact_and_unsupported_operations_are_refused():
+    import casadi as ca
+
+    for v in (0.1, -1.5e-300, 2.0**-1074, 1e308, 1 / 3):
+        assert float(emit.literal(v, "double")) == v
+        if abs(v) < 3e38:
+            assert np.float32(float(emit.literal(v, "single").rstrip("F"))) == np.float32(v)
+    with pytest.raises(ModelError, match="outside single precision"):
+        emit.literal(1e308, "single")
+    with pytest.raises(ModelError, match="finite"):
+        emit.literal(float("inf"), "double")
+    x = ca.SX.sym("x")
+    f = ca.Function("g", [x], [ca.erf(x)])
+    with pytest.raises(ModelError, match="OP_ERF"):
+        emit.body(f, "double", lambda i, j: "x", lambda i, j: "y")
+
+
+def test_export_refuses_a_used_folder_and_bad_options_in_one_line(tmp_path):
+    used = tmp_path / "used"
+    used.mkdir()
+    (used / "keep.txt").write_text("mine")
+    res = rpo("export", "c001", "--out", used, "--no-check")
+    assert res.returncode == 2 and "exists and is not an empty folder" in res.stderr, res.stderr
+    assert (used / "keep.txt").read_text() == "mine" and len(list(used.iterdir())) == 1
+    res = rpo("export", "c999", "--out", tmp_path / "x", "--no-check")
+    assert res.returncode == 2 and "unknown controller 'c999'" in res.stderr and "c001" in res.stderr
+    res = rpo("export", "c001", "--out", tmp_path / "y", "--rate", "-5", "--no-check")
+    assert res.returncode == 2 and "--rate must be in (0, 10000] Hz" in res.stderr
+    for r in (res,):
+        assert "Traceback" not in r.stderr + r.stdout
+    assert not (tmp_path / "x").exists() and not (tmp_path / "y").exists()
