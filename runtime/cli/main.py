@@ -586,11 +586,8 @@ def _register() -> None:
     from rpo.runtime.cli.compile import build_cmd, cache
     from rpo.runtime.cli.flight import export_cmd, pil_cmd
     from rpo.runtime.cli.view import view
-    cli.add_command(mc)
-    cli.add_command(build_cmd)
-    cli.add_command(cache)
-    cli.add_command(view)
-    cli.add_command(export_cmd), cli.add_command(pil_cmd)
+    for command in (mc, build_cmd, cache, view, export_cmd, pil_cmd):
+        cli.add_command(command)
 
 
 _register()
