@@ -35,7 +35,7 @@ RUNTIME_LAYERS: tuple[tuple[str, ...], ...] = (
     ("rpo.runtime.scenario",),
     ("rpo.runtime.run",),
     ("rpo.runtime.outputs",),
-    ("rpo.runtime.jobs", "rpo.runtime.campaign"),
+    ("rpo.runtime.jobs", "rpo.runtime.campaign", "rpo.runtime.flight"),
     ("rpo.runtime.cli", "rpo.runtime.docgen"),
     ("rpo.runtime.api",),
 )

@@ -1,0 +1,1 @@
+"""Flight-code checks of an exported controller package (``rpo export``): warnings, stack, MISRA, symbols."""
