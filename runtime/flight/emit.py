@@ -194,8 +194,6 @@ def body(f: Any, precision: str, read: Callable[[int, int], str], write: Callabl
         else:
             raise ModelError(f"{f.name()}: operation {op} (instruction {k}) has no flight-code printing; "
                              "supported: " + ", ".join(sorted({*BINARY, *UNARY})))
-    decls = []
-    ordered = sorted(used)
-    for i in range(0, len(ordered), 10):
-        decls.append(f"{ctype} " + ", ".join(a(j) for j in ordered[i:i + 10]) + ";")
+    # one declaration per line: MISRA C 2012 rule 12.3 (cppcheck reads a declaration list as a comma)
+    decls = [f"{ctype} {a(j)};" for j in sorted(used)]
     return Body(decls, stmts, inputs_read(f), called, int(f.n_instructions()))
