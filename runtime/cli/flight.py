@@ -36,15 +36,16 @@ def export_cmd(controller: str, out: Path, precision: str, rate: float | None, s
     """Write CONTROLLER as a self-contained C99 package: named structs, initialize/step/terminate, no
     heap, no globals; a README, a Makefile and test vectors recorded from a closed-loop run."""
     from rpo.runtime.flight.package import DEFAULT_VECTOR_STEPS, write_package
+    from rpo.runtime.flight.stack import header_stack
     e = write_package(controller, out, precision=precision, rate_hz=rate, scenario=scenario,
                       steps=steps if steps is not None else DEFAULT_VECTOR_STEPS,
-                      log=lambda m: _err(m))
+                      log=lambda m: _err(m), measure_stack=header_stack)
     click.echo(f"wrote {e.folder}: {e.interface.prefix} ({precision}), {len(e.files)} files, "
                f"{e.vectors.steps} test-vector steps from {e.scenario} at {e.rate_hz:g} Hz")
     if check:
         from rpo.runtime.flight.checks import check_package
 
-        result = check_package(e.folder, precision)
+        result = check_package(e.folder, precision, e.folder / "misra_deviations.toml")
         click.echo(result.format_report())
         return 0 if result.passed else 1
     return 0

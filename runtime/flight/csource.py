@@ -81,7 +81,7 @@ def header(iface: Interface, prov: Provenance, precision: str, stack: dict[str, 
     P = p.upper()
     ctype = PRECISIONS[precision][0]
     t = f"{p}_real_t"
-    stack_lines = "".join(f" *   {target}: {n} bytes\n" for target, n in sorted((stack or {}).items()))
+    stack_lines = "".join(f" *   {n} bytes on {target}\n" for target, n in sorted((stack or {}).items()))
     stack_max = max((stack or {"none": 0}).values())
     start = ""
     if iface.has_start:
@@ -95,7 +95,7 @@ def header(iface: Interface, prov: Provenance, precision: str, stack: dict[str, 
             " * own integration, when it reads one, must be its inverse. */\n"
             f"#define {P}_RATE_HZ {prov.rate_hz!r}\n\n"
             "/* Worst-case stack of one call of the step [bytes], summed along its call graph from the\n"
-            " * compilers' -fstack-usage (benchmarks/bench_export.py; rpo.runtime.flight.checks):\n"
+            " * compilers' -fstack-usage (rpo.runtime.flight.checks); the macro is the largest:\n"
             f"{stack_lines or ' *   (not measured)' + chr(10)}"
             " */\n"
             f"#define {P}_STACK_BYTES {stack_max}\n\n"

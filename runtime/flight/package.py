@@ -29,6 +29,9 @@ from rpo.runtime.model.toolchain import csrc_dir
 DEFAULT_SCENARIO = {"c000": "000_scenario_I", "c001": "001_scenario", "c002": "002_scenario_kappa3",
                     "c004": "004_scenario", "baseline": "ref_scenario"}
 
+#: the MISRA C:2012 deviations every package ships (and is checked against)
+DEVIATIONS = Path(__file__).with_name("data") / "misra_deviations.toml"
+
 #: test vectors recorded by default (steps from t0): the transient, where every branch of a law is visited
 DEFAULT_VECTOR_STEPS = 1000
 
@@ -118,7 +121,7 @@ def readme(e_iface: Interface, precision: str, rate_hz: float, scenario: str, v:
     also = f" and `{e_iface.start_function}`" if e_iface.start_function else ""
     start = (f"3. `{p}_start(&state, &params, &in)` once with the first measurement (the design starts its "
              "states from it);\n" if e_iface.has_start else "")
-    stack_text = ("".join(f"- {t}: {n} bytes\n" for t, n in sorted(stack.items())) if stack
+    stack_text = ("".join(f"- {n} bytes on {t}\n" for t, n in sorted(stack.items())) if stack
                   else "- not measured (run `rpo export` where gcc is installed)\n")
     rows = []
     for struct in ("inputs", "params", "state", "outputs"):
@@ -150,6 +153,8 @@ Hamilton product. C99; build with `-ffp-contract=off` (no fused multiply-add) an
 - `{p}_io.h`, `{p}_io.c`: the structs to and from flat arrays (test drivers, telemetry, PIL);
 - `{p}.json`: the interface as data (members, units, where each comes from in rpo's vectors);
 - `test_{p}.c`, `{p}_vectors.txt`: the host test ({v.steps} steps recorded from {v.source});
+- `misra_deviations.toml`: the MISRA C:2012 deviations, each with its rule and reason (all in
+  `rpo_math.h` or the headers' interface macros; the controller's own code has none);
 - `Makefile`: `make test` builds and runs it ({'bit for bit' if precision == 'double' else 'within the tolerance'}).
 
 ## Worst-case stack of one step
@@ -203,6 +208,7 @@ def write_package(controller: str, out: Path, precision: str = "double", rate_hz
             (tmp / name).write_text(text)
         if precision == "double":
             shutil.copyfile(csrc_dir() / "rpo_math.h", tmp / "rpo_math.h")
+        shutil.copyfile(DEVIATIONS, tmp / "misra_deviations.toml")
         vec.write(tmp / f"{p}_vectors.txt", iface, v, SINGLE_TOLERANCE if precision == "single" else None)
         stack = measure_stack(tmp, iface, precision) if measure_stack is not None else None
         (tmp / f"{p}.h").write_text(csource.header(iface, prov, precision, stack))
