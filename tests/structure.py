@@ -31,7 +31,7 @@ TOPS = ("symbolic", "runtime", "generated")
 #: own layer and of lower ones.  ``rpo.runtime`` itself (the package's public names) sits above them all.
 RUNTIME_LAYERS: tuple[tuple[str, ...], ...] = (
     ("rpo.runtime.errors", "rpo.runtime.frames", "rpo.runtime.formats"),
-    ("rpo.runtime.model",),
+    ("rpo.runtime.model", "rpo.runtime.flight"),
     ("rpo.runtime.scenario",),
     ("rpo.runtime.run",),
     ("rpo.runtime.outputs",),
