@@ -89,7 +89,8 @@ def test_the_files_the_installed_package_reads_are_package_data():
     data = set().union(*(_shipped_data(pkg) for pkg in setup.packages(ROOT)))
     gen = ROOT / "generated"
     needed = {*(f for f in gen.iterdir() if f.suffix in (".c", ".h", ".json", ".gz")),
-              *(ROOT / "runtime" / "csrc").iterdir(), *SHIPPED_FILES}
+              *(ROOT / "runtime" / "csrc").iterdir(), *(ROOT / "runtime" / "flight" / "firmware").iterdir(),
+              *(ROOT / "runtime" / "flight" / "data").iterdir(), *SHIPPED_FILES}
     assert needed - data == set()
     assert len(SHIPPED_FILES) >= 17 and any(f.parent.name == "campaigns" for f in SHIPPED_FILES)
 
