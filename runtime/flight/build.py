@@ -146,6 +146,9 @@ def adapter_header(pkg: Package) -> str:
     lines += [f"#define PIL_N_{c} RPO_{up}_N_{c}" for c in ("PARAMS", "INPUTS", "OUTPUTS", "STATE")]
     lines += [f"#define pil_{f} rpo_{n}_{f}" for f in ("initialize", "step", "terminate", "params_from_array",
                                                        "inputs_from_array", "outputs_to_array", "state_to_array")]
+    header = (pkg.folder / f"rpo_{n}.h").read_text(encoding="utf-8", errors="replace")
+    if f"void rpo_{n}_start(" in header:  # a design that starts its states from a measurement
+        lines += ["#define PIL_HAS_START 1", f"#define pil_start rpo_{n}_start"]
     return "\n".join([*lines, "", "#endif", ""])
 
 

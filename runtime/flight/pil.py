@@ -117,6 +117,35 @@ class PilReport:
         return "\n".join(lines)
 
 
+class TargetEndpoint:
+    """The package on the emulated flight processor (:class:`~rpo.runtime.flight.target.PilTarget`) as a
+    lockstep endpoint, keeping each step's instructions and stack bytes."""
+
+    def __init__(self, folder: Path, log: Callable[[str], None] | None = None) -> None:
+        from rpo.runtime.flight.target import PilTarget, build_firmware
+
+        self.target = PilTarget(build_firmware(folder, log=log))
+        self.core = self.target.core
+        self.instructions: list[int] = []
+        self.stack_bytes: list[int] = []
+
+    def init(self, params: np.ndarray, start: np.ndarray | None = None) -> np.ndarray:
+        state = self.target.init(params)
+        return self.target.start(start) if start is not None else state
+
+    def step(self, inputs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        r = self.target.step(inputs)
+        self.instructions.append(int(r.instructions))
+        self.stack_bytes.append(int(r.stack_bytes))
+        return r.outputs, r.state
+
+    def __enter__(self) -> TargetEndpoint:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        self.target.close()
+
+
 def fly_in_the_loop(scenario: str, controller: str, precision: str = "double", where: str = "qemu",
                     duration: float | None = None, package: Path | None = None,
                     log: Callable[[str], None] | None = None) -> PilReport:
@@ -149,9 +178,7 @@ def fly_in_the_loop(scenario: str, controller: str, precision: str = "double", w
             endpoint: Any = HostController(folder, log=log)
             core = ""
         else:
-            from rpo.runtime.flight.target import PilTarget
-
-            endpoint = PilTarget(folder, precision=precision, log=log)
+            endpoint = TargetEndpoint(folder, log=log)
             core = endpoint.core
         with endpoint:
             run = fly(iface, model, sim, pre.z0, dur, pre.inputs.seed, endpoint, stats=stats)

@@ -194,6 +194,13 @@ class PilTarget:
         self._initialized = True
         return self._decode(tokens[1:], "INIT")
 
+    def start(self, inputs: np.ndarray | Sequence[float]) -> np.ndarray:
+        """Start the design's states from a measurement (``rpo_<name>_start``); the state after it."""
+        if not self._initialized:
+            raise ModelError("PilTarget.start before init: send the parameters first")
+        self._send("I", self._values(inputs, self.n_inputs, "the start inputs"))
+        return self._decode(self._expect("INIT", 1 + self.n_state, "after the start inputs (I)")[1:], "INIT")
+
     def step(self, inputs: np.ndarray | Sequence[float]) -> StepResult:
         """One step of the package on the target."""
         if not self._initialized and not self._closed:

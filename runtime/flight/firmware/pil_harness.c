@@ -10,6 +10,8 @@
  * Python's struct.pack('>d', x).hex(); counters are decimal):
  *   target: READY <version> <n_params> <n_inputs> <n_outputs> <n_state> <sizeof real> <stack bytes>
  *   host:   P <params>                 -> target: INIT <state>             (initialize; again: terminate + initialize)
+ *   host:   I <inputs>                 -> target: INIT <state>             (start from a measurement, designs
+ *                                                                         with rpo_<name>_start only)
  *   host:   S <inputs>                 -> target: STEP <instructions> <stack bytes> <outputs> <state>
  *   host:   C <n>                      -> target: CAL <instructions> <stack bytes>  (known loop, see below)
  *   host:   Q                          -> target: BYE, exit status 0      (terminate if initialized)
@@ -472,6 +474,22 @@ int main(void)
             p = put_values(p, g_values, PIL_N_STATE);
             send(p);
             break;
+        case 'I':
+#ifdef PIL_HAS_START
+            if (!initialized) {
+                fail("I before P: send the parameters first", 0);
+            }
+            parse_values(len, PIL_N_INPUTS, "I");
+            pil_inputs_from_array(&g_inputs, g_values);
+            pil_start(&g_state, &g_params, &g_inputs);
+            pil_state_to_array(&g_state, g_values);
+            p = put_str(g_out, "INIT");
+            p = put_values(p, g_values, PIL_N_STATE);
+            send(p);
+#else
+            fail("I: this package has no start function", 0);
+#endif
+            break;
         case 'C':
             instructions = calibrate(parse_count(len), &stack);
             p = put_str(g_out, "CAL ");
@@ -491,7 +509,7 @@ int main(void)
             send(p);
             return 0;
         default:
-            fail("unknown command: expected P, S, C or Q", 0);
+            fail("unknown command: expected P, I, S, C or Q", 0);
         }
     }
 }
