@@ -215,3 +215,21 @@ def test_export_refuses_a_used_folder_and_bad_options_in_one_line(tmp_path):
     for r in (res,):
         assert "Traceback" not in r.stderr + r.stdout
     assert not (tmp_path / "x").exists() and not (tmp_path / "y").exists()
+
+
+def test_rpo_pil_refuses_a_package_of_another_controller_precision_or_model(packages, tmp_path):
+    e = packages["c001"]
+    res = rpo("pil", "001_scenario", "--controller", "baseline", "--on", "host", "--package", e.folder)
+    assert res.returncode == 2 and "holds controller 'c001', not 'baseline'" in res.stderr, res.stderr
+    res = rpo("pil", "001_scenario", "--controller", "c001", "--on", "host", "--precision", "single",
+              "--package", e.folder)
+    assert res.returncode == 2 and "give --precision double" in res.stderr, res.stderr
+    stale = tmp_path / "stale"
+    shutil.copytree(e.folder, stale)
+    meta = stale / "rpo_c001.json"
+    meta.write_text(meta.read_text().replace(e.interface.prefix, e.interface.prefix, 1).replace(
+        '"manifest_hash": "', '"manifest_hash": "0000', 1))
+    res = rpo("pil", "001_scenario", "--controller", "c001", "--on", "host", "--package", stale, "--duration", "1")
+    assert res.returncode == 2 and "exported from another model" in res.stderr, res.stderr
+    res = rpo("pil", "001_scenario", "--controller", "c001", "--on", "host", "--package", e.folder, "--duration", "1")
+    assert res.returncode == 0 and "bit for bit" in res.stdout, res.stdout + res.stderr

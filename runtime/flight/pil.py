@@ -117,6 +117,23 @@ class PilReport:
         return "\n".join(lines)
 
 
+def check_package_matches(folder: Path, controller: str, precision: str, manifest_hash: str) -> None:
+    """Refuse, in one line, a package of another controller or precision, or one exported from another
+    model than the one flown (a stale export would be compared with a plant it was not made for)."""
+    from rpo.runtime.errors import ScenarioError
+    from rpo.runtime.flight.host import package_info
+
+    info = package_info(folder)
+    if info.get("controller") != controller:
+        raise ScenarioError(f"--package {folder} holds controller {info.get('controller')!r}, not {controller!r}")
+    if info.get("precision") != precision:
+        raise ScenarioError(f"--package {folder} is in {info.get('precision')} precision: give --precision "
+                            f"{info.get('precision')}")
+    if info.get("manifest_hash") != manifest_hash:
+        raise ModelError(f"--package {folder} was exported from another model (manifest "
+                         f"{str(info.get('manifest_hash'))[:12]}, now {manifest_hash[:12]}): export it again")
+
+
 class TargetEndpoint:
     """The package on the emulated flight processor (:class:`~rpo.runtime.flight.target.PilTarget`) as a
     lockstep endpoint, keeping each step's instructions and stack bytes."""
@@ -167,7 +184,9 @@ def fly_in_the_loop(scenario: str, controller: str, precision: str = "double", w
     iface = controller_interface(model.manifest, controller, control, start)
     with tempfile.TemporaryDirectory(prefix="rpo-pil-") as tmp:
         folder = package
-        if folder is None:
+        if folder is not None:
+            check_package_matches(folder, controller, precision, model.manifest.manifest_hash)
+        else:
             folder = Path(tmp) / iface.prefix
             write_package(controller, folder, precision=precision, scenario=scenario, steps=1, log=log)
         ref = sim.run(pre.z0, dur, seed=pre.inputs.seed, record_every=1)
