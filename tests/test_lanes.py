@@ -264,6 +264,7 @@ def test_noise_is_the_documented_function_of_seed_step_and_index(lane_model):
 
     from rpo.runtime.run import noise
 
+    lane_model.loop_noise(noise.key(7), 0, 1)  # links a library (functions compile on first use) if none is
     lib = lane_model._lib
     lib.rpo_noise_key.restype = ctypes.c_ulonglong
     lib.rpo_noise_key.argtypes = [ctypes.c_ulonglong]
@@ -275,6 +276,7 @@ def test_noise_is_the_documented_function_of_seed_step_and_index(lane_model):
                        ctypes.c_int(nw), W.ctypes.data_as(ctypes.POINTER(ctypes.c_double)))
     ref = noise.noise(7, 1000, 2000, nw)
     np.testing.assert_allclose(W, ref, rtol=0, atol=4e-15)  # NumPy's log/sqrt/cos against rpo_math.h's
+    assert bits_equal(lane_model.loop_noise(noise.key(7), 1000, 2000), W)  # the lockstep's noise (runtime/flight)
     # the uniforms themselves are exact integer arithmetic: bit-identical
     u = noise.uniforms(noise.key(7), np.arange(10, dtype=np.uint64))
     assert np.all((u > 0) & (u <= 1))

@@ -310,9 +310,12 @@ class Model:
     def loop_noise(self, key: int, g0: int, n: int) -> np.ndarray | None:
         """The noise w of steps ``g0 .. g0 + n - 1`` exactly as the C loop draws it (``rpo_noise_fill``
         in the linked library, ``key`` = :func:`rpo.runtime.run.noise.key` of the seed), shape (n, nw);
-        None before a library is linked (the CasADi backend draws NumPy's, equal only to rounding)."""
-        if self._lib is None:
+        None for the CasADi backend (it draws NumPy's, equal only to rounding)."""
+        if self.backend != "compiled":
             return None
+        if self._lib is None:  # every library holds the loop (sim_loop.c): link the smallest function's
+            self._ensure(self.needs([min(self._selectable, key=lambda f: self.manifest.functions[f].ops)]))
+        assert self._lib is not None
         nw = self.layout_size("w")
         W = np.empty((n, nw))
         self._lib.rpo_noise_fill(ctypes.c_ulonglong(key), ctypes.c_longlong(g0), ctypes.c_longlong(n),
