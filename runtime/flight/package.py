@@ -119,7 +119,7 @@ def readme(e_iface: Interface, precision: str, rate_hz: float, scenario: str, v:
            stack: dict[str, int] | None) -> str:
     p = e_iface.prefix
     also = f" and `{e_iface.start_function}`" if e_iface.start_function else ""
-    start = (f"3. `{p}_start(&state, &params, &in)` once with the first measurement (the design starts its "
+    start = (f"1. `{p}_start(&state, &params, &in)` once with the first measurement (the design starts its "
              "states from it);\n" if e_iface.has_start else "")
     stack_text = ("".join(f"- {n} bytes on {t}\n" for t, n in sorted(stack.items())) if stack
                   else "- not measured (run `rpo export` where gcc is installed)\n")
@@ -137,10 +137,10 @@ side in rpo's model).
 
 ## Use
 1. Fill a `{p}_params_t` (the gains and the plant values the law reads; units below);
-2. `{p}_initialize(&state, &params)`;
-{start}4. every 1/{rate_hz:g} s (`{p.upper()}_RATE_HZ`): fill `{p}_inputs_t` with the sample, call
+1. `{p}_initialize(&state, &params)`;
+{start}1. every 1/{rate_hz:g} s (`{p.upper()}_RATE_HZ`): fill `{p}_inputs_t` with the sample, call
    `{p}_step(&state, &params, &in, &out)`, apply `out.tau_w`, `out.F`, `out.tau_thr`;
-5. `{p}_terminate(&state)` at the end.
+1. `{p}_terminate(&state)` at the end.
 
 No heap, no mutable global or static data, no recursion, no variable-length array, no I/O; every
 struct is the caller's, so the functions are reentrant. Units SI; quaternions scalar-last [x, y, z, w],
