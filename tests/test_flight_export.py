@@ -182,10 +182,11 @@ def test_literals_are_exact_and_unsupported_operations_are_refused():
 
     for v in (0.1, -1.5e-300, 2.0**-1074, 1e308, 1 / 3):
         assert float(emit.literal(v, "double")) == v
-        if abs(v) < 3e38:
+        if 1e-44 < abs(v) < 3e38:
             assert np.float32(float(emit.literal(v, "single").rstrip("F"))) == np.float32(v)
-    with pytest.raises(ModelError, match="outside single precision"):
-        emit.literal(1e308, "single")
+    for v in (1e308, 2.0**-1074):  # overflows, or would become 0
+        with pytest.raises(ModelError, match="outside single precision"):
+            emit.literal(v, "single")
     with pytest.raises(ModelError, match="finite"):
         emit.literal(float("inf"), "double")
     x = ca.SX.sym("x")
@@ -226,3 +227,45 @@ def test_rpo_pil_refuses_a_package_of_another_controller_precision_or_model(pack
     assert res.returncode == 2 and "exported from another model" in res.stderr, res.stderr
     res = rpo("pil", "001_scenario", "--controller", "c001", "--on", "host", "--package", e.folder, "--duration", "1")
     assert res.returncode == 0 and "bit for bit" in res.stdout, res.stdout + res.stderr
+
+
+def test_the_package_keeps_the_simulations_bits_under_gnu_flags_and_a_user_mode(packages, tmp_path):
+    """CFLAGS of a GNU build (-march=native: an FMA unit, contraction on by default) still give the
+    recorded run bit for bit: the source turns contraction off itself; the folder has the umask's mode."""
+    import stat
+
+    e = packages["c001"]
+    mode = stat.S_IMODE(e.folder.stat().st_mode)
+    umask = os.umask(0)
+    os.umask(umask)
+    assert mode == 0o777 & ~umask, oct(mode)
+    copy = tmp_path / "c001"
+    shutil.copytree(e.folder, copy)
+    res = _make(copy, "test", "CFLAGS=-O2 -march=native")
+    assert res.returncode == 0 and "bit for bit" in res.stdout, res.stdout + res.stderr
+
+
+def test_runs_compare_bit_for_bit_with_nans_at_the_same_places():
+    from rpo.runtime.flight.lockstep import compare
+    from rpo.runtime.run.result import RunResult
+
+    def run(z):
+        z = np.asarray(z, float)
+        return RunResult(t=np.arange(z.shape[0]), z=z, y=z.copy(), z_labels=["a", "b"], z_units=["-", "-"],
+                         y_labels=["a", "b"], y_units=["-", "-"], steps_done=z.shape[0] - 1,
+                         steps_requested=z.shape[0] - 1, dt=1.0, wall_time=0.0)
+
+    x86_nan = np.array([0xFFF8000000000000], dtype=np.uint64).view(float)[0]   # the sign an x86 gives
+    arm_nan = np.array([0x7FF8000000000000], dtype=np.uint64).view(float)[0]   # ARM's default NaN
+    assert compare(run([[1.0, x86_nan]]), run([[1.0, arm_nan]]))["bit_identical"]
+    assert not compare(run([[1.0, x86_nan]]), run([[x86_nan, 1.0]]))["bit_identical"]
+    assert not compare(run([[0.0, 1.0]]), run([[-0.0, 1.0]]))["bit_identical"]   # signed zeros count
+
+
+def test_a_diverging_vector_run_and_a_huge_pil_run_are_refused_in_one_line(packages, tmp_path):
+    res = rpo("export", "c002", "--out", tmp_path / "div", "--scenario", "002_scenario", "--vectors", "1000")
+    assert res.returncode == 2 and len(res.stderr.strip().splitlines()) == 1, res.stderr
+    assert "diverged in step 340" in res.stderr and not (tmp_path / "div").exists()
+    res = rpo("pil", "001_scenario", "--controller", "c001", "--on", "host", "--duration", "1e9",
+              "--package", packages["c001"].folder)
+    assert res.returncode == 2 and "give a shorter --duration" in res.stderr and "Traceback" not in res.stderr

@@ -15,6 +15,23 @@ from dataclasses import dataclass
 from rpo.runtime.flight.emit import PRECISIONS, Body, body
 from rpo.runtime.flight.interface import Group, Interface, Member
 
+#: every multiply and add rounded on its own, whatever the build's flags: GCC in its GNU modes fuses
+#: a*b + c across statements where the target has an FMA (Cortex-M7, x86 with -march=native)
+CONTRACT_OFF = """/* No fused multiply-add, whatever the flags: the simulation rounds every operation on its own. */
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC optimize("fp-contract=off")
+#else
+#pragma STDC FP_CONTRACT OFF
+#endif
+"""
+
+#: double precision: each operation rounded once, to double (an x87 FPU's extended precision would not)
+EVAL_DOUBLE = """#include <float.h>
+#if defined(FLT_EVAL_METHOD) && (FLT_EVAL_METHOD == 1 || FLT_EVAL_METHOD == 2)
+#error "rpo: doubles must be evaluated in double precision (FLT_EVAL_METHOD 0): e.g. -msse2 -mfpmath=sse on x86"
+#endif
+"""
+
 
 @dataclass(frozen=True)
 class Provenance:
@@ -147,9 +164,13 @@ def source(iface: Interface, prov: Provenance, precision: str, control_fn: objec
         return wown[i] + writes[i][j]
 
     control = body(control_fn, precision, read, write)
-    unused = [f"    (void){n};" for n, used in (("state", 1 in control.inputs_read), ("next", sizes["xc"] > 0))
-              if not used]
+    r = control.inputs_read
+    uses = (("state", 1 in r), ("params", 3 in r or 4 in r), ("in", 0 in r or 2 in r), ("next", sizes["xc"] > 0))
+    unused = [f"    (void){n};" for n, used in uses if not used]
     text = banner(iface, prov, f"{p}.c: the exported controller (law, its own integration, saturation)", precision)
+    text += CONTRACT_OFF
+    if precision == "double":
+        text += EVAL_DOUBLE
     text += f'#include "{p}.h"\n'
     text += '#include "rpo_math.h"\n' if precision == "double" else "#include <math.h>\n"
     text += f"\n/* control_{iface.controller}: (meas[{sizes['meas']}], xc[{sizes['xc']}], t, p[{sizes['p']}], " \
@@ -175,8 +196,11 @@ def source(iface: Interface, prov: Provenance, precision: str, control_fn: objec
 
         start = body(start_fn, precision, sread, swrite)
         text += f"\n/* {iface.start_function}: (meas, p, k) -> xc0, {start.operations} instructions */\n"
-        text += _function(f"{p}_start_body", f"{p}_state_t *state, const {p}_params_t *params, "
-                                             f"const {p}_inputs_t *in", start)
+        fn = _function(f"{p}_start_body", f"{p}_state_t *state, const {p}_params_t *params, "
+                                          f"const {p}_inputs_t *in", start)
+        r = start.inputs_read
+        unused = [f"    (void){n};" for n, used in (("params", 1 in r or 2 in r), ("in", 0 in r)) if not used]
+        text += fn.replace("{\n", "{\n" + "\n".join(unused) + "\n", 1) if unused else fn
         text += (f"\nvoid {p}_start({p}_state_t *state, const {p}_params_t *params, const {p}_inputs_t *in)\n"
                  f"{{\n    {p}_start_body(state, params, in);\n}}\n")
     text += (f"\nvoid {p}_step({p}_state_t *state, const {p}_params_t *params, const {p}_inputs_t *in,\n"

@@ -99,7 +99,7 @@ def literal(value: float, precision: str) -> str:
     if precision == "single":
         with np.errstate(over="ignore"):
             single = float(np.float32(value))
-        if not math.isfinite(single):
+        if not math.isfinite(single) or (single == 0.0 and value != 0.0):
             raise ModelError(f"the generated function holds the constant {value!r}, outside single precision's "
                              "range: export it in double precision")
         text = repr(single)
@@ -152,6 +152,12 @@ def body(f: Any, precision: str, read: Callable[[int, int], str], write: Callabl
         raise ModelError(f"{f.name()} is not a straight-line (SX) function: it cannot be exported")
     if precision not in PRECISIONS:
         raise ModelError(f"precision must be one of {', '.join(PRECISIONS)}, got {precision!r}")
+    for i in range(f.n_in()):
+        if not f.sparsity_in(i).is_dense():
+            raise ModelError(f"{f.name()}: input {f.name_in(i)} is sparse; the export maps dense ports only")
+    for i in range(f.n_out()):
+        if not f.sparsity_out(i).is_dense():
+            raise ModelError(f"{f.name()}: output {f.name_out(i)} is sparse; the export maps dense ports only")
     ctype, suffix, _ = PRECISIONS[precision]
     funcs = _DOUBLE_FUNCS if precision == "double" else _SINGLE_FUNCS
     names = _op_names()

@@ -125,16 +125,26 @@ def fly(iface: Interface, model: Model, sim: Simulation, z0: np.ndarray, duratio
         field_labels=sim._field_labels())
 
 
+def _bits_equal(a: np.ndarray, b: np.ndarray) -> bool:
+    """Equal bit for bit where neither is NaN, and NaN at the same places (a NaN's sign and payload are
+    the machine's: x86 makes 0xfff8..., ARM 0x7ff8...; IEEE 754 leaves them open)."""
+    na, nb = np.isnan(a), np.isnan(b)
+    if not np.array_equal(na, nb):
+        return False
+    keep = ~na
+    return bool(np.array_equal(a[keep].view(np.uint64), b[keep].view(np.uint64)))
+
+
 def compare(a: RunResult, b: RunResult) -> dict[str, float | int | bool]:
     """How two runs of the same scenario differ: the largest absolute difference over every state and
-    output entry of the rows both have, whether they are equal bit for bit, and the rows compared."""
+    output entry of the rows both have, whether they are equal bit for bit (NaN: at the same places), and
+    the rows compared."""
     n = min(a.z.shape[0], b.z.shape[0])
     if a.z.shape[1] != b.z.shape[1] or a.y.shape[1] != b.y.shape[1]:
         raise ModelError("the two runs have different layouts")
     dz = np.abs(a.z[:n] - b.z[:n])
     dy = np.abs(a.y[:n] - b.y[:n])
-    same = bool(np.array_equal(a.z[:n].view(np.uint64), b.z[:n].view(np.uint64))
-                and np.array_equal(a.y[:n].view(np.uint64), b.y[:n].view(np.uint64)))
+    same = _bits_equal(a.z[:n], b.z[:n]) and _bits_equal(a.y[:n], b.y[:n])
     return {"rows": n, "max_abs_diff": float(max(np.nanmax(dz, initial=0.0), np.nanmax(dy, initial=0.0))),
             "bit_identical": same and a.z.shape == b.z.shape}
 

@@ -106,8 +106,8 @@ def record(controller: str, scenario: str, rate_hz: float | None, steps: int,
     n = min(steps, int(round(pre.inputs.duration / sim.dt)))
     result = sim.run(pre.z0, n * sim.dt, seed=pre.inputs.seed, record_every=1)
     if result.divergence is not None:
-        raise ModelError(f"the vector run of {scenario} diverged at step {result.steps_done}: "
-                         f"{result.divergence}")
+        raise ModelError(f"the vector run of {scenario}: {result.divergence.message()}: give another --scenario "
+                         "or fewer --vectors")
     control, start = functions(model.manifest, controller)
     iface = controller_interface(model.manifest, controller, control, start)
     v = vec.from_run(iface, model, sim, result, f"`rpo run {scenario} --controller {controller}`, seed "
@@ -213,6 +213,9 @@ def write_package(controller: str, out: Path, precision: str = "double", rate_hz
         stack = measure_stack(tmp, iface, precision) if measure_stack is not None else None
         (tmp / f"{p}.h").write_text(csource.header(iface, prov, precision, stack))
         (tmp / "README.md").write_text(readme(iface, precision, rate, scen, v, stack))
+        umask = os.umask(0)
+        os.umask(umask)
+        os.chmod(tmp, 0o777 & ~umask)  # mkdtemp's 0700 is for the temporary folder, not the package
         if out.exists():
             out.rmdir()  # empty (checked above): replaced by the finished package
         os.replace(tmp, out)

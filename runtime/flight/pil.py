@@ -27,6 +27,10 @@ from rpo.runtime.run.result import RunResult
 SINGLE_RUN_BOUND = 1e-3
 
 
+#: the memory the two recorded runs of ``rpo pil`` may take [bytes]
+MAX_RECORD_BYTES = 4e9
+
+
 def single_error(ref: RunResult, run: RunResult) -> dict[str, float]:
     """How far a run strays from the reference: the largest position deviation relative to the largest
     distance (``position_rel``), the largest attitude deviation (``attitude_rad``, angle between the
@@ -181,6 +185,15 @@ def fly_in_the_loop(scenario: str, controller: str, precision: str = "double", w
     pre = preflight(sc, model)
     sim = pre.sim
     dur = duration if duration is not None else pre.inputs.duration
+    # both runs keep every step (the comparison is step by step): say so before asking for the memory
+    steps = int(round(dur / sim.dt))
+    need = 2 * (steps + 1) * (sim.nz + sim.ny + sim.nw) * 8
+    if need > MAX_RECORD_BYTES:
+        from rpo.runtime.errors import ScenarioError
+
+        raise ScenarioError(f"--duration {dur:g} s is {steps} steps of {sim.dt:g} s; the simulation's run and the "
+                            f"in-the-loop run, every step kept, would need {need / 1e9:.3g} GB (at most "
+                            f"{MAX_RECORD_BYTES / 1e9:g}): give a shorter --duration")
     control, start = functions(model.manifest, controller)
     iface = controller_interface(model.manifest, controller, control, start)
     with tempfile.TemporaryDirectory(prefix="rpo-pil-") as tmp:

@@ -46,12 +46,13 @@ def test_program(iface: Interface, precision: str) -> str:
     compare = (
         """        for (i = 0; i < NO; ++i) {
             double e = fabs((double)out_a[i] - exp_o[i]) / (scale[i] > 0.0 ? scale[i] : 1.0);
-            if (i < NCMD && e > worst) { worst = e; worst_step = step; worst_index = i; }
-            if (i >= NCMD && e > worst_diag) { worst_diag = e; }
+            /* !(e <= worst): a NaN is the worst error there is */
+            if (i < NCMD && !(e <= worst)) { worst = e; worst_step = step; worst_index = i; }
+            if (i >= NCMD && !(e <= worst_diag)) { worst_diag = e; }
         }
         for (i = 0; i < NS; ++i) {
             double e = fabs((double)st_a[i] - exp_s[i]) / (fabs(exp_s[i]) > 1.0 ? fabs(exp_s[i]) : 1.0);
-            if (e > worst_state) { worst_state = e; }
+            if (!(e <= worst_state)) { worst_state = e; }
         }
 """ if single else """        for (i = 0; i < NO; ++i) {
             if (!same(out_a[i], exp_o[i])) { return fail("output", step, i, out_a[i], exp_o[i]); }
@@ -64,7 +65,7 @@ def test_program(iface: Interface, precision: str) -> str:
         f"""    printf("{p}: %ld steps; worst command error %.3g of its scale (step %ld, output %d; tolerance %.3g); "
            "worst diagnostic error %.3g, state error %.3g (reported)\\n", steps, worst, worst_step, worst_index,
            tol[0], worst_diag, worst_state);
-    return worst <= tol[0] ? 0 : 1;
+    return (worst <= tol[0]) ? 0 : 1;
 """ if single else f"""    printf("{p}: %ld steps, outputs and states equal to the simulation's bit for bit\\n", steps);
     return 0;
 """)
@@ -130,7 +131,7 @@ static int bad_file(void)
 int main(int argc, char **argv)
 {{
     FILE *f;
-    char line[256];
+    char line[256] = {{0}};
     long steps = 0, step;
     int i;
     {p}_params_t params;
@@ -179,12 +180,15 @@ int main(int argc, char **argv)
 
 def makefile(iface: Interface, precision: str, sources: list[str]) -> str:
     p = iface.prefix
+    double = precision == "double"
     objs = " ".join(s.replace(".c", ".o") for s in sources)
     return f"""# {p}: flight-code export of rpo controller '{iface.controller}' ({precision} precision).
 # make            the library lib{p}.a and the host test program
 # make test       run the test vectors ({'bit for bit' if precision == 'double' else 'within the tolerance'})
-# make CC=clang   any C99 compiler; keep -ffp-contract=off (no fused multiply-add: the simulation's bits)
+# make CC=clang   a C99 compiler{" with GCC's builtins (rpo_math.h): gcc, clang, arm-none-eabi-gcc" if double else ""}
+# RPO_NUMERIC is kept whatever CFLAGS says: no fused multiply-add (the simulation's bits; the source says so too)
 CFLAGS ?= {' '.join(cflags(precision))}
+RPO_NUMERIC = -ffp-contract=off
 
 OBJS = {objs}
 
@@ -194,10 +198,10 @@ lib{p}.a: $(OBJS)
 \t$(AR) rcs $@ $(OBJS)
 
 %.o: %.c *.h
-\t$(CC) $(CFLAGS) -c -o $@ $<
+\t$(CC) $(CFLAGS) $(RPO_NUMERIC) -c -o $@ $<
 
 test_{p}: test_{p}.c lib{p}.a
-\t$(CC) $(CFLAGS) -o $@ test_{p}.c lib{p}.a -lm
+\t$(CC) $(CFLAGS) $(RPO_NUMERIC) -o $@ test_{p}.c lib{p}.a -lm
 
 test: test_{p}
 \t./test_{p} {p}_vectors.txt
