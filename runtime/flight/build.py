@@ -28,6 +28,7 @@ from importlib import resources
 from pathlib import Path
 
 from rpo.runtime.errors import ModelError
+from rpo.runtime.flight.tools import CORE_FLAGS, NUMERIC_FLAGS
 from rpo.runtime.model.cache import cache_dir, ensure_built
 
 #: the cross compiler and the emulator, looked up on PATH; each missing one is named with its Debian package
@@ -60,14 +61,14 @@ class Core:
 #: m7: Cortex-M7 with the double-precision FPU (fpv5-d16), for double packages; m4f: Cortex-M4 with
 #: the single-precision FPU (fpv4-sp-d16), for float packages (a double there is software IEEE).
 CORES: dict[str, Core] = {
-    "m7": Core("m7", "mps2-an500", ("-mthumb", "-mcpu=cortex-m7", "-mfpu=fpv5-d16", "-mfloat-abi=hard")),
-    "m4f": Core("m4f", "mps2-an386", ("-mthumb", "-mcpu=cortex-m4", "-mfpu=fpv4-sp-d16", "-mfloat-abi=hard")),
+    "m7": Core("m7", "mps2-an500", ("-mthumb", *CORE_FLAGS["cortex-m7"])),
+    "m4f": Core("m4f", "mps2-an386", ("-mthumb", *CORE_FLAGS["cortex-m4"])),
 }
 DEFAULT_CORE = {"double": "m7", "float": "m4f"}
 
 #: The package's compile flags (after the core's).  IEEE semantics, as on the host: -ffp-contract=off
 #: (no fused multiply-add, which the M7 and M4F have), no -ffast-math; C99.
-TARGET_CFLAGS = ("-std=c99", "-O2", "-ffp-contract=off", "-fno-common", "-ffunction-sections", "-fdata-sections",
+TARGET_CFLAGS = ("-std=c99", *NUMERIC_FLAGS, "-fno-common", "-ffunction-sections", "-fdata-sections",
                  "-Wall", "-Wextra")
 #: The harness's own flags: the same, and the icount shift its conversion of ticks assumes.
 HARNESS_DEFINES = (f"-DPIL_ICOUNT_SHIFT={ICOUNT_SHIFT}",)

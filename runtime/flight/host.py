@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from rpo.runtime.errors import ModelError
-from rpo.runtime.flight.testprog import NUMERIC_FLAGS
+from rpo.runtime.flight.tools import NUMERIC_FLAGS
 from rpo.runtime.model.cache import cache_dir, ensure_built
 from rpo.runtime.model.toolchain import compiler_command, run_cc
 

@@ -125,7 +125,7 @@ def fly(iface: Interface, model: Model, sim: Simulation, z0: np.ndarray, duratio
         field_labels=sim._field_labels())
 
 
-def _bits_equal(a: np.ndarray, b: np.ndarray) -> bool:
+def bits_equal(a: np.ndarray, b: np.ndarray) -> bool:
     """Equal bit for bit where neither is NaN, and NaN at the same places (a NaN's sign and payload are
     the machine's: x86 makes 0xfff8..., ARM 0x7ff8...; IEEE 754 leaves them open)."""
     na, nb = np.isnan(a), np.isnan(b)
@@ -144,9 +144,9 @@ def compare(a: RunResult, b: RunResult) -> dict[str, float | int | bool]:
         raise ModelError("the two runs have different layouts")
     dz = np.abs(a.z[:n] - b.z[:n])
     dy = np.abs(a.y[:n] - b.y[:n])
-    same = _bits_equal(a.z[:n], b.z[:n]) and _bits_equal(a.y[:n], b.y[:n])
+    same = bits_equal(a.z[:n], b.z[:n]) and bits_equal(a.y[:n], b.y[:n])
     return {"rows": n, "max_abs_diff": float(max(np.nanmax(dz, initial=0.0), np.nanmax(dy, initial=0.0))),
             "bit_identical": same and a.z.shape == b.z.shape}
 
 
-__all__ = ["Divergence", "Endpoint", "LockstepStats", "compare", "fly", "start_inputs"]
+__all__ = ["Divergence", "Endpoint", "LockstepStats", "bits_equal", "compare", "fly", "start_inputs"]

@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from rpo.runtime.errors import ModelError
+from rpo.runtime.errors import ModelError, ScenarioError
 from rpo.runtime.flight.lockstep import LockstepStats, compare, fly
 from rpo.runtime.run.result import RunResult
 
@@ -125,7 +125,6 @@ class PilReport:
 def check_package_matches(folder: Path, controller: str, precision: str, manifest_hash: str) -> None:
     """Refuse, in one line, a package of another controller or precision, or one exported from another
     model than the one flown (a stale export would be compared with a plant it was not made for)."""
-    from rpo.runtime.errors import ScenarioError
     from rpo.runtime.flight.host import package_info
 
     info = package_info(folder)
@@ -189,8 +188,6 @@ def fly_in_the_loop(scenario: str, controller: str, precision: str = "double", w
     steps = int(round(dur / sim.dt))
     need = 2 * (steps + 1) * (sim.nz + sim.ny + sim.nw) * 8
     if need > MAX_RECORD_BYTES:
-        from rpo.runtime.errors import ScenarioError
-
         raise ScenarioError(f"--duration {dur:g} s is {steps} steps of {sim.dt:g} s; the simulation's run and the "
                             f"in-the-loop run, every step kept, would need {need / 1e9:.3g} GB (at most "
                             f"{MAX_RECORD_BYTES / 1e9:g}): give a shorter --duration")

@@ -11,17 +11,7 @@ from __future__ import annotations
 
 from rpo.runtime.flight.emit import PRECISIONS
 from rpo.runtime.flight.interface import Interface
-
-#: the warning flags every export compiles clean under (gcc and clang); single precision adds SINGLE_FLAGS
-WARN_FLAGS = ("-std=c99", "-Wall", "-Wextra", "-Wpedantic", "-Werror")
-SINGLE_FLAGS = ("-Wconversion", "-Wdouble-promotion")
-#: the numerical flags: IEEE semantics, no fused multiply-add (the simulation's objects use the same)
-NUMERIC_FLAGS = ("-O2", "-ffp-contract=off")
-
-
-def cflags(precision: str) -> tuple[str, ...]:
-    return (*WARN_FLAGS, *(SINGLE_FLAGS if precision == "single" else ()), *NUMERIC_FLAGS)
-
+from rpo.runtime.flight.tools import warning_flags
 
 _DOUBLE_HELPERS = r"""
 static int same(double a, double b)
@@ -187,7 +177,7 @@ def makefile(iface: Interface, precision: str, sources: list[str]) -> str:
 # make test       run the test vectors ({'bit for bit' if precision == 'double' else 'within the tolerance'})
 # make CC=clang   a C99 compiler{" with GCC's builtins (rpo_math.h): gcc, clang, arm-none-eabi-gcc" if double else ""}
 # RPO_NUMERIC is kept whatever CFLAGS says: no fused multiply-add (the simulation's bits; the source says so too)
-CFLAGS ?= {' '.join(cflags(precision))}
+CFLAGS ?= {' '.join(warning_flags(precision))}
 RPO_NUMERIC = -ffp-contract=off
 
 OBJS = {objs}

@@ -20,6 +20,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 from rpo.runtime.errors import ModelError
+from rpo.runtime.flight.emit import PRECISIONS as _REAL_TYPES
 
 #: program -> the Debian package that installs it (named by the error when the program is missing)
 DEBIAN_PACKAGES = {
@@ -31,7 +32,18 @@ DEBIAN_PACKAGES = {
     "cppcheck": "cppcheck",
 }
 
-PRECISIONS = ("double", "single")
+PRECISIONS = tuple(_REAL_TYPES)
+
+#: IEEE semantics, every operation rounded on its own (no fused multiply-add): the simulation's objects
+#: are compiled so (runtime/model/toolchain.py), and so is every flight build here, the package's
+#: Makefile, its host build (host.py) and its firmware (build.py)
+NUMERIC_FLAGS: tuple[str, ...] = ("-O2", "-ffp-contract=off")
+
+#: the Cortex-M parts' flags: hardware FPU, double precision on the M7, single only on the M4
+CORE_FLAGS: dict[str, tuple[str, ...]] = {
+    "cortex-m7": ("-mcpu=cortex-m7", "-mfpu=fpv5-d16", "-mfloat-abi=hard"),
+    "cortex-m4": ("-mcpu=cortex-m4", "-mfpu=fpv4-sp-d16", "-mfloat-abi=hard"),
+}
 
 #: The warnings every flight source and the host test program must compile without (-Werror): C99 and
 #: pedantic, no VLA (-Wvla: the VLA check counts these), no shadowing, full prototypes, no cast dropping
@@ -48,7 +60,7 @@ SINGLE_WARNING_FLAGS: tuple[str, ...] = ("-Wconversion", "-Wdouble-promotion")
 
 #: the optimisation the warnings are compiled at: -O2 runs the passes behind -Wmaybe-uninitialized,
 #: -Warray-bounds and the like, which -O0 never reports
-WARNING_OPT: tuple[str, ...] = ("-O2", "-ffp-contract=off")
+WARNING_OPT: tuple[str, ...] = NUMERIC_FLAGS
 
 
 def warning_flags(precision: str) -> tuple[str, ...]:
@@ -74,13 +86,11 @@ class Target:
 #: the flight builds: the host (gcc) and the Cortex-M parts with a hardware FPU (double-precision FPU
 #: on the M7, single-precision only on the M4: double arithmetic there is a software library call)
 TARGETS: dict[str, Target] = {
-    "host-gcc": Target("host-gcc", "gcc", "nm", ("-std=c99", "-O2", "-ffp-contract=off")),
+    "host-gcc": Target("host-gcc", "gcc", "nm", ("-std=c99", *NUMERIC_FLAGS)),
     "cortex-m7": Target("cortex-m7", "arm-none-eabi-gcc", "arm-none-eabi-nm",
-                        ("-std=c99", "-mcpu=cortex-m7", "-mfpu=fpv5-d16", "-mfloat-abi=hard", "-O2",
-                         "-ffp-contract=off")),
+                        ("-std=c99", *CORE_FLAGS["cortex-m7"], *NUMERIC_FLAGS)),
     "cortex-m4": Target("cortex-m4", "arm-none-eabi-gcc", "arm-none-eabi-nm",
-                        ("-std=c99", "-mcpu=cortex-m4", "-mfpu=fpv4-sp-d16", "-mfloat-abi=hard", "-O2",
-                         "-ffp-contract=off")),
+                        ("-std=c99", *CORE_FLAGS["cortex-m4"], *NUMERIC_FLAGS)),
 }
 
 
